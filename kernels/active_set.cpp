@@ -1,0 +1,66 @@
+#include "kernels/active_set.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace invmap::kernels {
+
+void FactorBarycentric(const CellShape& shape, int f, const double* ref, double* lambda) {
+  const SimplexFactor& fac = shape.factor(f);
+  lambda[0] = 1.0;
+  for (int i = 0; i < fac.dim; ++i) {
+    lambda[i + 1] = ref[fac.offset + i];
+    lambda[0] -= ref[fac.offset + i];
+  }
+}
+
+void ClampToDomain(const CellShape& shape, double* ref) {
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double* s = ref + fac.offset;
+    double sum = 0.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      s[i] = std::max(0.0, s[i]);
+      sum += s[i];
+    }
+    // Outside the hypotenuse face: scale back onto it.
+    if (sum > 1.0) {
+      for (int i = 0; i < fac.dim; ++i) s[i] /= sum;
+    }
+  }
+}
+
+void BuildFaceBasis(const CellShape& shape, const ActiveSet& active, FaceBasis* basis) {
+  basis->columns = 0;
+  for (auto& row : basis->t) std::fill(row, row + 3, 0.0);
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    int freeIdx[4];
+    int r = 0;
+    for (int k = 0; k <= fac.dim; ++k) {
+      if (!(active.enforced[f] & (1u << k))) freeIdx[r++] = k;
+    }
+    for (int t = 1; t < r; ++t) {
+      const double norm = 1.0 / std::sqrt(static_cast<double>(t) * (t + 1));
+      const int c = basis->columns++;
+      // Barycentric component k maps to parameter offset + k - 1; component 0
+      // is implicit (it is minus the sum of the others).
+      for (int m = 0; m < t; ++m) {
+        if (freeIdx[m] > 0) basis->t[fac.offset + freeIdx[m] - 1][c] = norm;
+      }
+      if (freeIdx[t] > 0) basis->t[fac.offset + freeIdx[t] - 1][c] = -t * norm;
+    }
+  }
+}
+
+double ReleaseDerivative(const CellShape& shape, const ActiveSet& active, int f, int k, const double* grad) {
+  const SimplexFactor& fac = shape.factor(f);
+  int k0 = 0;
+  while (active.enforced[f] & (1u << k0)) ++k0;
+  double d = 0.0;
+  if (k > 0) d += grad[fac.offset + k - 1];
+  if (k0 > 0) d -= grad[fac.offset + k0 - 1];
+  return d;
+}
+
+}  // namespace invmap::kernels

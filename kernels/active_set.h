@@ -1,0 +1,46 @@
+// Constraints of a reference domain (a tensor product of simplices) and the
+// orthogonal barycentric basis of the face they leave free (section 7.3.1.1).
+#pragma once
+
+#include "kernels/cell_shape.h"
+
+namespace invmap::kernels {
+
+/// Which barycentric constraints lambda_k >= 0 are enforced (held at zero),
+/// one bit mask per factor (bit k for lambda_k; lambda_0 = 1 - sum of the
+/// factor's free coordinates). At least one coordinate of every factor stays
+/// free. The "inactive indices" of algorithm 5.
+struct ActiveSet {
+  unsigned enforced[kMaxFactors] = {0, 0, 0};
+};
+
+/// Barycentric coordinates (lambda_0..lambda_d) of factor `f` at reference point `ref`.
+void FactorBarycentric(const CellShape& shape, int f, const double* ref, double* lambda);
+
+/// Clamps `ref` into the reference domain (each simplex factor separately).
+void ClampToDomain(const CellShape& shape, double* ref);
+
+/// The orthogonal basis of the tangent space of the face left free by
+/// `active`, written in the cell's parameter coordinates: column c maps a
+/// reduced step to a parameter step. Per factor, the free barycentric indices
+/// k_0 < .. < k_{r-1} give the Helmert vectors
+///   v_t = (e_{k_0} + .. + e_{k_{t-1}} - t e_{k_t}) / sqrt(t (t + 1)),  t = 1..r-1,
+/// orthonormal in barycentric space and orthogonal to (1, .., 1), so the
+/// reduced residual's norm is the norm of the projected gradient whatever
+/// the active set (the continuity of 7.3.1.1). Tensor products pad each
+/// factor's vectors with zeros (7.3.1.2).
+struct FaceBasis {
+  int columns = 0;          ///< Dimension of the face.
+  double t[3][3] = {};      ///< t[i][c]: parameter i of column c.
+};
+
+/// Builds the FaceBasis of `active`.
+void BuildFaceBasis(const CellShape& shape, const ActiveSet& active, FaceBasis* basis);
+
+/// Directional derivative of a function with parameter gradient `grad` when
+/// constraint k of factor f is released: moving along e_k - e_{k0} in
+/// barycentric space, k0 the factor's first free index. A negative value is
+/// the Lagrange multiplier saying the constraint should be released.
+double ReleaseDerivative(const CellShape& shape, const ActiveSet& active, int f, int k, const double* grad);
+
+}  // namespace invmap::kernels

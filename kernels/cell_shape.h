@@ -1,0 +1,78 @@
+// Cell types as tensor products of simplices (FORMATS.md section 1).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace invmap::kernels {
+
+/// Reference cell types. Every type is a tensor product of one to three
+/// simplex factors (line = 1-simplex, tri = 2-simplex, tet = 3-simplex).
+enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
+
+/// Largest number of simplex factors in a cell (hex = line x line x line).
+constexpr int kMaxFactors = 3;
+/// Largest parametric and ambient dimension.
+constexpr int kMaxDim = 3;
+/// Largest supported degree per factor.
+constexpr int kMaxDegree = 8;
+
+/// One simplex factor of a cell: its dimension, its polynomial degree and the
+/// offset of its free coordinates inside the cell's parameter vector.
+struct SimplexFactor {
+  int dim = 0;     ///< 1 (line), 2 (tri) or 3 (tet).
+  int degree = 0;  ///< Polynomial degree, 0..kMaxDegree.
+  int offset = 0;  ///< Index of the factor's first coordinate in the cell's parameters.
+};
+
+/// Number of multi-indices of total degree `degree` in `dim` free variables:
+/// the number of Bernstein polynomials (control points) of a simplex factor.
+constexpr int SimplexBasisSize(int dim, int degree) {
+  int n = 1;
+  for (int k = 1; k <= dim; ++k) n = n * (degree + k) / k;
+  return n;
+}
+
+/// A cell type with its per-factor degrees: everything needed to size and
+/// index its control net. Degrees are listed per simplex factor as in
+/// FORMATS.md (line [p], tri [p], quad [p, q], tet [p], hex [p, q, r],
+/// wedge [p_tri, q_line]).
+class CellShape {
+ public:
+  CellShape() = default;
+  /// Precondition: `degrees` holds one entry per factor of `type`, each in
+  /// [0, kMaxDegree] (checked by IsValid, not here).
+  CellShape(CellType type, std::array<int, kMaxFactors> degrees);
+
+  CellType type() const { return type_; }
+  int numFactors() const { return numFactors_; }
+  const SimplexFactor& factor(int i) const { return factors_[i]; }
+  /// Parametric dimension: 1 for curves, 2 for surfaces, 3 for volumes.
+  int paramDim() const { return paramDim_; }
+  /// Number of control points, the product of the factors' basis sizes.
+  int numControlPoints() const { return numControlPoints_; }
+  /// Highest degree of any factor.
+  int maxDegree() const;
+  /// The same cell type with every factor's degree multiplied by `factor`
+  /// (the shape of products of two maps on this cell).
+  CellShape ScaledDegree(int factor) const;
+  /// True when every degree is in [0, kMaxDegree].
+  bool IsValid() const;
+
+  /// Number of simplex factors of a cell type.
+  static int NumFactorsOf(CellType type);
+  /// Dimension of factor `i` of a cell type.
+  static int FactorDimOf(CellType type, int i);
+
+ private:
+  CellType type_ = CellType::Line;
+  int numFactors_ = 0;
+  int paramDim_ = 0;
+  int numControlPoints_ = 0;
+  std::array<SimplexFactor, kMaxFactors> factors_{};
+};
+
+/// Name of a cell type as written in geometry files ("line", "tri", ...).
+const char* CellTypeName(CellType type);
+
+}  // namespace invmap::kernels

@@ -1,0 +1,323 @@
+#include "kernels/cell_solver.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "kernels/cell_bounds.h"
+#include "kernels/local_solver.h"
+#include "kernels/tolerances.h"
+
+namespace invmap::kernels {
+namespace {
+
+/// A subdomain of the branch and bound lives in one slot of the workspace:
+/// a header (lower bound, depth, the vertices of each factor's sub-simplex in
+/// the cell's reference coordinates) followed by its q net and, for rational
+/// cells, its WW net.
+constexpr int kLowerBound = 0;
+constexpr int kDepth = 1;
+constexpr int kVertices = 2;  // [factor][vertex][coordinate], 3 x 4 x 3 values
+constexpr int kHeaderSize = kVertices + kMaxFactors * 4 * 3;
+
+double* Vertex(double* slot, int factor, int vertex) { return slot + kVertices + (factor * 4 + vertex) * 3; }
+
+/// The reference domain's vertices: for each factor, the origin and the unit
+/// points of its free coordinates.
+void SetReferenceVertices(const CellShape& shape, double* slot) {
+  std::fill(slot + kVertices, slot + kHeaderSize, 0.0);
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    for (int v = 1; v <= shape.factor(f).dim; ++v) Vertex(slot, f, v)[v - 1] = 1.0;
+  }
+}
+
+/// Centroid of the subdomain, in the cell's reference coordinates.
+void SubdomainCenter(const CellShape& shape, double* slot, double* ref) {
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    for (int i = 0; i < fac.dim; ++i) {
+      double sum = 0.0;
+      for (int v = 0; v <= fac.dim; ++v) sum += Vertex(slot, f, v)[i];
+      ref[fac.offset + i] = sum / (fac.dim + 1);
+    }
+  }
+}
+
+/// True when `ref` lies in the subdomain up to kInsideTolerance in each
+/// factor's barycentric coordinates.
+bool SubdomainContains(const CellShape& shape, double* slot, const double* ref) {
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    const int d = fac.dim;
+    Eigen::Matrix3d edges = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    const double* v0 = Vertex(slot, f, 0);
+    for (int k = 1; k <= d; ++k) {
+      for (int i = 0; i < d; ++i) edges(i, k - 1) = Vertex(slot, f, k)[i] - v0[i];
+    }
+    for (int i = 0; i < d; ++i) rhs[i] = ref[fac.offset + i] - v0[i];
+    const Eigen::VectorXd mu = edges.topLeftCorner(d, d).partialPivLu().solve(rhs.head(d));
+    double sum = 0.0;
+    for (int k = 0; k < d; ++k) {
+      if (mu[k] < -kInsideTolerance) return false;
+      sum += mu[k];
+    }
+    if (1.0 - sum < -kInsideTolerance) return false;
+  }
+  return true;
+}
+
+/// The edge to bisect next: the longest edge of any factor's sub-simplex,
+/// measured with the cell's typical length per parameter.
+void ChooseSplit(const CellShape& shape, double* slot, const double* paramScale, int* factor, int* vi, int* vj) {
+  double longest = -1.0;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    for (int a = 0; a <= fac.dim; ++a) {
+      for (int b = a + 1; b <= fac.dim; ++b) {
+        double len2 = 0.0;
+        for (int i = 0; i < fac.dim; ++i) {
+          const double e = (Vertex(slot, f, a)[i] - Vertex(slot, f, b)[i]) * paramScale[fac.offset + i];
+          len2 += e * e;
+        }
+        if (len2 > longest) {
+          longest = len2;
+          *factor = f;
+          *vi = a;
+          *vj = b;
+        }
+      }
+    }
+  }
+}
+
+/// Slots of the workspace: allocation by index, since growing the pool moves it.
+class SlotPool {
+ public:
+  SlotPool(SolveWorkspace* ws, int slotSize) : ws_(ws), slotSize_(slotSize) {
+    ws_->freeSlots.clear();
+    used_ = 0;
+  }
+  int Allocate() {
+    if (!ws_->freeSlots.empty()) {
+      const int s = ws_->freeSlots.back();
+      ws_->freeSlots.pop_back();
+      return s;
+    }
+    const size_t need = static_cast<size_t>(used_ + 1) * slotSize_;
+    if (ws_->nets.size() < need) ws_->nets.resize(std::max(need, 2 * ws_->nets.size()));
+    return used_++;
+  }
+  void Free(int s) { ws_->freeSlots.push_back(s); }
+  double* operator[](int s) { return ws_->nets.data() + static_cast<size_t>(s) * slotSize_; }
+
+ private:
+  SolveWorkspace* ws_;
+  int slotSize_;
+  int used_;
+};
+
+}  // namespace
+
+CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
+  ComputeControlBox(cell, boxLo_, boxHi_);
+  double diag2 = 0.0;
+  double center[3] = {0, 0, 0};
+  for (int k = 0; k < cell.ambientDim; ++k) {
+    diag2 += (boxHi_[k] - boxLo_[k]) * (boxHi_[k] - boxLo_[k]);
+    center[k] = 0.5 * (boxLo_[k] + boxHi_[k]);
+  }
+  size_ = std::sqrt(diag2);
+  // A cell of a single point still needs a positive length scale.
+  if (!(size_ > 0.0)) size_ = std::max(1.0, std::abs(center[0]) + std::abs(center[1]) + std::abs(center[2])) * 1e-300;
+  affine_ = IsAffineCell(cell, size_);
+
+  double ref[3];
+  ReferenceCenter(cell.shape, ref);
+  MapJet jet;
+  EvaluateMap(cell, ref, JetOrder::First, &jet);
+  for (int i = 0; i < cell.shape.paramDim(); ++i) {
+    double len2 = 0.0;
+    for (int k = 0; k < cell.ambientDim; ++k) len2 += jet.d1[k][i] * jet.d1[k][i];
+    // Parameters the map barely depends on still get split now and then.
+    paramScale_[i] = std::sqrt(len2) + 1e-3 * size_;
+  }
+  if (!affine_) nets_.Build(cell, center);
+}
+
+double CellSolver::SquaredDistanceLowerBound(const double* point) const {
+  double box2 = 0.0;
+  for (int k = 0; k < cell_.ambientDim; ++k) {
+    const double d = std::max({boxLo_[k] - point[k], 0.0, point[k] - boxHi_[k]});
+    box2 += d * d;
+  }
+  return box2;
+}
+
+CellSolveResult CellSolver::Solve(const double* point, const double* initialRef, SolveWorkspace* ws) const {
+  CellSolveResult result;
+  const int pd = cell_.shape.paramDim();
+  const int ad = cell_.ambientDim;
+  for (int k = 0; k < ad; ++k) {
+    if (!std::isfinite(point[k])) return result;  // status InvalidInput
+  }
+  double start[3];
+  if (initialRef) {
+    std::copy(initialRef, initialRef + pd, start);
+  } else {
+    ReferenceCenter(cell_.shape, start);
+  }
+  LocalSolveOptions options;
+  options.affine = affine_;
+  options.size = size_;
+  LocalSolveResult best = LocalSolve(cell_, point, start, options);
+  result.iterations = best.iterations;
+
+  bool certified = true;
+  const double tau = kDistanceTolerance * size_;
+  // An affine map makes the squared distance convex: the KKT point is global.
+  // A distance within tau of zero cannot be beaten by more than tau.
+  if (!affine_ && best.squaredDistance > tau * tau) certified = Search(point, &best, &result.iterations, ws);
+
+  std::copy(best.ref, best.ref + pd, result.ref);
+  std::copy(best.closest, best.closest + ad, result.closest);
+  result.distance = std::sqrt(best.squaredDistance);
+  result.status = !certified ? PointStatus::NotCertified
+                             : (best.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged);
+  return result;
+}
+
+bool CellSolver::Search(const double* point, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const {
+  const CellShape& netShape = nets_.shape();
+  const int n = nets_.size();
+  const bool rational = nets_.rational();
+  const int slotSize = kHeaderSize + n * (rational ? 2 : 1);
+  const double tau = kDistanceTolerance * size_;
+  const double slack = nets_.RoundingSlack(point);
+  // Subdomains whose lower bound reaches this cannot beat the best by more than tau.
+  auto pruneLevel = [&] {
+    const double d = std::sqrt(best->squaredDistance);
+    return best->squaredDistance - std::max(2.0 * tau * d, tau * tau) + slack;
+  };
+  SlotPool pool(ws, slotSize);
+  if (ws->scratch.size() < static_cast<size_t>(3) * n) ws->scratch.resize(static_cast<size_t>(3) * n);
+  // The convexity certificate: q - f* WW convex on a subdomain holding the
+  // KKT point x* means q >= f* WW there, so no point of it is closer.
+  auto certifiedAround = [&](double* slot) {
+    if (!best->converged || !SubdomainContains(cell_.shape, slot, best->ref)) return false;
+    double* f = ws->scratch.data();
+    const double* q = slot + kHeaderSize;
+    const double* ww = rational ? q + n : nullptr;
+    for (int i = 0; i < n; ++i) f[i] = q[i] - best->squaredDistance * (ww ? ww[i] : 1.0);
+    return NetIsConvex(netShape, f, ws->scratch.data() + n);
+  };
+  auto lowerBound = [&](double* slot) {
+    const double* q = slot + kHeaderSize;
+    return NetLowerBound(n, q, rational ? q + n : nullptr);
+  };
+
+  const int root = pool.Allocate();
+  {
+    double* slot = pool[root];
+    SetReferenceVertices(cell_.shape, slot);
+    slot[kDepth] = 0;
+    nets_.SquaredDistanceNumerator(point, slot + kHeaderSize);
+    if (rational) std::copy(nets_.ww(), nets_.ww() + n, slot + kHeaderSize + n);
+    slot[kLowerBound] = lowerBound(slot);
+  }
+  std::vector<int>& heap = ws->heap;
+  heap.clear();
+  auto byLowerBound = [&](int a, int b) { return pool[a][kLowerBound] > pool[b][kLowerBound]; };
+  if (pool[root][kLowerBound] < pruneLevel()) heap.push_back(root);
+
+  bool certified = true;
+  int examined = 0;
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), byLowerBound);
+    const int s = heap.back();
+    heap.pop_back();
+    if (pool[s][kLowerBound] >= pruneLevel()) break;  // every other subdomain is farther still
+    if (++examined > kMaxSubdomains) {
+      certified = false;
+      break;
+    }
+    if (certifiedAround(pool[s])) {
+      pool.Free(s);
+      continue;
+    }
+    // A better basin may lie here: start a local solve from the center when
+    // the center itself already beats the best.
+    double center[3];
+    SubdomainCenter(cell_.shape, pool[s], center);
+    MapJet jet;
+    EvaluateMap(cell_, center, JetOrder::Value, &jet);
+    double fCenter = 0.0;
+    for (int k = 0; k < cell_.ambientDim; ++k) fCenter += (jet.x[k] - point[k]) * (jet.x[k] - point[k]);
+    if (fCenter < best->squaredDistance) {
+      LocalSolveOptions options;
+      options.size = size_;
+      const LocalSolveResult local = LocalSolve(cell_, point, center, options);
+      *iterations += local.iterations;
+      if (local.squaredDistance < best->squaredDistance) *best = local;
+      if (pool[s][kLowerBound] >= pruneLevel() || certifiedAround(pool[s])) {
+        pool.Free(s);
+        continue;
+      }
+    }
+    if (pool[s][kDepth] >= kMaxDepth) {
+      certified = false;
+      pool.Free(s);
+      continue;
+    }
+    int factor = 0, vi = 0, vj = 1;
+    ChooseSplit(cell_.shape, pool[s], paramScale_, &factor, &vi, &vj);
+    for (int child = 0; child < 2; ++child) {
+      const int keep = child == 0 ? vi : vj;
+      const int move = child == 0 ? vj : vi;
+      const int c = pool.Allocate();
+      double* parent = pool[s];
+      double* slot = pool[c];
+      std::copy(parent, parent + kHeaderSize, slot);
+      slot[kDepth] = parent[kDepth] + 1;
+      double* moved = Vertex(slot, factor, move);
+      const double* kept = Vertex(slot, factor, keep);
+      for (int i = 0; i < 3; ++i) moved[i] = 0.5 * (moved[i] + kept[i]);
+      SplitNet(netShape, factor, keep, move, parent + kHeaderSize, slot + kHeaderSize);
+      if (rational) SplitNet(netShape, factor, keep, move, parent + kHeaderSize + n, slot + kHeaderSize + n);
+      slot[kLowerBound] = lowerBound(slot);
+      if (slot[kLowerBound] < pruneLevel()) {
+        heap.push_back(c);
+        std::push_heap(heap.begin(), heap.end(), byLowerBound);
+      } else {
+        pool.Free(c);
+      }
+    }
+    pool.Free(s);
+  }
+  return certified;
+}
+
+void CellSolver::SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const {
+  const int pd = cell_.shape.paramDim();
+  const int ad = cell_.ambientDim;
+  for (int l = 0; l < queries.count; ++l) {
+    double point[3] = {0, 0, 0};
+    for (int k = 0; k < ad; ++k) point[k] = queries.coord[k][l];
+    double init[3];
+    const bool warm = queries.initialRef[0] != nullptr;
+    if (warm) {
+      for (int i = 0; i < pd; ++i) init[i] = queries.initialRef[i][l];
+    }
+    const CellSolveResult r = Solve(point, warm ? init : nullptr, ws);
+    for (int i = 0; i < 3; ++i) {
+      if (results.ref[i]) results.ref[i][l] = i < pd ? r.ref[i] : std::numeric_limits<double>::quiet_NaN();
+      if (results.closest[i]) results.closest[i][l] = i < ad ? r.closest[i] : std::numeric_limits<double>::quiet_NaN();
+    }
+    if (results.distance) results.distance[l] = r.distance;
+    if (results.status) results.status[l] = r.status;
+    if (results.iterations) results.iterations[l] = r.iterations;
+  }
+}
+
+}  // namespace invmap::kernels

@@ -1,0 +1,109 @@
+// The closest point on ONE cell: a local active-set Newton solve (algorithm 5)
+// made global over the cell by a certified branch and bound.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/cell_map.h"
+#include "kernels/distance_net.h"
+#include "kernels/local_solver.h"
+
+namespace invmap::kernels {
+
+/// Outcome of one point's solve on one cell.
+enum class PointStatus : std::uint8_t {
+  Converged,            ///< Global minimum over the cell, in the interior of the reference domain.
+  ProjectedToBoundary,  ///< Global minimum over the cell, on a face, edge or vertex of the domain.
+  NotCertified,         ///< Best point found, but the search budget ran out before
+                        ///< every other part of the cell was excluded (near-ties, evolutes).
+  InvalidInput,         ///< The query point has a NaN or infinite coordinate.
+};
+
+/// Result of one point's solve on one cell.
+struct CellSolveResult {
+  double ref[3] = {0, 0, 0};      ///< Reference coordinates of the closest point (paramDim used).
+  double closest[3] = {0, 0, 0};  ///< The closest point, the cell's map at `ref`.
+  double distance = 0.0;          ///< Euclidean distance from the query point.
+  PointStatus status = PointStatus::InvalidInput;
+  int iterations = 0;  ///< Newton iterations over all local solves of this query.
+};
+
+/// Reusable scratch memory for CellSolver::Solve, so the hot path never
+/// allocates once warmed up. One per thread; not shared between threads.
+struct SolveWorkspace {
+  std::vector<double> nets;      ///< Bernstein nets of the search's subdomains.
+  std::vector<int> freeSlots;    ///< Recycled subdomain slots.
+  std::vector<int> heap;         ///< Subdomains ordered by lower bound.
+  std::vector<double> scratch;   ///< Derivative nets of the convexity test.
+};
+
+/// A batch of queries against one cell, structure of arrays. Lane l's point
+/// is (coord[0][l], coord[1][l], coord[2][l]); coord[2] is unused in 2D.
+struct QueryLane {
+  int count = 0;
+  const double* coord[3] = {nullptr, nullptr, nullptr};
+  /// Optional: initial reference coordinates per lane (warm start), same
+  /// layout; nullptr starts from the cell's center.
+  const double* initialRef[3] = {nullptr, nullptr, nullptr};
+};
+
+/// Output arrays of a QueryLane, each of length count (ref and closest as
+/// three separate arrays, the unused ones may be null).
+struct ResultLane {
+  double* ref[3] = {nullptr, nullptr, nullptr};
+  double* closest[3] = {nullptr, nullptr, nullptr};
+  double* distance = nullptr;
+  PointStatus* status = nullptr;
+  int* iterations = nullptr;
+};
+
+/// The solver for one cell. Construction precomputes the cell's bounds, size,
+/// affine flag and the point-independent parts of its squared-distance nets;
+/// afterwards Solve is const and thread-safe (given one workspace per thread).
+/// The view's arrays must outlive the solver.
+class CellSolver {
+ public:
+  /// Precondition: cell.shape.IsValid(), ambientDim in {2, 3} and
+  /// paramDim <= ambientDim, positive weights, finite control points.
+  explicit CellSolver(const CellView& cell);
+
+  /// Closest point on the cell to `point` (ambientDim coordinates). The result
+  /// is the global minimum over the reference domain up to the tolerances of
+  /// kernels/tolerances.h. `initialRef` (optional) seeds the first local solve.
+  CellSolveResult Solve(const double* point, const double* initialRef, SolveWorkspace* ws) const;
+
+  /// Solves every lane of `queries`; see QueryLane and ResultLane.
+  void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+
+  /// Lower bound of the squared distance from `point` to the cell, from the
+  /// Bernstein coefficients of the squared distance (tighter than the box).
+  double SquaredDistanceLowerBound(const double* point) const;
+
+  const CellView& cell() const { return cell_; }
+  /// Axis-aligned box of the control points: lo[k], hi[k].
+  const double* boxLo() const { return boxLo_; }
+  const double* boxHi() const { return boxHi_; }
+  /// Diagonal of the control-point box, the length scale of the tolerances.
+  double size() const { return size_; }
+  /// True when the map is affine (then the squared distance is convex and
+  /// one local solve is the global answer).
+  bool isAffine() const { return affine_; }
+  /// True when the cell is a volume (paramDim == ambientDim).
+  bool isFullRank() const { return cell_.shape.paramDim() == cell_.ambientDim; }
+
+ private:
+  /// The branch and bound over subdomains of the reference domain that makes
+  /// the local answer `best` global; returns false when the budget ran out.
+  bool Search(const double* point, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
+
+  CellView cell_;
+  double boxLo_[3] = {0, 0, 0};
+  double boxHi_[3] = {0, 0, 0};
+  double size_ = 0.0;
+  bool affine_ = false;
+  double paramScale_[3] = {1, 1, 1};  ///< |dx/du_i| at the center: the length of a unit step in u_i.
+  DistanceNets nets_;
+};
+
+}  // namespace invmap::kernels

@@ -1,0 +1,78 @@
+// Scalar Bernstein nets on a cell's reference domain, and the nets of the
+// squared distance from a query point to a cell, which bound it from below.
+#pragma once
+
+#include <vector>
+
+#include "kernels/cell_map.h"
+
+#include <cstddef>
+
+namespace invmap::kernels {
+
+/// Number of coefficients of a scalar net on `shape` (= its control points).
+inline int NetSize(const CellShape& shape) { return shape.numControlPoints(); }
+
+/// Product of two scalar nets on the same cell type: `out` gets the net of
+/// shape a with degrees a + b. `out` must hold NetSize of the product shape.
+void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, const double* netB, double* out);
+
+/// The net of the same polynomial on half of the domain: factor `factor` of
+/// the reference domain is bisected at the midpoint of its edge (i, j)
+/// (barycentric vertex indices), and the half that keeps vertex i (vertex j
+/// moves to the midpoint) is returned in the factor's new local coordinates.
+/// For a line factor, edge (0, 1) keeping 0 is [0, 1/2]. Exact (dyadic) rules.
+void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in, double* out);
+
+/// The net of the derivative along free coordinate `dir` (0-based, local to
+/// `factor`) of a scalar net; the result has that factor's degree lowered by
+/// one (`outShape`). Precondition: the factor's degree is at least 1.
+void DifferentiateNet(const CellShape& shape, int factor, int dir, const double* in, double* out,
+                      CellShape* outShape);
+
+/// Point-independent parts of the squared distance from a point to a cell.
+///
+/// With the cell written homogeneously as x(u) = N(u) / W(u) and everything
+/// translated to the cell's center c, the squared distance to p is
+///   f(u) = q(u) / W(u)^2,  q = |N - (p - c) W|^2 = NN - 2 (p - c).NW + |p - c|^2 WW,
+/// where NN = |N|^2, NW = N W and WW = W^2 are nets of twice the cell's
+/// degree. Since WW's coefficients are positive, min_i q_i / WW_i bounds f
+/// from below on the whole cell, exactly so when f is constant.
+class DistanceNets {
+ public:
+  /// Precomputes NN, NW and WW for `cell`, translated to `center`.
+  void Build(const CellView& cell, const double* center);
+
+  /// Shape of the nets (the cell's degrees doubled).
+  const CellShape& shape() const { return shape_; }
+  int size() const { return size_; }
+  /// True for rational cells; polynomial cells have WW = 1.
+  bool rational() const { return rational_; }
+  /// The WW net (size() values).
+  const double* ww() const { return nets_.data() + static_cast<size_t>(size_) * (ambientDim_ + 1); }
+  /// Writes the q net of `point` (size() values).
+  void SquaredDistanceNumerator(const double* point, double* q) const;
+  /// Magnitude of the rounding error of q's coefficients for `point`.
+  double RoundingSlack(const double* point) const;
+
+ private:
+  CellShape shape_;
+  int size_ = 0;
+  int ambientDim_ = 3;
+  bool rational_ = false;
+  double center_[3] = {0, 0, 0};
+  double scale2_ = 0.0;       // largest |N|^2 coefficient, for the slack
+  std::vector<double> nets_;  // NN, NW_0 .. NW_{dim-1}, WW: size_ values each
+};
+
+/// Lower bound of q / WW over the domain of the nets: min_i q_i / ww_i, or
+/// min_i q_i when ww is null (polynomial cell).
+double NetLowerBound(int size, const double* q, const double* ww);
+
+/// True when the function with net `f` on `shape` is strictly convex on the
+/// whole domain of the net: the interval Hessian from the second-derivative
+/// nets has a positive smallest eigenvalue (interval midpoint minus radius
+/// bound). `scratch` holds at least 2 * NetSize(shape) values.
+bool NetIsConvex(const CellShape& shape, const double* f, double* scratch);
+
+}  // namespace invmap::kernels

@@ -1,0 +1,303 @@
+#include "kernels/local_solver.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "kernels/active_set.h"
+#include "kernels/tolerances.h"
+
+namespace invmap::kernels {
+namespace {
+
+// Every vector and matrix is 3 x 3 (or 3) and zero-padded past the cell's
+// dimensions: fixed sizes keep the solve off the heap and vectorized.
+using Matrix = Eigen::Matrix3d;
+using Vector = Eigen::Vector3d;
+
+/// Pads the unused diagonal of a reduced matrix with ones, so a face of
+/// dimension m < 3 factors like its m x m block.
+void PadDiagonal(int m, Matrix* a) {
+  for (int c = m; c < 3; ++c) (*a)(c, c) = 1.0;
+}
+
+double SquaredDistanceAt(const CellView& cell, const double* point, const double* ref, double* closest) {
+  MapJet jet;
+  EvaluateMap(cell, ref, JetOrder::Value, &jet);
+  double f = 0.0;
+  for (int k = 0; k < cell.ambientDim; ++k) {
+    closest[k] = jet.x[k];
+    const double r = jet.x[k] - point[k];
+    f += r * r;
+  }
+  return f;
+}
+
+/// Largest step fraction in (0, 1] that keeps every free barycentric
+/// coordinate non-negative, and the constraint that blocks it (factor, index).
+double FeasibleFraction(const CellShape& shape, const ActiveSet& active, const double* ref, const double* step,
+                        int* blockFactor, int* blockIndex) {
+  double alpha = 1.0;
+  *blockFactor = -1;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double lambda[4], dLambda[4];
+    FactorBarycentric(shape, f, ref, lambda);
+    dLambda[0] = 0.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      dLambda[i + 1] = step[fac.offset + i];
+      dLambda[0] -= step[fac.offset + i];
+    }
+    for (int k = 0; k <= fac.dim; ++k) {
+      if ((active.enforced[f] & (1u << k)) || dLambda[k] >= 0.0) continue;
+      const double a = std::max(0.0, lambda[k]) / -dLambda[k];
+      if (a < alpha) {
+        alpha = a;
+        *blockFactor = f;
+        *blockIndex = k;
+      }
+    }
+  }
+  return alpha;
+}
+
+/// Puts `ref` exactly on the face of every enforced constraint (rounding in
+/// the steps would otherwise leave it a hair off).
+void SnapToFace(const CellShape& shape, const ActiveSet& active, double* ref) {
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double* s = ref + fac.offset;
+    for (int k = 1; k <= fac.dim; ++k) {
+      if (active.enforced[f] & (1u << k)) s[k - 1] = 0.0;
+    }
+    if (active.enforced[f] & 1u) {
+      // lambda_0 = 0: the free coordinates sum to one. Put the excess on the
+      // largest free coordinate.
+      double sum = 0.0;
+      int largest = -1;
+      for (int i = 0; i < fac.dim; ++i) {
+        sum += s[i];
+        if (!(active.enforced[f] & (1u << (i + 1))) && (largest < 0 || s[i] > s[largest])) largest = i;
+      }
+      if (largest >= 0) s[largest] += 1.0 - sum;
+    }
+    for (int i = 0; i < fac.dim; ++i) s[i] = std::clamp(s[i], 0.0, 1.0);
+  }
+}
+
+/// True when `step` decreases barycentric coordinate k of factor f.
+bool MovesOut(const CellShape& shape, int f, int k, const double* step) {
+  const SimplexFactor& fac = shape.factor(f);
+  double d = 0.0;
+  if (k > 0) {
+    d = step[fac.offset + k - 1];
+  } else {
+    for (int i = 0; i < fac.dim; ++i) d -= step[fac.offset + i];
+  }
+  return d < 0.0;
+}
+
+/// The enforced constraints of a point: barycentric coordinates at zero.
+ActiveSet ActiveSetAt(const CellShape& shape, const double* ref) {
+  ActiveSet active;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    double lambda[4];
+    FactorBarycentric(shape, f, ref, lambda);
+    const int dim = shape.factor(f).dim;
+    for (int k = 0; k <= dim; ++k) {
+      if (lambda[k] <= 0.0) active.enforced[f] |= 1u << k;
+    }
+    // Keep one coordinate free (a vertex leaves exactly one).
+    if (active.enforced[f] == (1u << (dim + 1)) - 1) active.enforced[f] &= ~1u;
+  }
+  return active;
+}
+
+enum class StepOutcome { Moved, Blocked, Negligible, Rejected };
+
+/// Armijo backtracking along the feasible part of `step`. On success moves
+/// `ref` (and enforces the blocking constraint when the whole feasible step
+/// was taken); Negligible when the accepted move is below kStepTolerance.
+StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& active, double f, const Vector& g,
+                       const Vector& step, double* ref) {
+  const CellShape& shape = cell.shape;
+  const int pd = shape.paramDim();
+  int blockFactor = -1, blockIndex = -1;
+  const double feasible = FeasibleFraction(shape, active, ref, step.data(), &blockFactor, &blockIndex);
+  const double slope = 2.0 * g.dot(step);  // derivative of |r|^2 along the step
+  if (!(slope < 0.0)) return StepOutcome::Rejected;
+  double alpha = feasible;
+  double trial[3], closest[3];
+  for (int halving = 0; halving < 60; ++halving) {
+    if (alpha * step.norm() <= kStepTolerance) return StepOutcome::Negligible;
+    for (int i = 0; i < pd; ++i) trial[i] = ref[i] + alpha * step[i];
+    const double fTrial = SquaredDistanceAt(cell, point, trial, closest);
+    if (fTrial <= f + 1e-4 * alpha * slope && fTrial < f) {
+      std::copy(trial, trial + pd, ref);
+      if (blockFactor >= 0 && alpha == feasible) {
+        active.enforced[blockFactor] |= 1u << blockIndex;
+        return StepOutcome::Blocked;
+      }
+      return StepOutcome::Moved;
+    }
+    alpha *= 0.5;
+  }
+  return StepOutcome::Rejected;
+}
+
+}  // namespace
+
+LocalSolveResult LocalSolve(const CellView& cell, const double* point, const double* startRef,
+                            const LocalSolveOptions& options) {
+  const CellShape& shape = cell.shape;
+  const int pd = shape.paramDim();
+  const int ad = cell.ambientDim;
+  const bool fullRank = pd == ad;
+  const double size = options.size;
+  const double gradTol = kGradientTolerance * size;
+  const JetOrder order = options.affine ? JetOrder::First : JetOrder::Second;
+
+  LocalSolveResult result;
+  double ref[3] = {0, 0, 0};
+  std::copy(startRef, startRef + pd, ref);
+  ClampToDomain(shape, ref);
+  ActiveSet active = ActiveSetAt(shape, ref);
+  SnapToFace(shape, active, ref);
+
+  int releases = 0;
+  int releasedFactor = -1, releasedIndex = -1;  // the constraint released last
+  MapJet jet;
+  for (int iter = 0; iter < options.maxIterations; ++iter) {
+    result.iterations = iter + 1;
+    const bool useFullRank = fullRank && active.enforced[0] == 0 && active.enforced[1] == 0 && active.enforced[2] == 0;
+    EvaluateMap(cell, ref, useFullRank ? JetOrder::First : order, &jet);
+    double r[3] = {0, 0, 0};
+    double f = 0.0;
+    for (int k = 0; k < ad; ++k) {
+      r[k] = jet.x[k] - point[k];
+      f += r[k] * r[k];
+    }
+    double grad[3] = {0, 0, 0};  // gradient of f / 2 = J^T r
+    for (int i = 0; i < pd; ++i) {
+      for (int k = 0; k < ad; ++k) grad[i] += jet.d1[k][i] * r[k];
+    }
+    const double residualScale = gradTol * (size + std::sqrt(f));
+
+    FaceBasis face;
+    BuildFaceBasis(shape, active, &face);
+    const int m = face.columns;
+    const Matrix T = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&face.t[0][0]);
+    const Vector g = Eigen::Map<const Vector>(grad);
+    const Vector gReduced = T.transpose() * g;
+
+    bool stationary = m == 0 || gReduced.norm() <= residualScale;
+    Vector step = Vector::Zero();
+    if (!stationary) {
+      Matrix jac = Matrix::Zero();  // rows: ambient coordinates, columns: parameters
+      for (int k = 0; k < ad; ++k) {
+        for (int i = 0; i < pd; ++i) jac(k, i) = jet.d1[k][i];
+      }
+      bool haveStep = false;
+      if (useFullRank) {
+        // 7.3.2.1: J is square; -J^-1 r is always a descent direction.
+        Matrix square = jac;
+        PadDiagonal(pd, &square);
+        if (std::abs(square.determinant()) > kSingularTolerance * std::pow(size, pd)) {
+          step = square.partialPivLu().solve(-Eigen::Map<const Vector>(r));
+          haveStep = step.allFinite();
+        }
+      }
+      const Matrix gaussNewton = jac.transpose() * jac;
+      Matrix gnReduced = T.transpose() * gaussNewton * T;
+      // Gradient descent scaled to the Gauss-Newton model's Cauchy step.
+      const double curvature = gReduced.dot(gnReduced * gReduced);
+      const Vector descent = -gReduced * (gReduced.squaredNorm() / std::max(curvature, 1e-300));
+      PadDiagonal(m, &gnReduced);
+      if (!haveStep) {
+        Matrix hessian = gaussNewton;
+        if (order == JetOrder::Second) {
+          for (int i = 0; i < pd; ++i) {
+            for (int j = 0; j < pd; ++j) {
+              for (int k = 0; k < ad; ++k) hessian(i, j) += r[k] * jet.d2[k][i][j];
+            }
+          }
+        }
+        Matrix hReduced = T.transpose() * hessian * T;
+        PadDiagonal(m, &hReduced);
+        Eigen::LLT<Matrix> llt(hReduced);
+        if (llt.info() == Eigen::Success) {
+          const Vector delta = llt.solve(-gReduced);
+          if (delta.allFinite() && delta.dot(gReduced) < 0.0) {
+            step = T * delta;
+            haveStep = true;
+          }
+        }
+      }
+      if (!haveStep) {
+        // Levenberg-Marquardt on the Gauss-Newton model: a descent direction
+        // for any damping, and well defined for singular Jacobians.
+        const double damping = 1e-10 * (gnReduced.trace() + size * size) + 1e-300;
+        gnReduced.diagonal().array() += damping;
+        Eigen::LLT<Matrix> llt(gnReduced);
+        Vector delta = llt.solve(-gReduced);
+        if (llt.info() != Eigen::Success || !delta.allFinite() || delta.dot(gReduced) >= 0.0) delta = descent;
+        step = T * delta;
+      }
+      if (releasedFactor >= 0 && MovesOut(shape, releasedFactor, releasedIndex, step.data())) {
+        // Right after a release the multiplier promises descent into the
+        // interior; a curved model's step back out would only cycle.
+        step = T * descent;
+      }
+      releasedFactor = -1;
+
+      // The model's step first, then plain descent: a step that the line
+      // search cannot use (a nearly singular model) falls back to the gradient.
+      const Vector candidates[2] = {step, T * descent};
+      bool moved = false;
+      for (const Vector& candidate : candidates) {
+        const StepOutcome outcome = LineSearch(cell, point, active, f, g, candidate, ref);
+        if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
+        moved = true;
+        if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
+        break;
+      }
+      if (moved) continue;
+      // No decrease possible (or a negligible step): a stationary point up to
+      // rounding.
+      stationary = true;
+    }
+
+    // Stationary on the current face: release the constraint whose
+    // multiplier is most negative, if any (algorithm 5, lines 33-45).
+    int releaseFactor = -1, releaseIndex = -1;
+    double mostNegative = -residualScale;
+    for (int fac = 0; fac < shape.numFactors(); ++fac) {
+      for (int k = 0; k <= shape.factor(fac).dim; ++k) {
+        if (!(active.enforced[fac] & (1u << k))) continue;
+        const double mu = ReleaseDerivative(shape, active, fac, k, grad);
+        if (mu < mostNegative) {
+          mostNegative = mu;
+          releaseFactor = fac;
+          releaseIndex = k;
+        }
+      }
+    }
+    if (releaseFactor >= 0 && releases < 4 * (pd + 1)) {
+      active.enforced[releaseFactor] &= ~(1u << releaseIndex);
+      releasedFactor = releaseFactor;
+      releasedIndex = releaseIndex;
+      ++releases;
+      continue;
+    }
+    result.converged = true;
+    break;
+  }
+
+  std::copy(ref, ref + pd, result.ref);
+  result.squaredDistance = SquaredDistanceAt(cell, point, ref, result.closest);
+  result.onBoundary = active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0;
+  return result;
+}
+
+}  // namespace invmap::kernels

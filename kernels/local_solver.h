@@ -1,0 +1,38 @@
+// Algorithm 5: the active-set Newton solve for a closest point on one cell,
+// local: it converges to a constrained local minimum (a KKT point) of the
+// squared distance near its starting point.
+#pragma once
+
+#include "kernels/cell_map.h"
+
+namespace invmap::kernels {
+
+/// Result of one local solve.
+struct LocalSolveResult {
+  double ref[3] = {0, 0, 0};      ///< Reference coordinates of the KKT point.
+  double closest[3] = {0, 0, 0};  ///< The map at ref.
+  double squaredDistance = 0.0;
+  bool onBoundary = false;  ///< Some constraint is enforced at the solution.
+  bool converged = false;   ///< Stopped on the residual or step tolerance (not on the iteration cap).
+  int iterations = 0;
+};
+
+/// Options of the local solve, relative to the cell's size (see tolerances.h).
+struct LocalSolveOptions {
+  bool affine = false;  ///< The map is affine: no second derivatives, one exact step per active set.
+  double size = 1.0;    ///< Length scale: the diagonal of the control-point box.
+  int maxIterations = 100;
+};
+
+/// Minimizes |x(u) - point|^2 over the reference domain starting at
+/// `startRef` (clamped into the domain). Newton in the orthogonal basis of
+/// the free face; constraints enforced by step scaling and released by their
+/// Lagrange multipliers; Levenberg-Marquardt and then gradient-descent
+/// fallbacks when the Newton direction is not a descent direction; Armijo
+/// backtracking so every step decreases the distance. Volume cells with no
+/// enforced constraint use the full-rank step -J^-1 r (7.3.2.1). Never
+/// produces NaN for finite input, whatever the cell's degeneracy.
+LocalSolveResult LocalSolve(const CellView& cell, const double* point, const double* startRef,
+                            const LocalSolveOptions& options);
+
+}  // namespace invmap::kernels

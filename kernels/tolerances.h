@@ -1,0 +1,35 @@
+// Every tolerance of the solve path, in one place. Lengths are relative to the
+// cell's size (the diagonal of its control-point box); reference coordinates
+// live in the unit domain of FORMATS.md section 1.
+#pragma once
+
+namespace invmap::kernels {
+
+/// Local solve: stop when the reduced gradient J^T r, projected on the free
+/// face, is below this times size * (size + |r|).
+constexpr double kGradientTolerance = 1e-14;
+
+/// Local solve: stop when a step moves the reference point by less than this
+/// (the unit domain's coordinates are resolved to about 1e-16).
+constexpr double kStepTolerance = 1e-15;
+
+/// Full-rank step: the Jacobian is treated as singular below this relative
+/// determinant (then the constrained Newton path takes over).
+constexpr double kSingularTolerance = 1e-12;
+
+/// Global search in a cell: a part of the cell is excluded once it cannot
+/// hold a point closer than the best one by more than this times size. The
+/// distance reported is within this of the true minimum over the cell.
+constexpr double kDistanceTolerance = 1e-11;
+
+/// Global search in a cell: a point on a subdomain's boundary still counts as
+/// inside it within this (reference coordinates) for the convexity certificate.
+constexpr double kInsideTolerance = 1e-9;
+
+/// Global search in a cell: the most subdomains examined for one query, and
+/// the deepest bisection. Only near-ties of distinct minima within
+/// kDistanceTolerance (and points on an evolute) come near these.
+constexpr int kMaxSubdomains = 4096;
+constexpr int kMaxDepth = 64;
+
+}  // namespace invmap::kernels

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# invmap set-up on a fresh Debian 12 machine (run as root). Idempotent: a second
+# run installs nothing and rebuilds only what changed.
+#
+#   scripts/setup.sh demo   install what is missing, build in Release, run the main job on a bundled example
+#   scripts/setup.sh test   install what is missing, build (Release + Debug/ASan/UBSan), run every test
+set -euo pipefail
+
+mode=${1:-demo}
+root=$(cd "$(dirname "$0")/.." && pwd)
+jobs=$(nproc)
+
+packages=(build-essential cmake ninja-build pkg-config libeigen3-dev libtbb-dev libembree-dev
+          libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev)
+
+install_missing() {
+  local missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "== installing: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+}
+
+# configure_and_build DIR BUILD_TYPE [extra cmake args...]
+configure_and_build() {
+  local dir=$1 type=$2
+  shift 2
+  cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE="$type" "$@" > "$dir.configure.log" 2>&1 \
+    || { cat "$dir.configure.log"; exit 1; }
+  cmake --build "$dir" -j "$jobs"
+}
+
+install_missing
+mkdir -p "$root/build"
+case "$mode" in
+  demo)
+    configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF
+    "$root/build/release/examples/invmap_demo"
+    ;;
+  test)
+    configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=ON
+    # The kernel tests again with AddressSanitizer, UndefinedBehaviorSanitizer and internal asserts.
+    configure_and_build "$root/build/asan" Debug -DINVMAP_SANITIZE=ON -DINVMAP_ASSERT=ON \
+      -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=OFF
+    echo "== Release suite"
+    ctest --test-dir "$root/build/release" -j "$jobs" --output-on-failure --timeout 900
+    echo "== Debug + ASan/UBSan suite"
+    ctest --test-dir "$root/build/asan" -j "$jobs" --output-on-failure --timeout 900 -L sanitize
+    ;;
+  *)
+    echo "usage: scripts/setup.sh demo|test" >&2
+    exit 2
+    ;;
+esac
