@@ -1,10 +1,59 @@
 #include "kernels/bernstein.h"
 
+#include <algorithm>
+
 #include "kernels/simplex_index.h"
 
 namespace invmap::kernels {
+namespace {
+
+/// Line factor: the Bernstein triangle up to degree p by the de Casteljau
+/// recurrence B^n_i = (1 - t) B^{n-1}_i + t B^{n-1}_{i-1}; the derivatives
+/// come from the two lower degrees.
+void EvaluateLineBasis(int degree, double t, JetOrder order, FactorBasis* out) {
+  out->size = degree + 1;
+  double level[3][kMaxDegree + 1];  // degrees p - 2, p - 1, p (where they exist)
+  double current[kMaxDegree + 1];
+  current[0] = 1.0;
+  const double u = 1.0 - t;
+  for (int n = 0; n <= degree; ++n) {
+    if (n > 0) {
+      current[n] = t * current[n - 1];
+      for (int i = n - 1; i > 0; --i) current[i] = u * current[i] + t * current[i - 1];
+      current[0] *= u;
+    }
+    const int slot = n - (degree - 2);
+    if (slot >= 0) std::copy(current, current + n + 1, level[slot]);
+  }
+  std::copy(current, current + degree + 1, out->value);
+  if (order == JetOrder::Value) return;
+  const double* lower = degree >= 1 ? level[1] : nullptr;
+  for (int i = 0; i <= degree; ++i) {
+    const double left = i >= 1 ? lower[i - 1] : 0.0;
+    const double right = i < degree ? lower[i] : 0.0;
+    out->d1[i][0] = degree * (left - right);
+  }
+  if (order != JetOrder::Second) return;
+  const double* lowest = degree >= 2 ? level[0] : nullptr;
+  for (int i = 0; i <= degree; ++i) {
+    double d2 = 0.0;
+    if (lowest) {
+      const double a = i >= 2 ? lowest[i - 2] : 0.0;
+      const double b = i >= 1 && i - 1 <= degree - 2 ? lowest[i - 1] : 0.0;
+      const double c = i <= degree - 2 ? lowest[i] : 0.0;
+      d2 = degree * (degree - 1) * (a - 2.0 * b + c);
+    }
+    out->d2[i][0][0] = d2;
+  }
+}
+
+}  // namespace
 
 void EvaluateFactorBasis(int dim, int degree, const double* s, JetOrder order, FactorBasis* out) {
+  if (dim == 1) {
+    EvaluateLineBasis(degree, s[0], order, out);
+    return;
+  }
   const SimplexIndex& index = SimplexIndex::Get(dim, degree);
   out->size = index.size();
 

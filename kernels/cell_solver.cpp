@@ -143,24 +143,37 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
     // Parameters the map barely depends on still get split now and then.
     paramScale_[i] = std::sqrt(len2) + 1e-3 * size_;
   }
-  if (!affine_) nets_.Build(cell, center);
+  if (!affine_) {
+    nets_.Build(cell, center);
+    stencil_ = &HessianStencil::Get(nets_.shape());
+  }
 }
 
-double CellSolver::SquaredDistanceLowerBound(const double* point) const {
+double CellSolver::SquaredDistanceLowerBound(const double* point, SolveWorkspace* ws) const {
   double box2 = 0.0;
   for (int k = 0; k < cell_.ambientDim; ++k) {
     const double d = std::max({boxLo_[k] - point[k], 0.0, point[k] - boxHi_[k]});
     box2 += d * d;
   }
-  return box2;
+  if (affine_) return box2;
+  const int n = nets_.size();
+  if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
+  nets_.SquaredDistanceNumerator(point, ws->scratch.data());
+  const double lb = NetLowerBound(n, ws->scratch.data(), nets_.rational() ? nets_.ww() : nullptr);
+  return std::max(box2, lb - nets_.RoundingSlack(point));
 }
 
-CellSolveResult CellSolver::Solve(const double* point, const double* initialRef, SolveWorkspace* ws) const {
+CellSolveResult CellSolver::Solve(const double* point, const double* initialRef, SolveWorkspace* ws,
+                                  double bound2) const {
   CellSolveResult result;
   const int pd = cell_.shape.paramDim();
   const int ad = cell_.ambientDim;
   for (int k = 0; k < ad; ++k) {
     if (!std::isfinite(point[k])) return result;  // status InvalidInput
+  }
+  if (bound2 < std::numeric_limits<double>::infinity() && SquaredDistanceLowerBound(point, ws) >= bound2) {
+    result.status = PointStatus::Farther;
+    return result;
   }
   double start[3];
   if (initialRef) {
@@ -178,17 +191,23 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   const double tau = kDistanceTolerance * size_;
   // An affine map makes the squared distance convex: the KKT point is global.
   // A distance within tau of zero cannot be beaten by more than tau.
-  if (!affine_ && best.squaredDistance > tau * tau) certified = Search(point, &best, &result.iterations, ws);
+  if (!affine_ && best.squaredDistance > tau * tau) certified = Search(point, bound2, &best, &result.iterations, ws);
 
   std::copy(best.ref, best.ref + pd, result.ref);
   std::copy(best.closest, best.closest + ad, result.closest);
   result.distance = std::sqrt(best.squaredDistance);
-  result.status = !certified ? PointStatus::NotCertified
-                             : (best.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged);
+  if (best.squaredDistance >= bound2) {
+    result.status = PointStatus::Farther;
+  } else if (!certified) {
+    result.status = PointStatus::NotCertified;
+  } else {
+    result.status = best.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+  }
   return result;
 }
 
-bool CellSolver::Search(const double* point, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const {
+bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* best, int* iterations,
+                        SolveWorkspace* ws) const {
   const CellShape& netShape = nets_.shape();
   const int n = nets_.size();
   const bool rational = nets_.rational();
@@ -197,11 +216,12 @@ bool CellSolver::Search(const double* point, LocalSolveResult* best, int* iterat
   const double slack = nets_.RoundingSlack(point);
   // Subdomains whose lower bound reaches this cannot beat the best by more than tau.
   auto pruneLevel = [&] {
-    const double d = std::sqrt(best->squaredDistance);
-    return best->squaredDistance - std::max(2.0 * tau * d, tau * tau) + slack;
+    const double f = std::min(best->squaredDistance, bound2);
+    return f - std::max(2.0 * tau * std::sqrt(f), tau * tau) + slack;
   };
   SlotPool pool(ws, slotSize);
-  if (ws->scratch.size() < static_cast<size_t>(3) * n) ws->scratch.resize(static_cast<size_t>(3) * n);
+  if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
+  const HessianStencil& stencil = *stencil_;
   // The convexity certificate: q - f* WW convex on a subdomain holding the
   // KKT point x* means q >= f* WW there, so no point of it is closer.
   auto certifiedAround = [&](double* slot) {
@@ -210,7 +230,7 @@ bool CellSolver::Search(const double* point, LocalSolveResult* best, int* iterat
     const double* q = slot + kHeaderSize;
     const double* ww = rational ? q + n : nullptr;
     for (int i = 0; i < n; ++i) f[i] = q[i] - best->squaredDistance * (ww ? ww[i] : 1.0);
-    return NetIsConvex(netShape, f, ws->scratch.data() + n);
+    return stencil.IsConvex(f);
   };
   auto lowerBound = [&](double* slot) {
     const double* q = slot + kHeaderSize;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "kernels/cell_map.h"
@@ -18,6 +19,8 @@ enum class PointStatus : std::uint8_t {
   NotCertified,         ///< Best point found, but the search budget ran out before
                         ///< every other part of the cell was excluded (near-ties, evolutes).
   InvalidInput,         ///< The query point has a NaN or infinite coordinate.
+  Farther,              ///< No point of the cell is closer than the caller's bound
+                        ///< (see Solve); the other fields are not meaningful.
 };
 
 /// Result of one point's solve on one cell.
@@ -67,18 +70,25 @@ class CellSolver {
   /// Precondition: cell.shape.IsValid(), ambientDim in {2, 3} and
   /// paramDim <= ambientDim, positive weights, finite control points.
   explicit CellSolver(const CellView& cell);
+  /// An empty solver, to be assigned; Solve must not be called on it.
+  CellSolver() = default;
 
   /// Closest point on the cell to `point` (ambientDim coordinates). The result
   /// is the global minimum over the reference domain up to the tolerances of
   /// kernels/tolerances.h. `initialRef` (optional) seeds the first local solve.
-  CellSolveResult Solve(const double* point, const double* initialRef, SolveWorkspace* ws) const;
+  /// `bound2`: the squared distance of the best point found elsewhere; parts
+  /// of the cell that cannot beat it are skipped, and a cell that cannot beat
+  /// it at all returns status Farther (often without any Newton iteration).
+  CellSolveResult Solve(const double* point, const double* initialRef, SolveWorkspace* ws,
+                        double bound2 = std::numeric_limits<double>::infinity()) const;
 
   /// Solves every lane of `queries`; see QueryLane and ResultLane.
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
 
-  /// Lower bound of the squared distance from `point` to the cell, from the
-  /// Bernstein coefficients of the squared distance (tighter than the box).
-  double SquaredDistanceLowerBound(const double* point) const;
+  /// Lower bound of the squared distance from `point` to the cell: the
+  /// smallest Bernstein coefficient ratio of the squared distance (exact for
+  /// constant distance, tighter than the box), the box distance for affine cells.
+  double SquaredDistanceLowerBound(const double* point, SolveWorkspace* ws) const;
 
   const CellView& cell() const { return cell_; }
   /// Axis-aligned box of the control points: lo[k], hi[k].
@@ -89,13 +99,15 @@ class CellSolver {
   /// True when the map is affine (then the squared distance is convex and
   /// one local solve is the global answer).
   bool isAffine() const { return affine_; }
+  /// Heap memory of the precomputed nets, in bytes.
+  std::size_t NetMemoryBytes() const { return nets_.MemoryBytes(); }
   /// True when the cell is a volume (paramDim == ambientDim).
   bool isFullRank() const { return cell_.shape.paramDim() == cell_.ambientDim; }
 
  private:
   /// The branch and bound over subdomains of the reference domain that makes
   /// the local answer `best` global; returns false when the budget ran out.
-  bool Search(const double* point, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
+  bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 
   CellView cell_;
   double boxLo_[3] = {0, 0, 0};
@@ -104,6 +116,7 @@ class CellSolver {
   bool affine_ = false;
   double paramScale_[3] = {1, 1, 1};  ///< |dx/du_i| at the center: the length of a unit step in u_i.
   DistanceNets nets_;
+  const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
 };
 
 }  // namespace invmap::kernels

@@ -4,31 +4,12 @@
 
 #include <vector>
 
+#include "kernels/bernstein_net.h"
 #include "kernels/cell_map.h"
 
 #include <cstddef>
 
 namespace invmap::kernels {
-
-/// Number of coefficients of a scalar net on `shape` (= its control points).
-inline int NetSize(const CellShape& shape) { return shape.numControlPoints(); }
-
-/// Product of two scalar nets on the same cell type: `out` gets the net of
-/// shape a with degrees a + b. `out` must hold NetSize of the product shape.
-void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, const double* netB, double* out);
-
-/// The net of the same polynomial on half of the domain: factor `factor` of
-/// the reference domain is bisected at the midpoint of its edge (i, j)
-/// (barycentric vertex indices), and the half that keeps vertex i (vertex j
-/// moves to the midpoint) is returned in the factor's new local coordinates.
-/// For a line factor, edge (0, 1) keeping 0 is [0, 1/2]. Exact (dyadic) rules.
-void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in, double* out);
-
-/// The net of the derivative along free coordinate `dir` (0-based, local to
-/// `factor`) of a scalar net; the result has that factor's degree lowered by
-/// one (`outShape`). Precondition: the factor's degree is at least 1.
-void DifferentiateNet(const CellShape& shape, int factor, int dir, const double* in, double* out,
-                      CellShape* outShape);
 
 /// Point-independent parts of the squared distance from a point to a cell.
 ///
@@ -52,6 +33,8 @@ class DistanceNets {
   const double* ww() const { return nets_.data() + static_cast<size_t>(size_) * (ambientDim_ + 1); }
   /// Writes the q net of `point` (size() values).
   void SquaredDistanceNumerator(const double* point, double* q) const;
+  /// Heap memory of the nets, in bytes.
+  std::size_t MemoryBytes() const { return nets_.capacity() * sizeof(double); }
   /// Magnitude of the rounding error of q's coefficients for `point`.
   double RoundingSlack(const double* point) const;
 
@@ -68,11 +51,5 @@ class DistanceNets {
 /// Lower bound of q / WW over the domain of the nets: min_i q_i / ww_i, or
 /// min_i q_i when ww is null (polynomial cell).
 double NetLowerBound(int size, const double* q, const double* ww);
-
-/// True when the function with net `f` on `shape` is strictly convex on the
-/// whole domain of the net: the interval Hessian from the second-derivative
-/// nets has a positive smallest eigenvalue (interval midpoint minus radius
-/// bound). `scratch` holds at least 2 * NetSize(shape) values.
-bool NetIsConvex(const CellShape& shape, const double* f, double* scratch);
 
 }  // namespace invmap::kernels

@@ -1,0 +1,201 @@
+// The public API's boundary: the only place that catches exceptions.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <new>
+#include <stdexcept>
+
+#include "engine/bvh_build.h"
+#include "engine/cell_store.h"
+#include "engine/invert_batch.h"
+#include "invmap/invmap.h"
+
+namespace invmap {
+
+struct Manifold::Impl {
+  engine::CellStore store;
+  engine::Bvh bvh;
+};
+
+namespace {
+
+void SetMessage(std::string* message, const std::string& text) {
+  if (message) *message = text;
+}
+
+/// The query coordinates as double structure of arrays (one copy, so the
+/// solve path reads contiguous doubles whatever the caller's layout).
+template <typename T>
+void CopyCoordinates(const PointsView& view, std::vector<double>* soa) {
+  const std::size_t n = view.count;
+  soa->resize(n * view.dim);
+  for (int k = 0; k < view.dim; ++k) {
+    const T* src = static_cast<const T*>(view.coord[k]);
+    double* dst = soa->data() + k * n;
+    for (std::size_t i = 0; i < n; ++i) dst[i] = static_cast<double>(src[i * view.stride]);
+  }
+}
+
+}  // namespace
+
+PointsView PointsView::Interleaved(const double* xyz, std::size_t count, int dim) {
+  PointsView v;
+  v.count = count;
+  v.dim = dim;
+  v.scalar = Scalar::Float64;
+  for (int k = 0; k < dim; ++k) v.coord[k] = xyz + k;
+  v.stride = static_cast<std::size_t>(dim);
+  return v;
+}
+
+PointsView PointsView::Interleaved(const float* xyz, std::size_t count, int dim) {
+  PointsView v;
+  v.count = count;
+  v.dim = dim;
+  v.scalar = Scalar::Float32;
+  for (int k = 0; k < dim; ++k) v.coord[k] = xyz + k;
+  v.stride = static_cast<std::size_t>(dim);
+  return v;
+}
+
+PointsView PointsView::Separate(const double* x, const double* y, const double* z, std::size_t count, int dim) {
+  PointsView v;
+  v.count = count;
+  v.dim = dim;
+  v.scalar = Scalar::Float64;
+  v.coord[0] = x;
+  v.coord[1] = y;
+  v.coord[2] = dim == 3 ? z : nullptr;
+  v.stride = 1;
+  return v;
+}
+
+PointsView PointsView::Separate(const float* x, const float* y, const float* z, std::size_t count, int dim) {
+  PointsView v;
+  v.count = count;
+  v.dim = dim;
+  v.scalar = Scalar::Float32;
+  v.coord[0] = x;
+  v.coord[1] = y;
+  v.coord[2] = dim == 3 ? z : nullptr;
+  v.stride = 1;
+  return v;
+}
+
+Manifold::Manifold() = default;
+Manifold::~Manifold() = default;
+Manifold::Manifold(Manifold&&) noexcept = default;
+Manifold& Manifold::operator=(Manifold&&) noexcept = default;
+
+bool Manifold::valid() const { return impl_ != nullptr; }
+
+BuildResult Manifold::Build(const Geometry& geometry) {
+  BuildResult result;
+  try {
+    auto impl = std::make_unique<Impl>();
+    result.error = impl->store.Build(geometry, 0);
+    if (!result.error.empty()) return result;
+    std::vector<engine::BvhBox> boxes(impl->store.size());
+    for (std::int64_t c = 0; c < impl->store.size(); ++c) {
+      const kernels::CellSolver& s = impl->store.solver(c);
+      for (int k = 0; k < 3; ++k) {
+        boxes[c].lo[k] = s.boxLo()[k];
+        boxes[c].hi[k] = s.boxHi()[k];
+      }
+    }
+    impl->bvh = engine::BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
+    result.manifold.impl_ = std::move(impl);
+  } catch (const std::bad_alloc&) {
+    result.error = "out of memory while building the manifold";
+  } catch (const std::exception& e) {
+    result.error = std::string("building the manifold failed: ") + e.what();
+  }
+  return result;
+}
+
+ManifoldInfo Manifold::Info() const {
+  ManifoldInfo info;
+  if (!impl_) return info;
+  const engine::CellStore& store = impl_->store;
+  info.dimension = store.dimension();
+  info.patches = store.numPatches();
+  info.cells = static_cast<std::size_t>(store.size());
+  std::map<std::string, std::size_t> byShape;
+  for (std::int64_t c = 0; c < store.size(); ++c) {
+    const kernels::CellShape& shape = store.solver(c).cell().shape;
+    std::string key = kernels::CellTypeName(shape.type());
+    key += ' ';
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      if (f) key += 'x';
+      key += std::to_string(shape.factor(f).degree);
+    }
+    if (store.solver(c).cell().weights) key += " rational";
+    ++byShape[key];
+  }
+  info.cellsByShape.assign(byShape.begin(), byShape.end());
+  const engine::BvhBox& bounds = impl_->bvh.RootBounds();
+  for (int k = 0; k < 3; ++k) {
+    info.boundsLo[k] = info.cells ? bounds.lo[k] : 0.0;
+    info.boundsHi[k] = info.cells ? bounds.hi[k] : 0.0;
+  }
+  info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + sizeof(Impl);
+  return info;
+}
+
+Error Manifold::Invert(const PointsView& points, const InversionOptions& options, Results* results,
+                       std::string* message) const {
+  if (!impl_) {
+    SetMessage(message, "the manifold is empty (not built)");
+    return Error::InvalidArgument;
+  }
+  if (!results) {
+    SetMessage(message, "results: null");
+    return Error::InvalidArgument;
+  }
+  const int dim = impl_->store.dimension();
+  if (points.dim != dim) {
+    SetMessage(message, "points: dimension " + std::to_string(points.dim) + ", the geometry's is " + std::to_string(dim));
+    return Error::InvalidArgument;
+  }
+  for (int k = 0; k < dim; ++k) {
+    if (points.count > 0 && !points.coord[k]) {
+      SetMessage(message, "points: coordinate array " + std::to_string(k) + " is null");
+      return Error::InvalidArgument;
+    }
+  }
+  if (std::isnan(options.maxDistance) || options.maxDistance < 0.0 || options.threads < 0) {
+    SetMessage(message, "options: maxDistance must be >= 0 and threads >= 0");
+    return Error::InvalidArgument;
+  }
+  try {
+    std::vector<double> soa;
+    if (points.scalar == Scalar::Float64) {
+      CopyCoordinates<double>(points, &soa);
+    } else {
+      CopyCoordinates<float>(points, &soa);
+    }
+    engine::QueryPoints query;
+    query.count = static_cast<std::int64_t>(points.count);
+    for (int k = 0; k < dim; ++k) query.coord[k] = soa.data() + k * points.count;
+    const std::size_t n = points.count;
+    results->status.assign(n, Status::Invalid);
+    results->patch.assign(n, -1);
+    results->cell.assign(n, -1);
+    results->params.assign(3 * n, 0.0);
+    results->closest.assign(3 * n, 0.0);
+    results->distance.assign(n, 0.0);
+    results->iterations.assign(n, 0);
+    engine::InvertBatch(impl_->store, impl_->bvh, query, options, results);
+  } catch (const std::bad_alloc&) {
+    SetMessage(message, "out of memory");
+    return Error::OutOfMemory;
+  } catch (const std::exception& e) {
+    SetMessage(message, std::string("internal error: ") + e.what());
+    return Error::Internal;
+  }
+  return Error::Ok;
+}
+
+const char* Version() { return "0.1.0"; }
+
+}  // namespace invmap

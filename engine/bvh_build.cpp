@@ -1,0 +1,310 @@
+// The only file in invmap that includes Embree (STYLE.md section 5).
+//
+// Embree's SAH builder works on float boxes and calls back into this file to
+// make its nodes; those temporary nodes live in Embree's thread-local
+// allocator and only record the tree's shape. The flat invmap tree is then
+// laid out from that shape, and its bounds are recomputed in double from the
+// caller's boxes, so no rounding to float ever reaches a bound.
+#include "engine/bvh_build.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <new>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "engine/parallel.h"
+
+namespace invmap::engine {
+namespace {
+
+/// Depth limit handed to Embree. Embree switches to median splits 8 levels
+/// before it and fails beyond it; 64 leaves room for very uneven SAH trees
+/// while bounding the builder's recursion (a few kB of stack per level).
+constexpr unsigned kMaxDepth = 64;
+
+/// Tag of a temporary inner node, distinct from every leaf's item count (>= 1).
+constexpr std::uint32_t kInnerTag = 0;
+
+/// Temporary inner node made by Embree's createNode callback. Starts with the
+/// same 32-bit tag as a leaf, so a node's kind is read from its first word.
+struct BuildInner {
+  std::uint32_t tag;      ///< Always kInnerTag.
+  void* children[2];      ///< Temporary nodes of the two children.
+};
+
+// A temporary leaf is an array of 32-bit words: word 0 holds the item count
+// n >= 1 and words 1 .. n the input box indices.
+
+/// First word of a temporary node: kInnerTag or a leaf's item count.
+std::uint32_t NodeTag(const void* node) { return *static_cast<const std::uint32_t*>(node); }
+
+/// Embree createNode callback: allocates an inner node from the thread-local
+/// allocator. Returns null if that allocation fails; Embree then reports the
+/// error, which BuildBvh turns into an exception.
+void* CreateNode(RTCThreadLocalAllocator alloc, unsigned int /*childCount*/, void* /*userPtr*/) {
+  void* memory = rtcThreadLocalAlloc(alloc, sizeof(BuildInner), alignof(BuildInner));
+  if (memory == nullptr) return nullptr;
+  return new (memory) BuildInner{kInnerTag, {nullptr, nullptr}};
+}
+
+/// Embree setNodeChildren callback: records the children of an inner node.
+/// maxBranchingFactor = 2, so childCount is always 2.
+void SetNodeChildren(void* node, void** children, unsigned int childCount, void* /*userPtr*/) {
+  if (node == nullptr) return;
+  auto* inner = static_cast<BuildInner*>(node);
+  for (unsigned int i = 0; i < childCount && i < 2; ++i) inner->children[i] = children[i];
+}
+
+/// Embree setNodeBounds callback: ignores Embree's bounds, which are float;
+/// BuildBvh recomputes every node's bounds in double.
+void SetNodeBounds(void* /*node*/, const RTCBounds** /*bounds*/, unsigned int /*childCount*/,
+                   void* /*userPtr*/) {}
+
+/// Embree createLeaf callback: stores the input indices of the leaf's boxes.
+void* CreateLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t primCount,
+                 void* /*userPtr*/) {
+  void* memory = rtcThreadLocalAlloc(alloc, sizeof(std::uint32_t) * (primCount + 1),
+                                     alignof(std::uint32_t));
+  if (memory == nullptr) return nullptr;
+  auto* words = static_cast<std::uint32_t*>(memory);
+  words[0] = static_cast<std::uint32_t>(primCount);
+  for (size_t i = 0; i < primCount; ++i) words[i + 1] = prims[i].primID;
+  return words;
+}
+
+/// Name of an Embree error code for messages.
+const char* ErrorName(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
+    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
+    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+  }
+  return "unknown Embree error code";
+}
+
+/// Receives Embree's error messages for one device. Embree reports an error
+/// on the thread that made the failing API call, which is BuildBvh's thread.
+struct ErrorLog {
+  std::string message;  ///< First message Embree reported; empty if none.
+};
+
+/// Embree device error callback: keeps the first message.
+void OnEmbreeError(void* userPtr, RTCError code, const char* str) {
+  auto* log = static_cast<ErrorLog*>(userPtr);
+  if (!log->message.empty()) return;
+  log->message = ErrorName(code);
+  if (str != nullptr) log->message += std::string(": ") + str;
+}
+
+/// Throws std::runtime_error naming the failed step and Embree's message.
+[[noreturn]] void ThrowEmbreeError(const char* step, RTCError code, const ErrorLog& log) {
+  std::ostringstream msg;
+  msg << "invmap BVH build: Embree " << step << " failed ("
+      << (log.message.empty() ? std::string(ErrorName(code)) : log.message) << ")";
+  throw std::runtime_error(msg.str());
+}
+
+/// Throws std::invalid_argument unless every box is finite with lo <= hi.
+/// Runs once per build, never per query.
+void VerifyBoxes(const BvhBox* boxes, int count) {
+  for (int i = 0; i < count; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const double lo = boxes[i].lo[k];
+      const double hi = boxes[i].hi[k];
+      if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi)) {
+        std::ostringstream msg;
+        msg << "invmap BVH build: box " << i << " has axis " << k << " = [" << lo << ", " << hi
+            << "]; need finite lo <= hi";
+        throw std::invalid_argument(msg.str());
+      }
+    }
+  }
+}
+
+/// Float coordinate for Embree's builder: relative to the centre of all
+/// boxes, so large offsets (e.g. map coordinates) keep float resolution, and
+/// clamped to the float range. Only the tree's shape depends on it.
+float BuilderCoord(double c, double centre) {
+  const double relative = c - centre;
+  return static_cast<float>(std::clamp(relative, -static_cast<double>(FLT_MAX),
+                                       static_cast<double>(FLT_MAX)));
+}
+
+/// Extends `box` by `other`.
+void Extend(BvhBox* box, const BvhBox& other) {
+  for (int k = 0; k < 3; ++k) {
+    box->lo[k] = std::min(box->lo[k], other.lo[k]);
+    box->hi[k] = std::max(box->hi[k], other.hi[k]);
+  }
+}
+
+/// The empty box: lo = +inf, hi = -inf, the identity of Extend.
+BvhBox EmptyBox() {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  return {{inf, inf, inf}, {-inf, -inf, -inf}};
+}
+
+/// Owning handles that release Embree objects on every exit path.
+using DeviceHandle = std::unique_ptr<RTCDeviceTy, decltype(&rtcReleaseDevice)>;
+using BvhHandle = std::unique_ptr<RTCBVHTy, decltype(&rtcReleaseBVH)>;
+
+}  // namespace
+
+std::size_t Bvh::MemoryBytes() const {
+  return nodes_.capacity() * sizeof(BvhNode) + items_.capacity() * sizeof(int) +
+         itemBoxes_.capacity() * sizeof(BvhBox);
+}
+
+Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
+  if (count < 0 || (count > 0 && boxes == nullptr)) {
+    throw std::invalid_argument("invmap BVH build: need count >= 0 and non-null boxes, got count " +
+                                std::to_string(count));
+  }
+  // A binary tree over n leaves has 2n - 1 nodes, which must fit the
+  // int32 child indices.
+  if (count > std::numeric_limits<std::int32_t>::max() / 2) {
+    throw std::invalid_argument("invmap BVH build: " + std::to_string(count) +
+                                " boxes exceed the limit of 2^30 - 1");
+  }
+  if (options.maxLeafSize < 1 || options.maxLeafSize > RTC_BUILD_MAX_PRIMITIVES_PER_LEAF) {
+    throw std::invalid_argument("invmap BVH build: maxLeafSize " +
+                                std::to_string(options.maxLeafSize) + " is outside [1, " +
+                                std::to_string(RTC_BUILD_MAX_PRIMITIVES_PER_LEAF) + "]");
+  }
+  VerifyBoxes(boxes, count);
+
+  Bvh bvh;
+  if (count == 0) return bvh;
+
+  BvhBox root = EmptyBox();
+  for (int i = 0; i < count; ++i) Extend(&root, boxes[i]);
+  double centre[3];
+  for (int k = 0; k < 3; ++k) centre[k] = 0.5 * (root.lo[k] + root.hi[k]);
+
+  std::vector<RTCBuildPrimitive> prims(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    RTCBuildPrimitive& p = prims[i];
+    p.lower_x = BuilderCoord(boxes[i].lo[0], centre[0]);
+    p.lower_y = BuilderCoord(boxes[i].lo[1], centre[1]);
+    p.lower_z = BuilderCoord(boxes[i].lo[2], centre[2]);
+    p.upper_x = BuilderCoord(boxes[i].hi[0], centre[0]);
+    p.upper_y = BuilderCoord(boxes[i].hi[1], centre[1]);
+    p.upper_z = BuilderCoord(boxes[i].hi[2], centre[2]);
+    p.geomID = 0;
+    p.primID = static_cast<unsigned>(i);
+  }
+
+  // No "threads=" in the device config: Embree would turn it into a
+  // process-wide tbb::global_control. The build runs in a task arena instead.
+  ErrorLog log;
+  DeviceHandle device(rtcNewDevice("verbose=0"), &rtcReleaseDevice);
+  if (!device) ThrowEmbreeError("rtcNewDevice", rtcGetDeviceError(nullptr), log);
+  rtcSetDeviceErrorFunction(device.get(), &OnEmbreeError, &log);
+  BvhHandle embreeBvh(rtcNewBVH(device.get()), &rtcReleaseBVH);
+  if (!embreeBvh) ThrowEmbreeError("rtcNewBVH", rtcGetDeviceError(device.get()), log);
+
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.byteSize = sizeof(args);
+  args.buildQuality = RTC_BUILD_QUALITY_HIGH;
+  args.buildFlags = RTC_BUILD_FLAG_NONE;
+  args.maxBranchingFactor = 2;
+  args.maxDepth = kMaxDepth;
+  args.sahBlockSize = 1;
+  args.minLeafSize = 1;
+  args.maxLeafSize = static_cast<unsigned>(options.maxLeafSize);
+  // A node visit and an item test cost about the same in NearestCells: both
+  // evaluate a lower and an upper bound against one or two boxes.
+  args.traversalCost = 1.0f;
+  args.intersectionCost = 1.0f;
+  args.bvh = embreeBvh.get();
+  args.primitives = prims.data();
+  args.primitiveCount = prims.size();
+  // Capacity equal to the count and no splitPrimitive: Embree's high quality
+  // mode then uses the binned SAH builder without spatial splits, so each box
+  // lands in exactly one leaf.
+  args.primitiveArrayCapacity = prims.size();
+  args.createNode = &CreateNode;
+  args.setNodeChildren = &SetNodeChildren;
+  args.setNodeBounds = &SetNodeBounds;
+  args.createLeaf = &CreateLeaf;
+  args.splitPrimitive = nullptr;
+  args.buildProgress = nullptr;
+  args.userPtr = nullptr;
+
+  void* buildRoot = nullptr;
+  RunWithThreads(options.maxThreads, [&] { buildRoot = rtcBuildBVH(&args); });
+  const RTCError buildError = rtcGetDeviceError(device.get());
+  if (buildError != RTC_ERROR_NONE || buildRoot == nullptr) {
+    ThrowEmbreeError("rtcBuildBVH", buildError, log);
+  }
+
+  // Lay the tree out depth first with siblings adjacent: a node is written
+  // when popped, and an inner node reserves both child slots at once, so a
+  // child's index is always larger than its parent's.
+  bvh.nodes_.reserve(2 * static_cast<std::size_t>(count));
+  bvh.items_.reserve(static_cast<std::size_t>(count));
+  bvh.itemBoxes_.reserve(static_cast<std::size_t>(count));
+  bvh.nodes_.push_back(BvhNode{EmptyBox(), 0, 0});
+  std::vector<std::pair<const void*, std::int32_t>> pending = {{buildRoot, 0}};
+  while (!pending.empty()) {
+    const auto [buildNode, index] = pending.back();
+    pending.pop_back();
+    const std::uint32_t tag = NodeTag(buildNode);
+    if (tag == kInnerTag) {
+      const auto* inner = static_cast<const BuildInner*>(buildNode);
+      const auto first = static_cast<std::int32_t>(bvh.nodes_.size());
+      bvh.nodes_[index].first = first;
+      bvh.nodes_[index].count = 0;
+      bvh.nodes_.push_back(BvhNode{EmptyBox(), 0, 0});
+      bvh.nodes_.push_back(BvhNode{EmptyBox(), 0, 0});
+      // Pushed second, popped first: the first child's subtree follows the pair.
+      pending.emplace_back(inner->children[1], first + 1);
+      pending.emplace_back(inner->children[0], first);
+    } else {
+      const auto* ids = static_cast<const std::uint32_t*>(buildNode) + 1;
+      bvh.nodes_[index].first = static_cast<std::int32_t>(bvh.items_.size());
+      bvh.nodes_[index].count = static_cast<std::int32_t>(tag);
+      for (std::uint32_t i = 0; i < tag; ++i) {
+        bvh.items_.push_back(static_cast<int>(ids[i]));
+        bvh.itemBoxes_.push_back(boxes[ids[i]]);
+      }
+    }
+  }
+  if (static_cast<int>(bvh.items_.size()) != count) {
+    throw std::runtime_error("invmap BVH build: Embree's tree holds " +
+                             std::to_string(bvh.items_.size()) + " boxes instead of " +
+                             std::to_string(count));
+  }
+
+  // Children have larger indices than their parent, so one backward sweep
+  // computes every union before it is needed.
+  for (std::size_t n = bvh.nodes_.size(); n-- > 0;) {
+    BvhNode& node = bvh.nodes_[n];
+    BvhBox bounds = EmptyBox();
+    if (node.count > 0) {
+      for (std::int32_t i = 0; i < node.count; ++i) Extend(&bounds, bvh.itemBoxes_[node.first + i]);
+    } else {
+      Extend(&bounds, bvh.nodes_[node.first].box);
+      Extend(&bounds, bvh.nodes_[node.first + 1].box);
+    }
+    node.box = bounds;
+  }
+  bvh.rootBounds_ = bvh.nodes_[0].box;
+  bvh.nodes_.shrink_to_fit();
+  return bvh;
+}
+
+}  // namespace invmap::engine

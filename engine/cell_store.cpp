@@ -1,0 +1,254 @@
+#include "engine/cell_store.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "engine/bezier_extraction.h"
+#include "engine/parallel.h"
+
+namespace invmap::engine {
+namespace {
+
+/// Vertices per linear mesh cell, and the finite-element to Bezier order
+/// (FORMATS.md: quads and hexes list their faces counter-clockwise, Bezier
+/// nets are tensor products with the first coordinate fastest).
+struct MeshCellLayout {
+  int vertices;
+  int bezierFromFe[8];
+};
+
+MeshCellLayout LayoutOf(CellType type) {
+  switch (type) {
+    case CellType::Line:
+      return {2, {0, 1}};
+    case CellType::Tri:
+      return {3, {0, 1, 2}};
+    case CellType::Quad:
+      return {4, {0, 1, 3, 2}};
+    case CellType::Tet:
+      return {4, {0, 1, 2, 3}};
+    case CellType::Hex:
+      return {8, {0, 1, 3, 2, 4, 5, 7, 6}};
+    case CellType::Wedge:
+      return {6, {0, 1, 2, 3, 4, 5}};
+  }
+  return {0, {}};
+}
+
+std::string CheckFinite(const std::vector<double>& values, const char* field, int stride) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      std::ostringstream msg;
+      msg << field << "[" << i / stride << "]: coordinate " << i % stride << " is not finite";
+      return msg.str();
+    }
+  }
+  return {};
+}
+
+std::string CheckWeights(const std::vector<double>& weights, std::size_t expected) {
+  if (weights.empty()) return {};
+  if (weights.size() != expected) {
+    std::ostringstream msg;
+    msg << "weights: " << weights.size() << " values, expected one per control point (" << expected << ")";
+    return msg.str();
+  }
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    if (!(weights[i] > 0.0) || !std::isfinite(weights[i])) {
+      std::ostringstream msg;
+      msg << "weights[" << i << "]: not a finite positive number (" << weights[i] << ")";
+      return msg.str();
+    }
+  }
+  return {};
+}
+
+/// Checks the degrees of one Bezier cell and returns its shape (or a message).
+std::string BezierShape(CellType cell, const int* degreeList, int count, int dim, kernels::CellShape* shape) {
+  const kernels::CellType type = ToKernelType(cell);
+  const int factors = kernels::CellShape::NumFactorsOf(type);
+  if (count != factors) {
+    return "degrees: " + std::to_string(count) + " values, a " + kernels::CellTypeName(type) + " cell needs " +
+           std::to_string(factors);
+  }
+  std::array<int, kernels::kMaxFactors> degrees{};
+  for (int f = 0; f < factors; ++f) {
+    degrees[f] = degreeList[f];
+    if (degrees[f] < 1 || degrees[f] > kernels::kMaxDegree) {
+      return "degrees[" + std::to_string(f) + "]: " + std::to_string(degrees[f]) + ", expected 1 to " +
+             std::to_string(kernels::kMaxDegree);
+    }
+  }
+  *shape = kernels::CellShape(type, degrees);
+  if (shape->paramDim() > dim) return std::string("cell: a ") + kernels::CellTypeName(type) + " cell needs dimension 3";
+  return {};
+}
+
+}  // namespace
+
+kernels::CellType ToKernelType(CellType type) { return static_cast<kernels::CellType>(type); }
+
+void CellStore::AddCell(const kernels::CellShape& shape, const double* points, const double* weights,
+                        const CellOrigin& origin) {
+  const int n = shape.numControlPoints();
+  shapes_.push_back(shape);
+  pointOffset_.push_back(static_cast<std::int64_t>(points_.size()));
+  points_.insert(points_.end(), points, points + static_cast<std::size_t>(n) * dimension_);
+  if (weights) {
+    weightOffset_.push_back(static_cast<std::int64_t>(weights_.size()));
+    weights_.insert(weights_.end(), weights, weights + n);
+  } else {
+    weightOffset_.push_back(-1);
+  }
+  origins_.push_back(origin);
+}
+
+std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
+  dimension_ = geometry.dimension;
+  numPatches_ = geometry.patches.size();
+  if (dimension_ != 2 && dimension_ != 3) {
+    return "dimension: " + std::to_string(dimension_) + ", expected 2 or 3";
+  }
+  const int dim = dimension_;
+  for (std::size_t p = 0; p < geometry.patches.size(); ++p) {
+    const Patch& patch = geometry.patches[p];
+    const std::string where = "patch " + std::to_string(p) + ": ";
+    CellOrigin origin;
+    origin.patch = static_cast<std::int32_t>(p);
+    if (std::string e = CheckFinite(patch.points, patch.kind == Patch::Kind::Mesh ? "vertices" : "control_points", dim);
+        !e.empty()) {
+      return where + e;
+    }
+    switch (patch.kind) {
+      case Patch::Kind::BSpline: {
+        BSplinePatch spline;
+        spline.ambientDim = dim;
+        spline.degrees = patch.degrees;
+        spline.knots = patch.knots;
+        spline.counts = patch.counts;
+        spline.controlPoints = patch.points;
+        spline.weights = patch.weights;
+        if (std::string e = ValidateBSplinePatch(spline); !e.empty()) return where + e;
+        if (static_cast<int>(spline.degrees.size()) > dim) {
+          return where + "degrees: a " + std::to_string(spline.degrees.size()) + "-parameter patch needs dimension 3";
+        }
+        const ExtractedCells cells = ExtractBezierCells(spline);
+        const kernels::CellShape shape(cells.type, cells.degrees);
+        for (int c = 0; c < cells.numCells; ++c) {
+          origin.indexInPatch = c;
+          for (int d = 0; d < cells.paramDim; ++d) {
+            const double lo = cells.spanLo[static_cast<std::size_t>(c) * cells.paramDim + d];
+            const double hi = cells.spanHi[static_cast<std::size_t>(c) * cells.paramDim + d];
+            origin.paramLo[d] = lo;
+            origin.paramScale[d] = hi - lo;
+          }
+          const std::size_t first = static_cast<std::size_t>(c) * cells.pointsPerCell;
+          AddCell(shape, cells.points.data() + first * dim, cells.weights.empty() ? nullptr : cells.weights.data() + first,
+                  origin);
+        }
+        break;
+      }
+      case Patch::Kind::Bezier: {
+        kernels::CellShape shape;
+        if (std::string e = BezierShape(patch.cell, patch.degrees.data(), static_cast<int>(patch.degrees.size()), dim,
+                                        &shape);
+            !e.empty()) {
+          return where + e;
+        }
+        const std::size_t n = shape.numControlPoints();
+        if (patch.points.size() != n * dim) {
+          return where + "control_points: " + std::to_string(patch.points.size() / dim) + " points, expected " +
+                 std::to_string(n);
+        }
+        if (std::string e = CheckWeights(patch.weights, n); !e.empty()) return where + e;
+        origin.indexInPatch = 0;
+        AddCell(shape, patch.points.data(), patch.weights.empty() ? nullptr : patch.weights.data(), origin);
+        break;
+      }
+      case Patch::Kind::BezierCells: {
+        const std::size_t numCells = patch.cellTypes.size();
+        if (patch.cellDegrees.size() != 3 * numCells || patch.cellOffsets.size() != numCells + 1) {
+          return where + "cellDegrees and cellOffsets: expected 3 and 1 values per cell (plus one offset)";
+        }
+        const std::int64_t numPoints = static_cast<std::int64_t>(patch.points.size() / dim);
+        if (std::string e = CheckWeights(patch.weights, static_cast<std::size_t>(numPoints)); !e.empty()) return where + e;
+        for (std::size_t c = 0; c < numCells; ++c) {
+          const std::string cellWhere = where + "cells[" + std::to_string(c) + "]: ";
+          kernels::CellShape shape;
+          const int factors = kernels::CellShape::NumFactorsOf(ToKernelType(patch.cellTypes[c]));
+          if (std::string e = BezierShape(patch.cellTypes[c], &patch.cellDegrees[3 * c], factors, dim, &shape);
+              !e.empty()) {
+            return cellWhere + e;
+          }
+          const std::int64_t first = patch.cellOffsets[c], last = patch.cellOffsets[c + 1];
+          if (first < 0 || last > numPoints || last - first != shape.numControlPoints()) {
+            return cellWhere + "control points [" + std::to_string(first) + ", " + std::to_string(last) +
+                   "), expected " + std::to_string(shape.numControlPoints()) + " within the " +
+                   std::to_string(numPoints) + " points";
+          }
+          origin.indexInPatch = static_cast<std::int64_t>(c);
+          AddCell(shape, patch.points.data() + first * dim, patch.weights.empty() ? nullptr : patch.weights.data() + first,
+                  origin);
+        }
+        break;
+      }
+      case Patch::Kind::Mesh: {
+        const kernels::CellType type = ToKernelType(patch.cell);
+        const kernels::CellShape shape(type, {1, 1, 1});
+        if (shape.paramDim() > dim) return where + "cell: a " + kernels::CellTypeName(type) + " mesh needs dimension 3";
+        if (!patch.weights.empty()) return where + "weights: a mesh has no weights";
+        const MeshCellLayout layout = LayoutOf(patch.cell);
+        if (patch.points.size() % dim != 0) return where + "vertices: coordinate count not a multiple of the dimension";
+        const std::int64_t numVertices = static_cast<std::int64_t>(patch.points.size() / dim);
+        if (patch.cells.size() % layout.vertices != 0) {
+          return where + "cells: " + std::to_string(patch.cells.size()) + " indices, not a multiple of " +
+                 std::to_string(layout.vertices);
+        }
+        const std::size_t numCells = patch.cells.size() / layout.vertices;
+        double corner[8 * 3];
+        for (std::size_t c = 0; c < numCells; ++c) {
+          for (int v = 0; v < layout.vertices; ++v) {
+            const std::int64_t index = patch.cells[c * layout.vertices + layout.bezierFromFe[v]];
+            if (index < 0 || index >= numVertices) {
+              return where + "cells[" + std::to_string(c) + "]: vertex index " + std::to_string(index) +
+                     " out of range [0, " + std::to_string(numVertices) + ")";
+            }
+            for (int k = 0; k < dim; ++k) corner[v * dim + k] = patch.points[static_cast<std::size_t>(index) * dim + k];
+          }
+          origin.indexInPatch = static_cast<std::int64_t>(c);
+          AddCell(shape, corner, nullptr, origin);
+        }
+        break;
+      }
+    }
+  }
+
+  // The arrays are final: build the solvers (bounds, nets) in parallel.
+  const std::int64_t count = static_cast<std::int64_t>(shapes_.size());
+  solvers_.resize(count);
+  ForEachBlock(
+      ExecutionPolicy::Par, count, 256,
+      [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t c = begin; c < end; ++c) {
+          kernels::CellView view;
+          view.shape = shapes_[c];
+          view.ambientDim = dim;
+          view.points = points_.data() + pointOffset_[c];
+          view.weights = weightOffset_[c] >= 0 ? weights_.data() + weightOffset_[c] : nullptr;
+          solvers_[c] = kernels::CellSolver(view);
+        }
+      },
+      maxThreads);
+  return {};
+}
+
+std::size_t CellStore::MemoryBytes() const {
+  std::size_t bytes = points_.capacity() * sizeof(double) + weights_.capacity() * sizeof(double) +
+                      shapes_.capacity() * sizeof(kernels::CellShape) +
+                      (pointOffset_.capacity() + weightOffset_.capacity()) * sizeof(std::int64_t) +
+                      origins_.capacity() * sizeof(CellOrigin) + solvers_.capacity() * sizeof(kernels::CellSolver);
+  for (const kernels::CellSolver& s : solvers_) bytes += s.NetMemoryBytes();
+  return bytes;
+}
+
+}  // namespace invmap::engine

@@ -1,0 +1,27 @@
+// The batched inversion of many points (algorithm 4 per point, algorithm 3
+// per bucket of spatially close points), dispatched over TBB tasks.
+#pragma once
+
+#include <cstdint>
+
+#include "engine/bvh_build.h"
+#include "engine/cell_store.h"
+#include "invmap/invmap.h"
+
+namespace invmap::engine {
+
+/// Query points as structure of arrays, already in double precision.
+struct QueryPoints {
+  std::int64_t count = 0;
+  const double* coord[3] = {nullptr, nullptr, nullptr};  ///< coord[2] null in 2D.
+};
+
+/// Inverts every point of `points` onto the cells of `store` (whose boxes the
+/// `bvh` indexes) and writes the results at the points' input indices.
+/// Results are identical for any thread count: the buckets are fixed runs of
+/// the Morton order, and each point's answer depends only on its bucket.
+/// Precondition: `results` is sized to points.count.
+void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& points, const InversionOptions& options,
+                 Results* results);
+
+}  // namespace invmap::engine

@@ -1,0 +1,101 @@
+#include "engine/spatial_sort.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace invmap::engine {
+namespace {
+
+/// Largest grid coordinate on one axis, 2^21 - 1, as a double for clamping.
+constexpr double kMaxGridCoord = static_cast<double>((std::uint64_t{1} << kMortonBitsPerAxis) - 1);
+
+/// Points per block of the key loop: large enough to hide task overhead,
+/// small enough to balance 2 to 64 threads on a million points.
+constexpr std::int64_t kKeyGrain = 16384;
+
+/// Spreads the low 21 bits of v so that bit i moves to bit 3 * i.
+std::uint64_t SpreadBits3(std::uint64_t v) {
+  v &= 0x1fffffULL;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+/// Grid coordinate of c on one axis; c is finite.
+std::uint64_t GridCoord(double c, double lo, double scale) {
+  // A collapsed axis has lo = 0 and scale = 0, and c - lo cannot overflow for
+  // finite c, so t is never 0 * inf = NaN; an overflow on a real axis gives
+  // +-inf, which the clamp handles.
+  const double t = (c - lo) * scale;
+  return static_cast<std::uint64_t>(std::min(std::max(t, 0.0), kMaxGridCoord));
+}
+
+/// One point of the sort: its key and its input index, compared as a pair so
+/// that the order is total and the sort result unique.
+struct KeyIndex {
+  std::uint64_t key;   ///< Morton key, kNoCode for a non-finite point.
+  std::int64_t index;  ///< Index of the point in the input arrays.
+};
+
+}  // namespace
+
+MortonGrid MakeMortonGrid(const double lo[3], const double hi[3]) {
+  MortonGrid grid;
+  for (int k = 0; k < 3; ++k) {
+    // The grid divides [lo, hi] into 2^21 cells, so the point at hi lands in
+    // cell 2^21, which the clamp in GridCoord folds into the last cell.
+    const double scale = std::ldexp(1.0, kMortonBitsPerAxis) / (hi[k] - lo[k]);
+    if (std::isfinite(lo[k]) && std::isfinite(hi[k]) && hi[k] > lo[k] && std::isfinite(scale)) {
+      grid.lo[k] = lo[k];
+      grid.scale[k] = scale;
+    }
+  }
+  return grid;
+}
+
+std::uint64_t MortonKey(const MortonGrid& grid, double x, double y, double z) {
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return kNoCode;
+  return SpreadBits3(GridCoord(x, grid.lo[0], grid.scale[0])) << 2 |
+         SpreadBits3(GridCoord(y, grid.lo[1], grid.scale[1])) << 1 |
+         SpreadBits3(GridCoord(z, grid.lo[2], grid.scale[2]));
+}
+
+void SpatialSort(ExecutionPolicy policy, const double* x, const double* y, const double* z,
+                 std::int64_t count, const double lo[3], const double hi[3],
+                 std::vector<std::int64_t>* pointNew2Old, std::vector<std::uint64_t>* keysNew,
+                 int maxThreads) {
+  count = std::max<std::int64_t>(count, 0);
+  const MortonGrid grid = MakeMortonGrid(lo, hi);
+  std::vector<KeyIndex> order(static_cast<std::size_t>(count));
+  ForEachBlock(
+      policy, count, kKeyGrain,
+      [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t i = begin; i < end; ++i) {
+          order[i] = {MortonKey(grid, x[i], y[i], z != nullptr ? z[i] : 0.0), i};
+        }
+      },
+      maxThreads);
+  Sort(
+      policy, order.begin(), order.end(),
+      [](const KeyIndex& a, const KeyIndex& b) {
+        return a.key < b.key || (a.key == b.key && a.index < b.index);
+      },
+      maxThreads);
+
+  pointNew2Old->resize(static_cast<std::size_t>(count));
+  if (keysNew != nullptr) keysNew->resize(static_cast<std::size_t>(count));
+  ForEachBlock(
+      policy, count, kKeyGrain,
+      [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t i = begin; i < end; ++i) {
+          (*pointNew2Old)[i] = order[i].index;
+          if (keysNew != nullptr) (*keysNew)[i] = order[i].key;
+        }
+      },
+      maxThreads);
+}
+
+}  // namespace invmap::engine

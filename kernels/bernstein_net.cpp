@@ -1,0 +1,250 @@
+#include "kernels/bernstein_net.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "kernels/simplex_index.h"
+
+namespace invmap::kernels {
+namespace {
+
+/// Per-factor basis sizes and strides of a tensor net (first factor fastest).
+struct NetLayout {
+  int numFactors = 0;
+  int count[kMaxFactors] = {1, 1, 1};
+  int stride[kMaxFactors] = {1, 1, 1};
+  const SimplexIndex* index[kMaxFactors] = {nullptr, nullptr, nullptr};
+
+  explicit NetLayout(const CellShape& shape) : numFactors(shape.numFactors()) {
+    int s = 1;
+    for (int f = 0; f < numFactors; ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      index[f] = &SimplexIndex::Get(fac.dim, fac.degree);
+      count[f] = index[f]->size();
+      stride[f] = s;
+      s *= count[f];
+    }
+  }
+  int Position(int flat, int f) const { return (flat / stride[f]) % count[f]; }
+};
+
+
+/// The rule of one simplex-factor split: child coefficient at position k is
+/// the sum over [start[k], start[k+1]) of weight * parent coefficient at source.
+struct SplitRule {
+  std::vector<int> start;
+  std::vector<int> source;
+  std::vector<double> weight;
+};
+
+/// Blossom of the net at the child's vertices, where vertex j is the
+/// midpoint (e_i + e_j) / 2: expanding the alpha_j midpoint arguments gives
+/// b'_alpha = sum_m C(alpha_j, m) 2^-alpha_j b_{alpha with (alpha_i + alpha_j - m) at i, m at j}.
+SplitRule BuildSplitRule(int dim, int degree, int i, int j) {
+  const SimplexIndex& index = SimplexIndex::Get(dim, degree);
+  SplitRule rule;
+  rule.start.push_back(0);
+  for (int k = 0; k < index.size(); ++k) {
+    const std::array<int, 4>& alpha = index.multi(k);
+    const int aj = alpha[j];
+    std::array<int, 4> src = alpha;
+    for (int m = 0; m <= aj; ++m) {
+      src[j] = m;
+      src[i] = alpha[i] + aj - m;
+      rule.source.push_back(index.Position(src));
+      rule.weight.push_back(Binomial(aj, m) * std::ldexp(1.0, -aj));
+    }
+    rule.start.push_back(static_cast<int>(rule.source.size()));
+  }
+  return rule;
+}
+
+/// The shared rule for (dim, degree, i, j), built on first use.
+const SplitRule& GetSplitRule(int dim, int degree, int i, int j) {
+  constexpr int kDegrees = kMaxNetDegree + 1;
+  static std::once_flag once[3][kDegrees][4][4];
+  static SplitRule rules[3][kDegrees][4][4];
+  std::call_once(once[dim - 1][degree][i][j], [&] { rules[dim - 1][degree][i][j] = BuildSplitRule(dim, degree, i, j); });
+  return rules[dim - 1][degree][i][j];
+}
+
+}  // namespace
+
+void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in, double* out) {
+  const NetLayout layout(shape);
+  const SimplexFactor& fac = shape.factor(factor);
+  const SplitRule& rule = GetSplitRule(fac.dim, fac.degree, i, j);
+  const int stride = layout.stride[factor];
+  const int count = layout.count[factor];
+  const int blocks = NetSize(shape) / (stride * count);
+  // The rule acts along the factor's axis, for every index of the other factors.
+  for (int block = 0; block < blocks; ++block) {
+    for (int inner = 0; inner < stride; ++inner) {
+      const int base = block * stride * count + inner;
+      for (int k = 0; k < count; ++k) {
+        double sum = 0.0;
+        for (int e = rule.start[k]; e < rule.start[k + 1]; ++e) sum += rule.weight[e] * in[base + rule.source[e] * stride];
+        out[base + k * stride] = sum;
+      }
+    }
+  }
+}
+
+void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, const double* netB, double* out) {
+  std::array<int, kMaxFactors> degrees{};
+  for (int f = 0; f < a.numFactors(); ++f) degrees[f] = a.factor(f).degree + b.factor(f).degree;
+  const CellShape product(a.type(), degrees);
+  const NetLayout la(a), lb(b), lp(product);
+  std::fill(out, out + NetSize(product), 0.0);
+  // B^p_alpha B^q_beta = C(alpha) C(beta) / C(alpha + beta) B^{p+q}_{alpha+beta}
+  // per factor, with C the multinomial coefficients.
+  for (int ia = 0; ia < NetSize(a); ++ia) {
+    if (netA[ia] == 0.0) continue;
+    for (int ib = 0; ib < NetSize(b); ++ib) {
+      double coef = netA[ia] * netB[ib];
+      int target = 0;
+      for (int f = 0; f < la.numFactors; ++f) {
+        const int pa = la.Position(ia, f), pb = lb.Position(ib, f);
+        const std::array<int, 4>& ma = la.index[f]->multi(pa);
+        const std::array<int, 4>& mb = lb.index[f]->multi(pb);
+        const std::array<int, 4> sum{ma[0] + mb[0], ma[1] + mb[1], ma[2] + mb[2], ma[3] + mb[3]};
+        const int ps = lp.index[f]->Position(sum);
+        coef *= la.index[f]->multinomial(pa) * lb.index[f]->multinomial(pb) / lp.index[f]->multinomial(ps);
+        target += ps * lp.stride[f];
+      }
+      out[target] += coef;
+    }
+  }
+}
+
+void DifferentiateNet(const CellShape& shape, int factor, int dir, const double* in, double* out,
+                      CellShape* outShape) {
+  std::array<int, kMaxFactors> degrees{};
+  for (int f = 0; f < shape.numFactors(); ++f) degrees[f] = shape.factor(f).degree - (f == factor ? 1 : 0);
+  *outShape = CellShape(shape.type(), degrees);
+  const NetLayout from(shape), to(*outShape);
+  const int p = shape.factor(factor).degree;
+  const int nOut = NetSize(*outShape);
+  // d/ds_dir B^p_{beta + .} sums: b'_beta = p (b_{beta + e_dir} - b_{beta + e_0}).
+  for (int c = 0; c < nOut; ++c) {
+    int base = 0;
+    for (int f = 0; f < to.numFactors; ++f) {
+      if (f != factor) base += to.Position(c, f) * from.stride[f];
+    }
+    const std::array<int, 4>& beta = to.index[factor]->multi(to.Position(c, factor));
+    std::array<int, 4> up = beta, zero = beta;
+    up[dir + 1] += 1;
+    zero[0] += 1;
+    const int stride = from.stride[factor];
+    const SimplexIndex& index = *from.index[factor];
+    out[c] = p * (in[base + index.Position(up) * stride] - in[base + index.Position(zero) * stride]);
+  }
+}
+
+const HessianStencil& HessianStencil::Get(const CellShape& shape) {
+  // One stencil per (cell type, degrees); cells of the same shape share it.
+  static std::mutex mutex;
+  static std::map<std::array<int, 4>, std::unique_ptr<HessianStencil>> cache;
+  const std::array<int, 4> key{static_cast<int>(shape.type()), shape.factor(0).degree,
+                               shape.numFactors() > 1 ? shape.factor(1).degree : 0,
+                               shape.numFactors() > 2 ? shape.factor(2).degree : 0};
+  std::lock_guard<std::mutex> lock(mutex);
+  std::unique_ptr<HessianStencil>& entry = cache[key];
+  if (!entry) entry.reset(new HessianStencil(shape));
+  return *entry;
+}
+
+HessianStencil::HessianStencil(const CellShape& shape) : paramDim_(shape.paramDim()) {
+  const int n = NetSize(shape);
+  int factorOf[3] = {0, 0, 0}, dirOf[3] = {0, 0, 0};
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    for (int d = 0; d < shape.factor(f).dim; ++d) {
+      factorOf[shape.factor(f).offset + d] = f;
+      dirOf[shape.factor(f).offset + d] = d;
+    }
+  }
+  // Differentiate each unit net twice and keep the non-zero weights: the
+  // rows have at most four terms, so the test is one sparse pass per entry.
+  std::vector<double> unit(n, 0.0), first(n), second(n);
+  for (int a = 0; a < paramDim_; ++a) {
+    for (int b = a; b < paramDim_; ++b) {
+      Entry& entry = entries_[a][b];
+      CellShape s1, s2;
+      const bool defined = shape.factor(factorOf[a]).degree >= 1 &&
+                           shape.factor(factorOf[b]).degree >= (factorOf[a] == factorOf[b] ? 2 : 1);
+      if (!defined) continue;  // identically zero: no rows
+      std::vector<std::vector<std::pair<int, double>>> rows;
+      for (int s = 0; s < n; ++s) {
+        unit[s] = 1.0;
+        DifferentiateNet(shape, factorOf[a], dirOf[a], unit.data(), first.data(), &s1);
+        DifferentiateNet(s1, factorOf[b], dirOf[b], first.data(), second.data(), &s2);
+        unit[s] = 0.0;
+        rows.resize(NetSize(s2));
+        for (int r = 0; r < NetSize(s2); ++r) {
+          if (second[r] != 0.0) rows[r].emplace_back(s, second[r]);
+        }
+      }
+      entry.start.push_back(0);
+      for (const auto& row : rows) {
+        for (const auto& [source, weight] : row) {
+          entry.source.push_back(source);
+          entry.weight.push_back(weight);
+        }
+        entry.start.push_back(static_cast<int>(entry.source.size()));
+      }
+    }
+  }
+}
+
+bool HessianStencil::IsConvex(const double* f) const {
+  double lo[3][3] = {}, hi[3][3] = {};
+  for (int a = 0; a < paramDim_; ++a) {
+    for (int b = a; b < paramDim_; ++b) {
+      const Entry& entry = entries_[a][b];
+      const int rows = static_cast<int>(entry.start.size()) - 1;
+      if (rows <= 0) {
+        if (a == b) return false;  // not strictly convex along a
+        continue;
+      }
+      double l = std::numeric_limits<double>::infinity(), h = -l;
+      for (int r = 0; r < rows; ++r) {
+        double v = 0.0;
+        for (int k = entry.start[r]; k < entry.start[r + 1]; ++k) v += entry.weight[k] * f[entry.source[k]];
+        l = std::min(l, v);
+        h = std::max(h, v);
+      }
+      if (a == b && l <= 0.0) return false;
+      lo[a][b] = l;
+      hi[a][b] = h;
+    }
+  }
+  if (paramDim_ == 1) return true;
+  Eigen::Matrix3d mid = Eigen::Matrix3d::Zero();
+  double radius2 = 0.0;
+  for (int a = 0; a < paramDim_; ++a) {
+    for (int b = a; b < paramDim_; ++b) {
+      const double m = 0.5 * (lo[a][b] + hi[a][b]);
+      const double r = 0.5 * (hi[a][b] - lo[a][b]);
+      mid(a, b) = mid(b, a) = m;
+      radius2 += (a == b ? 1.0 : 2.0) * r * r;
+    }
+  }
+  double lambdaMin;
+  if (paramDim_ == 2) {
+    const double tr = mid(0, 0) + mid(1, 1);
+    const double det = mid(0, 0) * mid(1, 1) - mid(0, 1) * mid(0, 1);
+    lambdaMin = 0.5 * tr - std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  } else {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+    eigen.computeDirect(mid, Eigen::EigenvaluesOnly);
+    lambdaMin = eigen.eigenvalues()(0);
+  }
+  return lambdaMin > std::sqrt(radius2);
+}
+
+}  // namespace invmap::kernels

@@ -1,0 +1,58 @@
+// Scalar Bernstein nets on a cell's reference domain: products, subdivision,
+// derivatives and a convexity test, all exact linear rules on coefficients.
+#pragma once
+
+#include <vector>
+
+#include "kernels/cell_shape.h"
+
+namespace invmap::kernels {
+
+/// Number of coefficients of a scalar net on `shape` (= its control points).
+inline int NetSize(const CellShape& shape) { return shape.numControlPoints(); }
+
+/// Product of two scalar nets on the same cell type: `out` gets the net of
+/// shape a with degrees a + b. `out` must hold NetSize of the product shape.
+void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, const double* netB, double* out);
+
+/// The net of the same polynomial on half of the domain: factor `factor` of
+/// the reference domain is bisected at the midpoint of its edge (i, j)
+/// (barycentric vertex indices), and the half that keeps vertex i (vertex j
+/// moves to the midpoint) is returned in the factor's new local coordinates.
+/// For a line factor, edge (0, 1) keeping 0 is [0, 1/2]. Exact (dyadic) rules.
+void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in, double* out);
+
+/// The net of the derivative along free coordinate `dir` (0-based, local to
+/// `factor`) of a scalar net; the result has that factor's degree lowered by
+/// one (`outShape`). Precondition: the factor's degree is at least 1.
+void DifferentiateNet(const CellShape& shape, int factor, int dir, const double* in, double* out,
+                      CellShape* outShape);
+
+/// The second-derivative nets of every net of one shape, as sparse linear
+/// rules on its coefficients, and the convexity test built on them. Shared by
+/// all cells of a shape (Get is thread-safe; the object is immutable).
+class HessianStencil {
+ public:
+  static const HessianStencil& Get(const CellShape& shape);
+
+  /// True when the function with net `f` is strictly convex on the whole
+  /// domain of the net: every Hessian is mid + E with |E_ab| <= rad_ab (the
+  /// intervals of the second-derivative coefficients), so
+  /// lambda_min >= lambda_min(mid) - ||rad||_F > 0 proves it.
+  bool IsConvex(const double* f) const;
+
+ private:
+  explicit HessianStencil(const CellShape& shape);
+
+  /// One entry (a, b) of the Hessian: row r of its net is
+  /// sum over k in [start[r], start[r+1]) of weight[k] * f[source[k]].
+  struct Entry {
+    std::vector<int> start;
+    std::vector<int> source;
+    std::vector<double> weight;
+  };
+  int paramDim_ = 0;
+  Entry entries_[3][3];  // a <= b only
+};
+
+}  // namespace invmap::kernels
