@@ -1,6 +1,7 @@
 // The public API's boundary: the only place that catches exceptions.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <new>
 #include <stdexcept>
@@ -140,6 +141,43 @@ ManifoldInfo Manifold::Info() const {
   }
   info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + sizeof(Impl);
   return info;
+}
+
+std::int64_t Manifold::NumCells(int patch) const {
+  if (!impl_ || patch < 0 || static_cast<std::size_t>(patch) >= impl_->store.numPatches()) return 0;
+  return impl_->store.patchFirstCell(patch + 1) - impl_->store.patchFirstCell(patch);
+}
+
+bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], double params[3], double point[3]) const {
+  if (cell < 0 || cell >= NumCells(patch)) return false;
+  const std::int64_t c = impl_->store.patchFirstCell(patch) + cell;
+  const kernels::CellSolver& solver = impl_->store.solver(c);
+  const kernels::CellShape& shape = solver.cell().shape;
+  double ref[3] = {0, 0, 0};
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const kernels::SimplexFactor& fac = shape.factor(f);
+    double s[3];
+    for (int i = 0; i < fac.dim; ++i) s[i] = std::clamp(sample[fac.offset + i], 0.0, 1.0);
+    // Sorting the unit cube's coordinates maps it uniformly onto the simplex
+    // (the order statistics' gaps are the barycentric coordinates).
+    for (int i = 1; i < fac.dim; ++i) {
+      for (int j = i; j > 0 && s[j] < s[j - 1]; --j) std::swap(s[j], s[j - 1]);
+    }
+    double previous = 0.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      ref[fac.offset + i] = s[i] - previous;
+      previous = s[i];
+    }
+  }
+  kernels::MapJet jet;
+  kernels::EvaluateMap(solver.cell(), ref, kernels::JetOrder::Value, &jet);
+  const engine::CellOrigin& origin = impl_->store.origin(c);
+  for (int k = 0; k < 3; ++k) {
+    params[k] = k < shape.paramDim() ? origin.paramLo[k] + origin.paramScale[k] * ref[k]
+                                     : std::numeric_limits<double>::quiet_NaN();
+    point[k] = k < solver.cell().ambientDim ? jet.x[k] : 0.0;
+  }
+  return true;
 }
 
 Error Manifold::Invert(const PointsView& points, const InversionOptions& options, Results* results,

@@ -112,6 +112,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
   const int dim = dimension_;
   for (std::size_t p = 0; p < geometry.patches.size(); ++p) {
     const Patch& patch = geometry.patches[p];
+    patchFirst_.push_back(static_cast<std::int64_t>(shapes_.size()));
     const std::string where = "patch " + std::to_string(p) + ": ";
     CellOrigin origin;
     origin.patch = static_cast<std::int32_t>(p);
@@ -222,6 +223,8 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
       }
     }
   }
+
+  patchFirst_.push_back(static_cast<std::int64_t>(shapes_.size()));
 
   // The arrays are final: build the solvers (bounds, nets) in parallel.
   const std::int64_t count = static_cast<std::int64_t>(shapes_.size());

@@ -35,6 +35,9 @@ class CellStore {
   const kernels::CellSolver& solver(std::int64_t cell) const { return solvers_[cell]; }
   const CellOrigin& origin(std::int64_t cell) const { return origins_[cell]; }
   std::size_t numPatches() const { return numPatches_; }
+  /// Index of the first cell of `patch` (cells of a patch are contiguous);
+  /// patchFirstCell(numPatches()) == size().
+  std::int64_t patchFirstCell(std::size_t patch) const { return patchFirst_[patch]; }
   /// Heap memory of the cells: control points, weights, solvers and their nets.
   std::size_t MemoryBytes() const;
 
@@ -45,6 +48,7 @@ class CellStore {
 
   int dimension_ = 3;
   std::size_t numPatches_ = 0;
+  std::vector<std::int64_t> patchFirst_;  // numPatches_ + 1 entries
   std::vector<kernels::CellShape> shapes_;
   std::vector<std::int64_t> pointOffset_;   // first coordinate of each cell in points_
   std::vector<std::int64_t> weightOffset_;  // first weight of each cell in weights_, -1 if polynomial

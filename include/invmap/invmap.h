@@ -168,6 +168,16 @@ class Manifold {
   bool valid() const;
   ManifoldInfo Info() const;
 
+  /// Number of cells of patch `patch` (0 for an out-of-range patch).
+  std::int64_t NumCells(int patch) const;
+
+  /// A point of cell `cell` of patch `patch`: `sample` in [0, 1]^3 is mapped
+  /// onto the cell's reference domain (uniformly for tensor products; simplex
+  /// factors fold the unit square/cube onto the simplex), and the cell is
+  /// evaluated there. Writes the reported parameters (3, NaN where unused)
+  /// and the point (3, z = 0 in 2D). Returns false for out-of-range indices.
+  bool PointAt(int patch, std::int64_t cell, const double sample[3], double params[3], double point[3]) const;
+
   /// Closest points of every query point. `results` is resized to the
   /// number of points. Returns Error::Ok, or a batch-level error with a
   /// message in `message` (optional). Never throws.

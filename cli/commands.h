@@ -1,0 +1,46 @@
+// The subcommands of `invmap` (FORMATS.md section 5). Each returns the
+// process exit code; input and output errors are thrown as io::InputError
+// and mapped to exit codes 3 and 4 by main.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+
+namespace invmap::cli {
+
+/// Options shared by invert and trim.
+struct InvertOptions {
+  std::string geometry;
+  std::string points;
+  std::string output;
+  double maxDistance = std::numeric_limits<double>::infinity();
+  int threads = 0;
+  bool quiet = false;
+  /// invert, .ply output: colour the points by distance (viridis).
+  bool color = false;
+  /// trim: keep the points within maxDistance ("near") or beyond it ("far").
+  bool keepFar = false;
+};
+
+int RunInvert(const InvertOptions& options);
+int RunTrim(const InvertOptions& options);
+int RunInfo(const std::string& geometry);
+
+/// `invmap generate <what>`: a sample geometry or a point cloud.
+struct GenerateOptions {
+  std::string what;    ///< surface, torus, curve, tets, trimesh or points.
+  std::string output;
+  int spans = 32;                      ///< surface: knot spans per direction.
+  int resolution = 6;                  ///< tets: cubes per direction (6 tets each).
+  std::int64_t triangles = 1000000;    ///< trimesh: at least this many triangles.
+  std::string geometry;                ///< points: the geometry to sample around.
+  std::int64_t count = 100000;         ///< points: how many.
+  std::string kind = "near";           ///< points: near, far, inside or box.
+  double spread = 0.01;                ///< points, near: largest offset, relative to the geometry's size.
+  std::uint64_t seed = 1;
+};
+
+int RunGenerate(const GenerateOptions& options);
+
+}  // namespace invmap::cli

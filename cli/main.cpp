@@ -1,0 +1,99 @@
+// invmap: the command line (FORMATS.md section 5).
+//   exit codes: 0 success, 2 usage error, 3 unreadable or invalid input,
+//   4 output not writable, 1 internal error.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "cli/commands.h"
+#include "io/input_error.h"
+
+namespace {
+
+void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bool distanceRequired) {
+  command->add_option("--geometry,-g", options->geometry, "geometry file (.json, .obj, .ply, .stl, .off, .msh)")
+      ->required();
+  command->add_option("--points,-p", options->points, "query points (.xyz, .txt, .csv, .ply, .npy)")->required();
+  command->add_option("--output,-o", options->output, "output file; the format follows its extension")->required();
+  auto* distance = command->add_option("--max-distance", options->maxDistance,
+                                       "gap tolerance: points farther than this from every cell are not found");
+  distance->check(CLI::NonNegativeNumber);
+  if (distanceRequired) distance->required();
+  command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  command->add_flag("--quiet,-q", options->quiet, "no progress bar and no summary");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "invmap 0.1.0");
+
+  invmap::cli::InvertOptions invert;
+  CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
+  AddInvertOptions(invertCommand, &invert, false);
+  invertCommand->add_flag("--color", invert.color, ".ply output: colour the points by distance (viridis)");
+
+  invmap::cli::InvertOptions trim;
+  std::string keep = "near";
+  CLI::App* trimCommand = app.add_subcommand("trim", "keep the input points within (or beyond) a distance");
+  AddInvertOptions(trimCommand, &trim, true);
+  trimCommand->add_option("--keep", keep, "near (distance <= D, default) or far (distance > D)")
+      ->check(CLI::IsMember({"near", "far"}));
+
+  std::string infoGeometry;
+  CLI::App* infoCommand = app.add_subcommand("info", "patches, cells, bounds and memory of a geometry");
+  infoCommand->add_option("--geometry,-g", infoGeometry, "geometry file")->required();
+
+  invmap::cli::GenerateOptions generate;
+  CLI::App* generateCommand = app.add_subcommand("generate", "write a sample geometry or a point cloud");
+  generateCommand->add_option("what", generate.what, "surface | torus | curve | tets | trimesh | points")->required();
+  generateCommand->add_option("--output,-o", generate.output, "output file")->required();
+  generateCommand->add_option("--spans", generate.spans, "surface: knot spans per direction")->check(CLI::Range(1, 4096));
+  generateCommand->add_option("--resolution", generate.resolution, "tets: cubes per direction")->check(CLI::Range(1, 200));
+  generateCommand->add_option("--triangles", generate.triangles, "trimesh: at least this many triangles")
+      ->check(CLI::Range(int64_t{20}, int64_t{200000000}));
+  generateCommand->add_option("--geometry,-g", generate.geometry, "points: geometry to sample");
+  generateCommand->add_option("--count,-n", generate.count, "points: number of points")
+      ->check(CLI::Range(int64_t{0}, int64_t{2000000000}));
+  generateCommand->add_option("--kind", generate.kind, "points: near, far, inside or box")
+      ->check(CLI::IsMember({"near", "far", "inside", "box"}));
+  generateCommand->add_option("--spread", generate.spread, "points, near: largest offset relative to the size")
+      ->check(CLI::NonNegativeNumber);
+  generateCommand->add_option("--seed", generate.seed, "random seed");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+
+  try {
+    if (*invertCommand) return invmap::cli::RunInvert(invert);
+    if (*trimCommand) {
+      trim.keepFar = keep == "far";
+      return invmap::cli::RunTrim(trim);
+    }
+    if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
+    if (*generateCommand) {
+      if (generate.what == "points" && generate.geometry.empty()) {
+        std::fprintf(stderr, "invmap generate points: --geometry is required\n");
+        return 2;
+      }
+      return invmap::cli::RunGenerate(generate);
+    }
+  } catch (const invmap::io::InputError& e) {
+    std::fprintf(stderr, "invmap: %s\n", e.what());
+    return e.kind() == invmap::io::InputError::Kind::Output ? 4 : 3;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "invmap: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "invmap: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
