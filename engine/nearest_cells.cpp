@@ -47,13 +47,13 @@ bool ValidQuery(const double lo[3], const double hi[3]) {
 
 }  // namespace
 
-void NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
+bool NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
                   std::vector<CellCandidate>* out, std::vector<int>* stackScratch,
-                  double maxDistance) {
+                  double maxDistance, std::size_t maxCollected) {
   out->clear();
   stackScratch->clear();
   const std::vector<BvhNode>& nodes = bvh.Nodes();
-  if (nodes.empty() || !ValidQuery(lo, hi) || !(maxDistance >= 0.0)) return;
+  if (nodes.empty() || !ValidQuery(lo, hi) || !(maxDistance >= 0.0)) return true;
 
   const QueryBox query = {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
   const double limit2 = maxDistance * maxDistance;
@@ -64,11 +64,12 @@ void NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
   std::vector<int>& stack = *stackScratch;
   stack.push_back(0);
   while (!stack.empty()) {
-    const BvhNode& node = nodes[stack.back()];
+    const int index = stack.back();
     stack.pop_back();
+    const BvhNode& node = nodes[index];
     // Checked at pop rather than push: the best upper bound may have shrunk
     // while the node waited on the stack.
-    if (LowerBound2(query, node.box) > std::min(bestUpper2, limit2)) continue;
+    if (LowerBound2(query, bvh.NodeBounds(index)) > std::min(bestUpper2, limit2)) continue;
 
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
@@ -76,13 +77,17 @@ void NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
         const double lower2 = LowerBound2(query, itemBoxes[i]);
         if (lower2 <= std::min(bestUpper2, limit2)) out->push_back({items[i], lower2});
       }
+      if (out->size() > maxCollected) {
+        out->clear();
+        return false;
+      }
       continue;
     }
 
     const int left = node.first;
     const int right = node.first + 1;
-    const double upperLeft = UpperBound2(query, nodes[left].box);
-    const double upperRight = UpperBound2(query, nodes[right].box);
+    const double upperLeft = UpperBound2(query, bvh.NodeBounds(left));
+    const double upperRight = UpperBound2(query, bvh.NodeBounds(right));
     // A child holds at least one cell, and that cell's own upper bound is no
     // larger than the child's, so the child's bound already caps U*. Using it
     // before reaching a leaf prunes earlier without changing the result.
@@ -106,6 +111,7 @@ void NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
   std::sort(out->begin(), out->end(), [](const CellCandidate& a, const CellCandidate& b) {
     return a.lowerBound2 < b.lowerBound2 || (a.lowerBound2 == b.lowerBound2 && a.cell < b.cell);
   });
+  return true;
 }
 
 }  // namespace invmap::engine

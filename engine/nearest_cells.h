@@ -13,7 +13,13 @@
 // children's boxes, so L can only grow and U only shrink going down the tree.
 // Hence, with U* = min over all cells of U(Q, cell box), the cell holding the
 // closest point to any q in Q has L(Q, its box) <= U*, and the search returns
-// exactly the cells with L <= U*.
+// exactly the cells with L <= U*. Node boxes are Bvh::NodeBounds (rounded
+// outward); cells use their exact double boxes.
+//
+// Cost: U* grows with the extent of Q, and the list with it. On 1M random
+// cells, one point gets ~33 candidates but an 8-point Morton bucket about two
+// cells wide gets ~1000, so a bucket query pays off only when its points
+// share most candidates; keep buckets no wider than a cell or two.
 #pragma once
 
 #include <limits>
@@ -47,10 +53,14 @@ struct CellCandidate {
 ///                     exceeds it are dropped; +inf keeps all.
 /// Preconditions: lo <= hi on every axis, all finite, maxDistance >= 0; a
 /// query that breaks them (e.g. contains NaN) yields an empty list.
+/// @param maxCollected stops the search, with *out empty and a false return,
+///                     once more cells than this have been collected (the
+///                     caller then searches per point); true otherwise.
 /// Thread safety: concurrent calls on one Bvh are safe with distinct out and
 /// stackScratch.
-void NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
+bool NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
                   std::vector<CellCandidate>* out, std::vector<int>* stackScratch,
-                  double maxDistance = std::numeric_limits<double>::infinity());
+                  double maxDistance = std::numeric_limits<double>::infinity(),
+                  std::size_t maxCollected = std::numeric_limits<std::size_t>::max());
 
 }  // namespace invmap::engine

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include "kernels/affine_simplex.h"
 #include "kernels/cell_bounds.h"
+#include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
 
@@ -132,6 +134,15 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
   // A cell of a single point still needs a positive length scale.
   if (!(size_ > 0.0)) size_ = std::max(1.0, std::abs(center[0]) + std::abs(center[1]) + std::abs(center[2])) * 1e-300;
   affine_ = IsAffineCell(cell, size_);
+  if (affine_ && cell.shape.numFactors() == 1) {
+    const SimplexFactor& fac = cell.shape.factor(0);
+    const SimplexIndex& index = SimplexIndex::Get(fac.dim, fac.degree);
+    for (int v = 0; v <= fac.dim; ++v) {
+      std::array<int, 4> corner{0, 0, 0, 0};
+      corner[v] = fac.degree;
+      vertexControl_[v] = index.Position(corner);
+    }
+  }
 
   double ref[3];
   ReferenceCenter(cell.shape, ref);
@@ -175,6 +186,11 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     result.status = PointStatus::Farther;
     return result;
   }
+  if (vertexControl_[0] >= 0) {
+    SolveAffineSimplex(point, &result);
+    if (result.distance * result.distance >= bound2) result.status = PointStatus::Farther;
+    return result;
+  }
   double start[3];
   if (initialRef) {
     std::copy(initialRef, initialRef + pd, start);
@@ -204,6 +220,45 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     result.status = best.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
   }
   return result;
+}
+
+void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result) const {
+  const double* vertices[4];
+  for (int v = 0; v <= cell_.shape.paramDim(); ++v) {
+    vertices[v] = cell_.points + static_cast<size_t>(vertexControl_[v]) * cell_.ambientDim;
+  }
+  bool onBoundary = false;
+  const double d2 = ClosestPointOnSimplex(cell_.shape.paramDim(), cell_.ambientDim, vertices, point, result->ref,
+                                          result->closest, &onBoundary);
+  result->distance = std::sqrt(d2);
+  result->iterations = 0;
+  result->status = onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+}
+
+bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result) const {
+  const int pd = cell_.shape.paramDim();
+  double start[3];
+  if (initialRef) {
+    std::copy(initialRef, initialRef + pd, start);
+  } else {
+    ReferenceCenter(cell_.shape, start);
+  }
+  if (vertexControl_[0] >= 0) {
+    SolveAffineSimplex(point, result);
+    return result->distance <= kDistanceTolerance * size_;
+  }
+  LocalSolveOptions options;
+  options.affine = affine_;
+  options.size = size_;
+  const LocalSolveResult local = LocalSolve(cell_, point, start, options);
+  result->iterations = local.iterations;
+  const double tau = kDistanceTolerance * size_;
+  if (!(local.squaredDistance <= tau * tau)) return false;
+  std::copy(local.ref, local.ref + pd, result->ref);
+  std::copy(local.closest, local.closest + cell_.ambientDim, result->closest);
+  result->distance = std::sqrt(local.squaredDistance);
+  result->status = local.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+  return true;
 }
 
 bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* best, int* iterations,
@@ -274,7 +329,11 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
     EvaluateMap(cell_, center, JetOrder::Value, &jet);
     double fCenter = 0.0;
     for (int k = 0; k < cell_.ambientDim; ++k) fCenter += (jet.x[k] - point[k]) * (jet.x[k] - point[k]);
-    if (fCenter < best->squaredDistance) {
+    // A search that has not closed after kHardSearch subdomains is near a
+    // tie or a degenerate piece (a collapsed edge, where the local minima of
+    // the parameters form a continuum): from then on every subdomain also
+    // seeds a local solve, which finds basins its center value cannot show.
+    if (fCenter < best->squaredDistance || examined > kHardSearch) {
       LocalSolveOptions options;
       options.size = size_;
       const LocalSolveResult local = LocalSolve(cell_, point, center, options);

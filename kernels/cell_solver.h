@@ -82,6 +82,12 @@ class CellSolver {
   CellSolveResult Solve(const double* point, const double* initialRef, SolveWorkspace* ws,
                         double bound2 = std::numeric_limits<double>::infinity()) const;
 
+  /// Volume cells only: the local full-rank solve alone (7.3.2.1). Returns
+  /// true, with `result` filled, when it converges to a point of the cell
+  /// within the distance tolerance of `point` (the point is inside: the
+  /// answer is exact and global); false otherwise (result.iterations is set).
+  bool SolveInside(const double* point, const double* initialRef, CellSolveResult* result) const;
+
   /// Solves every lane of `queries`; see QueryLane and ResultLane.
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
 
@@ -107,6 +113,9 @@ class CellSolver {
  private:
   /// The branch and bound over subdomains of the reference domain that makes
   /// the local answer `best` global; returns false when the budget ran out.
+  /// Closed-form answer for affine line, tri and tet cells (7.3.2.2).
+  void SolveAffineSimplex(const double* point, CellSolveResult* result) const;
+
   bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 
   CellView cell_;
@@ -114,6 +123,9 @@ class CellSolver {
   double boxHi_[3] = {0, 0, 0};
   double size_ = 0.0;
   bool affine_ = false;
+  /// Affine simplex cells (line, tri, tet): control points at the vertices,
+  /// solved in closed form; -1 otherwise.
+  int vertexControl_[4] = {-1, -1, -1, -1};
   double paramScale_[3] = {1, 1, 1};  ///< |dx/du_i| at the center: the length of a unit step in u_i.
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.

@@ -166,11 +166,17 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   SnapToFace(shape, active, ref);
 
   int releases = 0;
+  bool fullRankAllowed = true;
   int releasedFactor = -1, releasedIndex = -1;  // the constraint released last
   MapJet jet;
   for (int iter = 0; iter < options.maxIterations; ++iter) {
     result.iterations = iter + 1;
-    const bool useFullRank = fullRank && active.enforced[0] == 0 && active.enforced[1] == 0 && active.enforced[2] == 0;
+    // 7.3.2.1 only while no constraint has been met: a point that drove the
+    // solve onto the boundary is outside the cell, where -J^-1 r keeps
+    // pointing back out (and near a collapsed edge, cycles with releases).
+    const bool noneEnforced = active.enforced[0] == 0 && active.enforced[1] == 0 && active.enforced[2] == 0;
+    fullRankAllowed = fullRankAllowed && noneEnforced;
+    const bool useFullRank = fullRank && fullRankAllowed;
     EvaluateMap(cell, ref, useFullRank ? JetOrder::First : order, &jet);
     double r[3] = {0, 0, 0};
     double f = 0.0;

@@ -30,6 +30,9 @@ constexpr double kInsideTolerance = 1e-9;
 /// the deepest bisection. Only near-ties of distinct minima within
 /// kDistanceTolerance (and points on an evolute) come near these.
 constexpr int kMaxSubdomains = 4096;
+/// Global search in a cell: after this many subdomains, each further one also
+/// seeds a local solve (see CellSolver::Search).
+constexpr int kHardSearch = 64;
 constexpr int kMaxDepth = 64;
 
 }  // namespace invmap::kernels
