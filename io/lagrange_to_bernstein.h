@@ -1,0 +1,60 @@
+// Change of basis from Lagrange nodal values to Bernstein control points on
+// invmap's reference cells (FORMATS.md section 1), for readers of high-order
+// meshes. Independent of kernels/: it evaluates the Bernstein basis itself.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "invmap/invmap.h"
+
+namespace invmap::io {
+
+/// Number of control points of a cell of `type` with degree `degree` in
+/// every simplex factor.
+int BernsteinCount(CellType type, int degree);
+
+/// Reference locations of those control points in FORMATS.md order (unused
+/// coordinates 0): a simplex multi-index a sits at a / degree.
+std::vector<std::array<double, 3>> BernsteinLattice(CellType type, int degree);
+
+/// The linear map from the values of a polynomial at a cell's Lagrange nodes
+/// to its Bernstein control points of degree `degree` (every factor), built
+/// once per element type and applied to every element.
+///
+/// Complete elements (the nodes are unisolvent for the whole Bernstein space
+/// of that degree) use the plain change of basis C = V^-1 L, with V the
+/// Bernstein basis at the nodes. Incomplete elements span a subspace given by
+/// monomials: their nodal shape functions are evaluated at the Bernstein
+/// lattice points, which are then interpolated by the complete space; both
+/// steps are exact, so the result is the same polynomial. The matrices are
+/// formed and solved in long double (order 4 hexahedra invert a 125 x 125
+/// Vandermonde matrix) and rounded to double once.
+class LagrangeToBernstein {
+ public:
+  /// `nodes`: reference coordinates of the Lagrange nodes (FORMATS.md
+  /// section 1, unused entries 0). `monomials`: exponents (a, b, c) of the
+  /// monomials s^a t^b r^c spanning an incomplete element's space (as many as
+  /// nodes); empty for a complete element, whose node count must then equal
+  /// BernsteinCount(type, degree). Throws std::invalid_argument when the
+  /// nodes do not determine a unique polynomial of the space.
+  LagrangeToBernstein(CellType type, int degree, const std::vector<std::array<double, 3>>& nodes,
+                      const std::vector<std::array<int, 3>>& monomials = {});
+
+  int numNodes() const { return numNodes_; }
+  int numControlPoints() const { return numControl_; }
+  /// Entry (i, j): weight of node j in control point i.
+  double coefficient(int i, int j) const { return matrix_[static_cast<std::size_t>(i) * numNodes_ + j]; }
+
+  /// Control points from nodal positions: `nodes` holds numNodes() points of
+  /// 3 coordinates each; `control` receives numControlPoints() points of the
+  /// first `dim` (1..3) coordinates each.
+  void Apply(const double* nodes, int dim, double* control) const;
+
+ private:
+  int numNodes_ = 0;
+  int numControl_ = 0;
+  std::vector<double> matrix_;  ///< numControl_ x numNodes_, row-major.
+};
+
+}  // namespace invmap::io

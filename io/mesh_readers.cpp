@@ -1,0 +1,591 @@
+#include "io/mesh_readers.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <istream>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "io/file_io.h"
+#include "io/geometry_file.h"
+#include "io/input_error.h"
+
+namespace invmap::io {
+namespace {
+
+/// Lines of a text buffer, without their end-of-line characters ("\n" or
+/// "\r\n"), with 1-based numbers for messages.
+class LineReader {
+ public:
+  /// `text` must outlive the reader.
+  explicit LineReader(std::string_view text) : text_(text) {}
+
+  /// The next line; false at the end of the text.
+  bool Next(std::string_view* line) {
+    if (pos_ >= text_.size()) return false;
+    std::size_t end = text_.find('\n', pos_);
+    if (end == std::string_view::npos) end = text_.size();
+    *line = text_.substr(pos_, end - pos_);
+    if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
+    pos_ = end + 1;
+    ++line_;
+    return true;
+  }
+
+  /// Number of the line last returned (0 before the first); at the end of
+  /// the text, the last line.
+  std::int64_t line() const { return line_; }
+  /// Bytes not yet returned.
+  std::size_t remaining() const { return pos_ < text_.size() ? text_.size() - pos_ : 0; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;    ///< Start of the next line.
+  std::int64_t line_ = 0;  ///< Lines returned so far.
+};
+
+/// White space between tokens (any line ending included).
+bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
+
+/// Splits the next whitespace-separated token off the front of `rest`; false
+/// when only whitespace is left.
+bool NextToken(std::string_view* rest, std::string_view* token) {
+  std::size_t begin = 0;
+  while (begin < rest->size() && IsSpace((*rest)[begin])) ++begin;
+  if (begin == rest->size()) {
+    *rest = {};
+    return false;
+  }
+  std::size_t end = begin;
+  while (end < rest->size() && !IsSpace((*rest)[end])) ++end;
+  *token = rest->substr(begin, end - begin);
+  *rest = rest->substr(end);
+  return true;
+}
+
+/// `line` without a `#` comment.
+std::string_view StripComment(std::string_view line) { return line.substr(0, line.find('#')); }
+
+/// ASCII case-insensitive equality (STL keywords appear in either case).
+bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
+  }
+  return true;
+}
+
+/// A token shown in a message: quoted, long ones shortened.
+std::string Quote(std::string_view token) {
+  constexpr std::size_t kShown = 40;
+  return "\"" + std::string(token.substr(0, kShown)) + (token.size() > kShown ? "...\"" : "\"");
+}
+
+/// A finite coordinate from `token`, or an InputError at `line` whose message
+/// begins with where() (built only then: this runs for every coordinate).
+template <class Where>
+double ParseCoordinate(std::string_view token, const std::string& name, std::int64_t line, const Where& where) {
+  double value = 0.0;
+  if (!ParseDouble(token, &value)) throw InputError(name, line, where() + ": " + Quote(token) + " is not a number");
+  if (!std::isfinite(value)) throw InputError(name, line, where() + ": " + Quote(token) + " is not a finite number");
+  return value;
+}
+
+/// Faces collected by type, and the vertices they index.
+struct MeshBuilder {
+  std::vector<double> vertices;     ///< xyz per vertex.
+  std::vector<std::int64_t> tris;   ///< 3 vertex indices per triangle.
+  std::vector<std::int64_t> quads;  ///< 4 vertex indices per quad.
+
+  /// Vertices so far.
+  std::int64_t numVertices() const { return static_cast<std::int64_t>(vertices.size() / 3); }
+
+  /// Appends a vertex.
+  void AddVertex(double x, double y, double z) {
+    vertices.push_back(x);
+    vertices.push_back(y);
+    vertices.push_back(z);
+  }
+
+  /// A face of n >= 3 valid vertex indices, in the file's order: a tri, a
+  /// quad (its cyclic order is the finite-element quad order), or a fan of
+  /// tris around v[0].
+  void AddPolygon(const std::int64_t* v, std::size_t n) {
+    if (n == 4) {
+      quads.insert(quads.end(), v, v + 4);
+      return;
+    }
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      tris.push_back(v[0]);
+      tris.push_back(v[i]);
+      tris.push_back(v[i + 1]);
+    }
+  }
+
+  /// The geometry: a tri patch, then a quad patch, each present only when it
+  /// has cells. Throws InputError at `line` when there is no face at all.
+  Geometry Finish(const std::string& name, std::int64_t line) {
+    if (tris.empty() && quads.empty()) {
+      throw InputError(name, line, "no faces: a mesh file needs at least one triangle or quad");
+    }
+    Geometry geometry;
+    geometry.dimension = 3;
+    const bool both = !tris.empty() && !quads.empty();
+    if (!tris.empty()) {
+      Patch patch;
+      patch.kind = Patch::Kind::Mesh;
+      patch.cell = CellType::Tri;
+      patch.points = both ? vertices : std::move(vertices);
+      patch.cells = std::move(tris);
+      geometry.patches.push_back(std::move(patch));
+    }
+    if (!quads.empty()) {
+      Patch patch;
+      patch.kind = Patch::Kind::Mesh;
+      patch.cell = CellType::Quad;
+      patch.points = std::move(vertices);
+      patch.cells = std::move(quads);
+      geometry.patches.push_back(std::move(patch));
+    }
+    return geometry;
+  }
+};
+
+/// The line number to report at the end of a text (line 1 for an empty one).
+std::int64_t EndLine(const LineReader& lines) { return std::max<std::int64_t>(lines.line(), 1); }
+
+// ---------------------------------------------------------------- OBJ
+
+/// Reads an OBJ text (see ReadObj).
+Geometry ParseObj(std::string_view text, const std::string& name) {
+  MeshBuilder mesh;
+  LineReader lines(text);
+  std::vector<std::int64_t> face;
+  // Positive indices may name vertices defined further down; the largest is
+  // checked at the end, at the line that used it.
+  std::int64_t maxIndex = 0, maxIndexLine = 0;
+  std::string_view line;
+  while (lines.Next(&line)) {
+    std::string_view rest = StripComment(line);
+    std::string_view keyword;
+    if (!NextToken(&rest, &keyword)) continue;
+    if (keyword == "v") {
+      double xyz[3];
+      for (int k = 0; k < 3; ++k) {
+        std::string_view token;
+        if (!NextToken(&rest, &token)) {
+          throw InputError(name, lines.line(), "v: " + std::to_string(k) + " coordinates, expected 3 (x y z)");
+        }
+        xyz[k] = ParseCoordinate(token, name, lines.line(), [k] { return "v: coordinate " + std::to_string(k); });
+      }
+      mesh.AddVertex(xyz[0], xyz[1], xyz[2]);
+    } else if (keyword == "f") {
+      face.clear();
+      std::string_view token;
+      while (NextToken(&rest, &token)) {
+        std::int64_t index = 0;
+        if (!ParseInteger(token.substr(0, token.find('/')), &index)) {
+          throw InputError(name, lines.line(),
+                           "f: " + Quote(token) + " is not a vertex reference (v, v/vt, v/vt/vn or v//vn)");
+        }
+        if (index == 0) throw InputError(name, lines.line(), "f: vertex index 0 (OBJ indices start at 1)");
+        if (index < 0) {
+          // Relative: -1 is the last vertex defined so far.
+          if (index < -mesh.numVertices()) {
+            throw InputError(name, lines.line(),
+                             "f: relative vertex index " + std::to_string(index) + " refers before the first vertex (" +
+                                 std::to_string(mesh.numVertices()) + " defined so far)");
+          }
+          index = mesh.numVertices() + index;
+        } else {
+          if (index > maxIndex) {
+            maxIndex = index;
+            maxIndexLine = lines.line();
+          }
+          index -= 1;
+        }
+        face.push_back(index);
+      }
+      if (face.size() < 3) {
+        throw InputError(name, lines.line(),
+                         "f: " + std::to_string(face.size()) + " vertices, a face needs at least 3");
+      }
+      mesh.AddPolygon(face.data(), face.size());
+    }
+  }
+  if (maxIndex > mesh.numVertices()) {
+    throw InputError(name, maxIndexLine,
+                     "f: vertex index " + std::to_string(maxIndex) + " out of range (the file has " +
+                         std::to_string(mesh.numVertices()) + " vertices)");
+  }
+  return mesh.Finish(name, EndLine(lines));
+}
+
+// ---------------------------------------------------------------- STL
+
+/// Merges vertices with identical coordinates so that an STL's triangles,
+/// which each list their own corners, share vertices.
+class VertexMerger {
+ public:
+  /// `mesh` receives the distinct vertices and outlives the merger;
+  /// `expected` is a size hint already checked against the file size.
+  VertexMerger(MeshBuilder* mesh, std::size_t expected) : mesh_(mesh) { index_.reserve(expected); }
+
+  /// The index of vertex (x, y, z), added to the mesh when new.
+  std::int64_t Add(double x, double y, double z) {
+    // + 0.0 turns -0.0 into 0.0, so that the two zeros are one vertex.
+    const Key key{x + 0.0, y + 0.0, z + 0.0};
+    const auto [it, inserted] = index_.try_emplace(key, mesh_->numVertices());
+    if (inserted) mesh_->AddVertex(key[0], key[1], key[2]);
+    return it->second;
+  }
+
+ private:
+  using Key = std::array<double, 3>;
+  /// Mixes the coordinates' bit patterns (equal keys have equal bits once
+  /// -0.0 is folded into 0.0).
+  struct KeyHash {
+    std::size_t operator()(const Key& key) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ull;
+      for (double x : key) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &x, sizeof bits);
+        h ^= bits + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+      }
+      return static_cast<std::size_t>(h);
+    }
+  };
+
+  MeshBuilder* mesh_;                                     ///< Not owned.
+  std::unordered_map<Key, std::int64_t, KeyHash> index_;  ///< Vertex -> its index in mesh_.
+};
+
+/// An unsigned 32-bit integer stored little-endian.
+std::uint32_t ReadU32LE(const unsigned char* p) {
+  return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24;
+}
+
+/// An IEEE single stored little-endian, whatever the host's byte order.
+float ReadF32LE(const unsigned char* p) {
+  const std::uint32_t bits = ReadU32LE(p);
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+
+/// Binary STL layout: an 80-byte header and the triangle count, then 50
+/// bytes per triangle.
+constexpr std::size_t kStlHeaderBytes = 84;
+constexpr std::size_t kStlTriangleBytes = 50;
+
+/// Reads a binary STL whose size has been checked against `count`.
+Geometry ParseBinaryStl(std::string_view bytes, const std::string& name, std::uint32_t count) {
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  MeshBuilder mesh;
+  // count is trusted here: the file size matched 84 + 50 x count.
+  mesh.tris.reserve(static_cast<std::size_t>(count) * 3);
+  VertexMerger merger(&mesh, static_cast<std::size_t>(count) / 2 + 3);
+  for (std::uint32_t t = 0; t < count; ++t) {
+    // 12 bytes of normal (ignored), 3 x 12 bytes of corners, 2 attribute bytes.
+    const unsigned char* corner = data + kStlHeaderBytes + static_cast<std::size_t>(t) * kStlTriangleBytes + 12;
+    for (int v = 0; v < 3; ++v, corner += 12) {
+      const double x = ReadF32LE(corner), y = ReadF32LE(corner + 4), z = ReadF32LE(corner + 8);
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+        throw InputError(
+            name, 0,
+            "triangle " + std::to_string(t) + ", vertex " + std::to_string(v) + ": coordinate is not a finite number");
+      }
+      mesh.tris.push_back(merger.Add(x, y, z));
+    }
+  }
+  return mesh.Finish(name, 0);
+}
+
+/// Tokens of a whole text with the line of each, for ASCII STL, whose
+/// keywords need not sit on separate lines.
+class TokenReader {
+ public:
+  /// `text` must outlive the reader.
+  explicit TokenReader(std::string_view text) : text_(text) {}
+
+  /// The next token; false at the end of the text.
+  bool Next(std::string_view* token) {
+    while (pos_ < text_.size() && IsSpace(text_[pos_])) {
+      // A final newline ends the last line rather than starting one, so
+      // errors at the end of the text name the last line.
+      if (text_[pos_] == '\n' && pos_ + 1 < text_.size()) ++line_;
+      ++pos_;
+    }
+    if (pos_ == text_.size()) return false;
+    const std::size_t begin = pos_;
+    while (pos_ < text_.size() && !IsSpace(text_[pos_])) ++pos_;
+    *token = text_.substr(begin, pos_ - begin);
+    return true;
+  }
+
+  /// Skips to the end of the current line (a solid's name is free text).
+  void SkipLine() {
+    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  }
+
+  /// 1-based line of the last token (or of the end of the text).
+  std::int64_t line() const { return line_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;    ///< Next byte to read.
+  std::int64_t line_ = 1;  ///< Line of pos_.
+};
+
+/// Reads an ASCII STL: solids of facets, each an outer loop of 3 vertices.
+Geometry ParseAsciiStl(std::string_view text, const std::string& name) {
+  TokenReader tokens(text);
+  MeshBuilder mesh;
+  VertexMerger merger(&mesh, 0);
+  std::string_view token;
+  const auto expect = [&](const char* keyword) {
+    if (!tokens.Next(&token)) {
+      throw InputError(name, tokens.line(), std::string("unexpected end of file, expected \"") + keyword + "\"");
+    }
+    if (!EqualsIgnoreCase(token, keyword)) {
+      throw InputError(name, tokens.line(), "unexpected " + Quote(token) + ", expected \"" + keyword + "\"");
+    }
+  };
+  expect("solid");
+  tokens.SkipLine();
+  while (true) {
+    if (!tokens.Next(&token)) {
+      throw InputError(name, tokens.line(), "unexpected end of file, expected \"facet\" or \"endsolid\"");
+    }
+    if (EqualsIgnoreCase(token, "endsolid")) {
+      tokens.SkipLine();
+      // Some files hold several solids one after the other.
+      if (!tokens.Next(&token)) break;
+      if (!EqualsIgnoreCase(token, "solid")) {
+        throw InputError(name, tokens.line(), "unexpected " + Quote(token) + " after \"endsolid\", expected \"solid\"");
+      }
+      tokens.SkipLine();
+      continue;
+    }
+    if (!EqualsIgnoreCase(token, "facet")) {
+      throw InputError(name, tokens.line(), "unexpected " + Quote(token) + ", expected \"facet\" or \"endsolid\"");
+    }
+    expect("normal");
+    for (int k = 0; k < 3; ++k) {
+      if (!tokens.Next(&token)) throw InputError(name, tokens.line(), "unexpected end of file in a facet normal");
+    }
+    expect("outer");
+    expect("loop");
+    std::int64_t corners[3];
+    for (int v = 0; v < 3; ++v) {
+      expect("vertex");
+      double xyz[3];
+      for (int k = 0; k < 3; ++k) {
+        if (!tokens.Next(&token)) {
+          throw InputError(name, tokens.line(), "unexpected end of file, expected a vertex coordinate");
+        }
+        xyz[k] = ParseCoordinate(token, name, tokens.line(), [k] { return "vertex: coordinate " + std::to_string(k); });
+      }
+      corners[v] = merger.Add(xyz[0], xyz[1], xyz[2]);
+    }
+    expect("endloop");
+    expect("endfacet");
+    mesh.tris.insert(mesh.tris.end(), corners, corners + 3);
+  }
+  return mesh.Finish(name, tokens.line());
+}
+
+/// Reads an STL, binary or ASCII by the size rule (see ReadStl).
+Geometry ParseStl(std::string_view bytes, const std::string& name) {
+  std::uint32_t count = 0;
+  std::uint64_t binarySize = 0;
+  if (bytes.size() >= kStlHeaderBytes) {
+    count = ReadU32LE(reinterpret_cast<const unsigned char*>(bytes.data()) + 80);
+    binarySize = kStlHeaderBytes + std::uint64_t{kStlTriangleBytes} * count;
+    if (bytes.size() == binarySize) return ParseBinaryStl(bytes, name, count);
+  }
+  const std::string why = bytes.size() < kStlHeaderBytes
+                              ? std::to_string(bytes.size()) + " bytes is too short for a binary STL (at least 84)"
+                              : "a binary STL declaring " + std::to_string(count) + " triangles has 84 + 50 x " +
+                                    std::to_string(count) + " = " + std::to_string(binarySize) +
+                                    " bytes, this file has " + std::to_string(bytes.size());
+  const std::size_t first = std::min(bytes.find_first_not_of(" \t\r\n"), bytes.size());
+  const bool solidHeader = bytes.size() - first >= 5 && EqualsIgnoreCase(bytes.substr(first, 5), "solid");
+  if (!solidHeader) throw InputError(name, 0, "not an STL file: no ASCII \"solid\" header, and " + why);
+  // Binary headers often begin with "solid" too, but ASCII STL never holds a
+  // NUL byte: then the size mismatch is the real problem.
+  if (bytes.find('\0') != std::string_view::npos) {
+    throw InputError(name, 0, "not an STL file: binary data after a \"solid\" header, and " + why);
+  }
+  return ParseAsciiStl(bytes, name);
+}
+
+// ---------------------------------------------------------------- OFF
+
+/// The next line with content (comments and blank lines skipped), its
+/// comment removed; false at the end of the text.
+bool NextContentLine(LineReader* lines, std::string_view* line) {
+  while (lines->Next(line)) {
+    *line = StripComment(*line);
+    if (line->find_first_not_of(" \t\r\v\f") != std::string_view::npos) return true;
+  }
+  return false;
+}
+
+/// True for the OFF header keywords whose vertex lines start with x y z:
+/// [ST][C][N]OFF. (4OFF and nOFF change the vertex layout.)
+bool IsOffKeyword(std::string_view token) {
+  if (token.size() < 3 || token.substr(token.size() - 3) != "OFF") return false;
+  std::string_view prefix = token.substr(0, token.size() - 3);
+  if (prefix.substr(0, 2) == "ST") prefix.remove_prefix(2);
+  if (!prefix.empty() && prefix.front() == 'C') prefix.remove_prefix(1);
+  if (!prefix.empty() && prefix.front() == 'N') prefix.remove_prefix(1);
+  return prefix.empty();
+}
+
+/// Reads an OFF text (see ReadOff).
+Geometry ParseOff(std::string_view text, const std::string& name) {
+  LineReader lines(text);
+  std::string_view line;
+  if (!NextContentLine(&lines, &line)) {
+    throw InputError(name, EndLine(lines), "empty file, expected the \"OFF\" header");
+  }
+  std::string_view rest = line;
+  std::string_view token;
+  NextToken(&rest, &token);
+  std::int64_t probe = 0;
+  if (IsOffKeyword(token)) {
+    // The counts may follow the keyword on the same line.
+    std::string_view after = rest;
+    if (!NextToken(&after, &token)) {
+      if (!NextContentLine(&lines, &line)) {
+        throw InputError(name, EndLine(lines), "unexpected end of file, expected the vertex and face counts");
+      }
+      rest = line;
+    }
+  } else if (token.find("OFF") != std::string_view::npos) {
+    throw InputError(name, lines.line(),
+                     "unsupported OFF variant " + Quote(token) + " (only 3D vertex lines are read)");
+  } else if (ParseInteger(token, &probe)) {
+    rest = line;  // No header: this line holds the counts.
+  } else {
+    throw InputError(name, lines.line(),
+                     "expected the \"OFF\" header or the vertex and face counts, found " + Quote(token));
+  }
+  std::int64_t counts[2];
+  const char* countNames[2] = {"vertex count", "face count"};
+  for (int k = 0; k < 2; ++k) {
+    if (!NextToken(&rest, &token)) {
+      throw InputError(name, lines.line(),
+                       std::string("expected the ") + countNames[k] + ", found the end of the line");
+    }
+    if (!ParseInteger(token, &counts[k]) || counts[k] < 0) {
+      throw InputError(name, lines.line(),
+                       std::string(countNames[k]) + ": " + Quote(token) + " is not a non-negative integer");
+    }
+  }
+  const std::int64_t numVertices = counts[0], numFaces = counts[1];
+  // The shortest vertex line is "0 0 0" and the shortest face "3 0 0 0", each
+  // with a separator: claims beyond what the rest of the file can hold are
+  // refused before anything is allocated.
+  const std::int64_t remaining = static_cast<std::int64_t>(lines.remaining());
+  if (numVertices > (remaining + 1) / 6 || numFaces > (remaining + 1) / 8 ||
+      numVertices * 6 + numFaces * 8 > remaining + 1) {
+    throw InputError(name, lines.line(),
+                     "the header declares " + std::to_string(numVertices) + " vertices and " +
+                         std::to_string(numFaces) + " faces, more than the remaining " + std::to_string(remaining) +
+                         " bytes can hold");
+  }
+  MeshBuilder mesh;
+  mesh.vertices.reserve(static_cast<std::size_t>(numVertices) * 3);
+  for (std::int64_t i = 0; i < numVertices; ++i) {
+    if (!NextContentLine(&lines, &line)) {
+      throw InputError(
+          name, EndLine(lines),
+          "unexpected end of file after " + std::to_string(i) + " of " + std::to_string(numVertices) + " vertices");
+    }
+    rest = line;
+    double xyz[3];
+    for (int k = 0; k < 3; ++k) {
+      if (!NextToken(&rest, &token)) {
+        throw InputError(name, lines.line(),
+                         "vertex " + std::to_string(i) + ": " + std::to_string(k) + " coordinates, expected 3 (x y z)");
+      }
+      xyz[k] = ParseCoordinate(token, name, lines.line(),
+                               [i, k] { return "vertex " + std::to_string(i) + ": coordinate " + std::to_string(k); });
+    }
+    mesh.AddVertex(xyz[0], xyz[1], xyz[2]);
+  }
+  std::vector<std::int64_t> face;
+  for (std::int64_t i = 0; i < numFaces; ++i) {
+    if (!NextContentLine(&lines, &line)) {
+      throw InputError(
+          name, EndLine(lines),
+          "unexpected end of file after " + std::to_string(i) + " of " + std::to_string(numFaces) + " faces");
+    }
+    rest = line;
+    const auto where = [i] { return "face " + std::to_string(i); };
+    std::int64_t n = 0;
+    NextToken(&rest, &token);
+    if (!ParseInteger(token, &n)) {
+      throw InputError(name, lines.line(), where() + ": vertex count " + Quote(token) + " is not an integer");
+    }
+    if (n < 3) {
+      throw InputError(name, lines.line(), where() + ": " + std::to_string(n) + " vertices, a face needs at least 3");
+    }
+    face.clear();
+    // n is only a claim: indices are read while the line has them.
+    for (std::int64_t k = 0; k < n; ++k) {
+      std::int64_t index = 0;
+      if (!NextToken(&rest, &token)) {
+        throw InputError(name, lines.line(),
+                         where() + ": " + std::to_string(k) + " vertex indices, expected " + std::to_string(n));
+      }
+      if (!ParseInteger(token, &index)) {
+        throw InputError(name, lines.line(), where() + ": vertex index " + Quote(token) + " is not an integer");
+      }
+      if (index < 0 || index >= numVertices) {
+        throw InputError(name, lines.line(),
+                         where() + ": vertex index " + std::to_string(index) + " out of range (the file has " +
+                             std::to_string(numVertices) + " vertices, numbered from 0)");
+      }
+      face.push_back(index);
+    }
+    mesh.AddPolygon(face.data(), face.size());
+  }
+  return mesh.Finish(name, EndLine(lines));
+}
+
+}  // namespace
+
+Geometry ReadMeshFile(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  Geometry (*parse)(std::string_view, const std::string&) = nullptr;
+  if (ext == ".obj") parse = ParseObj;
+  if (ext == ".stl") parse = ParseStl;
+  if (ext == ".off") parse = ParseOff;
+  if (!parse) {
+    throw InputError(path, 0, "unknown mesh file extension \"" + ext + "\" (supported: .obj, .stl, .off)");
+  }
+  return parse(ReadWholeFile(path), path);
+}
+
+Geometry ReadObj(std::istream& in, const std::string& nameForMessages) {
+  return ParseObj(ReadWholeStream(in, nameForMessages), nameForMessages);
+}
+
+Geometry ReadStl(std::istream& in, const std::string& nameForMessages) {
+  return ParseStl(ReadWholeStream(in, nameForMessages), nameForMessages);
+}
+
+Geometry ReadOff(std::istream& in, const std::string& nameForMessages) {
+  return ParseOff(ReadWholeStream(in, nameForMessages), nameForMessages);
+}
+
+}  // namespace invmap::io

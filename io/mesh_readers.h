@@ -1,0 +1,55 @@
+// Readers of triangle and quad surface meshes: OBJ, STL and OFF. (PLY meshes
+// are read by io/ply_mesh.h, gmsh meshes by io/gmsh_reader.h.)
+//
+// Every reader returns a Geometry of dimension 3 with one Mesh patch per cell
+// type present: the tri patch first (patch 0), then the quad patch if the
+// file has quads. Cells are numbered within their patch in the order the
+// file lists faces of that type; a polygon of n > 4 vertices becomes the n - 2
+// triangles (v0, v[i], v[i+1]), i = 1 .. n - 2, numbered in that order at its
+// place among the triangles. Each patch carries every vertex of the file, in
+// file order (STL: in order of first appearance after merging), so vertex
+// indices are the same in both patches. Reported parameters are the reference
+// coordinates of the tri (s, t) or quad (s, t) cell (FORMATS.md section 2),
+// with the face's vertices in file order as the cell's vertices 0, 1, 2 (, 3).
+//
+// A file without any face is an error (it is most likely a point cloud), as
+// is any coordinate that is not a finite number. Every error is an InputError
+// naming the file and, for text formats, the 1-based line.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "invmap/invmap.h"
+
+namespace invmap::io {
+
+/// Reads the mesh at `path`, chosen by its extension (.obj, .stl, .off; case
+/// insensitive). Throws InputError for an unknown extension or a bad file.
+Geometry ReadMeshFile(const std::string& path);
+
+/// Wavefront OBJ: `v x y z [w]` lines (further values such as w or vertex
+/// colours are ignored) and `f` lines with v, v/vt, v/vt/vn or v//vn
+/// references, 1-based or negative (relative: -1 is the last vertex defined
+/// so far). Other statements (vt, vn, g, o, s, usemtl, l, curves, ...) and
+/// `#` comments are ignored.
+Geometry ReadObj(std::istream& in, const std::string& nameForMessages);
+
+/// STL, binary or ASCII. A file is binary exactly when its size is
+/// 84 + 50 x (the triangle count at byte 80), whatever its first bytes say
+/// (binary headers often begin with "solid"). Identical vertices (bit for bit,
+/// with -0 equal to 0) are merged so that triangles share vertices; vertex
+/// order is order of first appearance. Binary problems name no line; ASCII
+/// ones do. Facet normals are ignored (writers put NaN there for degenerate
+/// triangles).
+Geometry ReadStl(std::istream& in, const std::string& nameForMessages);
+
+/// OFF: an optional `OFF` header (also COFF, NOFF, CNOFF, STOFF and the like,
+/// whose extra per-vertex values are ignored), the vertex, face and edge
+/// counts, one vertex per line, then one face per line as `n i0 .. i(n-1)`
+/// with 0-based indices (trailing face colours are ignored). `#` starts a
+/// comment. Counts are checked against the file size before anything is
+/// allocated.
+Geometry ReadOff(std::istream& in, const std::string& nameForMessages);
+
+}  // namespace invmap::io
