@@ -40,7 +40,15 @@ mkdir -p "$root/build"
 case "$mode" in
   demo)
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF
-    "$root/build/release/examples/invmap_demo"
+    # The main job: a million scanned points against the bundled creased surface.
+    invmap="$root/build/release/cli/invmap"
+    demo="$root/build/demo"
+    mkdir -p "$demo"
+    geometry="$root/examples/data/wavy_surface.json"
+    [ -f "$demo/scan.npy" ] || "$invmap" generate points -g "$geometry" -n 1000000 --kind near --spread 0.02 -o "$demo/scan.npy"
+    "$invmap" info -g "$geometry"
+    "$invmap" invert -g "$geometry" -p "$demo/scan.npy" -o "$demo/result.csv"
+    echo "results: $demo/result.csv"
     ;;
   test)
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=ON

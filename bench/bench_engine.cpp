@@ -1,0 +1,140 @@
+// Engine throughput: whole batches (points/s) on a surface, a curve, a
+// triangle mesh and a quadratic tet mesh, with 1 and 2 threads; and the
+// oracle ratio: full engine time over the time to solve each point only on
+// the cell the engine found, from the same start (culling and scheduling cost).
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cli/sample_geometries.h"
+#include "engine/cell_store.h"
+#include "invmap/invmap.h"
+
+namespace {
+
+using invmap::Geometry;
+using invmap::Manifold;
+
+/// Workloads: 0 wavy bicubic surface (32 x 32 spans), 1 NURBS torus,
+/// 2 planar NURBS curve, 3 bumpy-sphere triangle mesh (1.3 M triangles),
+/// 4 quadratic tet mesh (8^3 cubes).
+Geometry MakeGeometry(int workload) {
+  switch (workload) {
+    case 0:
+      return invmap::samples::WavySurface(32);
+    case 1:
+      return invmap::samples::NurbsTorus(2.0, 0.7);
+    case 2:
+      return invmap::samples::NurbsCurve2D();
+    case 3:
+      return invmap::samples::BumpySphere(1000000);
+    default:
+      return invmap::samples::ToBezierGeometry(invmap::samples::CurvedTetMesh(8));
+  }
+}
+
+const char* WorkloadName(int workload) {
+  static const char* const kNames[] = {"surface", "torus", "curve2d", "trimesh", "tets_p2"};
+  return kNames[workload];
+}
+
+/// A built manifold and its query points, shared by the benchmarks of a workload.
+struct Workload {
+  Manifold manifold;
+  int dim = 3;
+  std::vector<double> points;
+};
+
+/// Points: near the geometry (within 2% of its size) for surfaces, curves and
+/// meshes; inside the cells for the tet mesh.
+const Workload& GetWorkload(int workload) {
+  static std::map<int, Workload> cache;
+  auto found = cache.find(workload);
+  if (found != cache.end()) return found->second;
+  Workload& w = cache[workload];
+  invmap::BuildResult built = Manifold::Build(MakeGeometry(workload));
+  w.manifold = std::move(built.manifold);
+  const invmap::ManifoldInfo info = w.manifold.Info();
+  w.dim = info.dimension;
+  double size2 = 0.0;
+  for (int k = 0; k < w.dim; ++k) size2 += (info.boundsHi[k] - info.boundsLo[k]) * (info.boundsHi[k] - info.boundsLo[k]);
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), symmetric(-1.0, 1.0);
+  const std::int64_t cells = w.manifold.NumCells(0);
+  const double spread = workload == 4 ? 0.0 : 0.02 * std::sqrt(size2);
+  for (int i = 0; i < 200000; ++i) {
+    const double sample[3] = {unit(rng), unit(rng), unit(rng)};
+    double params[3], point[3];
+    w.manifold.PointAt(0, static_cast<std::int64_t>(unit(rng) * cells) % cells, sample, params, point);
+    for (int k = 0; k < w.dim; ++k) w.points.push_back(point[k] + spread * symmetric(rng));
+  }
+  return w;
+}
+
+void BM_InvertBatch(benchmark::State& state) {
+  const Workload& w = GetWorkload(static_cast<int>(state.range(0)));
+  invmap::InversionOptions options;
+  options.threads = static_cast<int>(state.range(1));
+  const std::size_t n = w.points.size() / w.dim;
+  invmap::Results results;
+  std::int64_t iterations = 0;
+  for (auto _ : state) {
+    w.manifold.Invert(invmap::PointsView::Interleaved(w.points.data(), n, w.dim), options, &results);
+    for (std::size_t i = 0; i < n; ++i) iterations += results.iterations[i];
+  }
+  state.SetLabel(WorkloadName(static_cast<int>(state.range(0))));
+  state.counters["points/s"] =
+      benchmark::Counter(static_cast<double>(n) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["newton_iters"] = static_cast<double>(iterations) / (static_cast<double>(n) * state.iterations());
+}
+
+/// The engine against an oracle that knows each point's cell: the same cell
+/// solver (certified, from the cell's center) on just the cell the engine
+/// reported, with no culling or scheduling. Reported as a ratio of times, 1 thread.
+void BM_OracleRatio(benchmark::State& state) {
+  const int workload = static_cast<int>(state.range(0));
+  const Workload& w = GetWorkload(workload);
+  const std::size_t n = std::min<std::size_t>(w.points.size() / w.dim, 50000);
+  invmap::InversionOptions options;
+  options.threads = 1;
+  invmap::Results results;
+  w.manifold.Invert(invmap::PointsView::Interleaved(w.points.data(), n, w.dim), options, &results);
+  invmap::engine::CellStore store;
+  store.Build(MakeGeometry(workload), 1);
+  std::vector<std::int64_t> cellOf(n, -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (results.status[i] == invmap::Status::Found) cellOf[i] = store.patchFirstCell(results.patch[i]) + results.cell[i];
+  }
+  invmap::kernels::SolveWorkspace ws;
+  double engineSeconds = 0.0, oracleSeconds = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    w.manifold.Invert(invmap::PointsView::Interleaved(w.points.data(), n, w.dim), options, &results);
+    const auto t1 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (cellOf[i] < 0) continue;
+      const auto r = store.solver(cellOf[i]).Solve(&w.points[i * w.dim], nullptr, &ws);
+      benchmark::DoNotOptimize(r);
+    }
+    const auto t2 = std::chrono::steady_clock::now();
+    engineSeconds += std::chrono::duration<double>(t1 - t0).count();
+    oracleSeconds += std::chrono::duration<double>(t2 - t1).count();
+  }
+  state.SetLabel(WorkloadName(workload));
+  state.counters["oracle_ratio"] = engineSeconds / oracleSeconds;
+}
+
+// Arguments: workload, threads (0 = all cores).
+BENCHMARK(BM_InvertBatch)
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_OracleRatio)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+}  // namespace
+
+BENCHMARK_MAIN();
