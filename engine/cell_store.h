@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/check.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
 
@@ -32,8 +33,14 @@ class CellStore {
 
   int dimension() const { return dimension_; }
   std::int64_t size() const { return static_cast<std::int64_t>(solvers_.size()); }
-  const kernels::CellSolver& solver(std::int64_t cell) const { return solvers_[cell]; }
-  const CellOrigin& origin(std::int64_t cell) const { return origins_[cell]; }
+  const kernels::CellSolver& solver(std::int64_t cell) const {
+    INVMAP_ASSERT(cell >= 0 && cell < size(), "cell " << cell << " not in [0, " << size() << ")");
+    return solvers_[cell];
+  }
+  const CellOrigin& origin(std::int64_t cell) const {
+    INVMAP_ASSERT(cell >= 0 && cell < size(), "cell " << cell << " not in [0, " << size() << ")");
+    return origins_[cell];
+  }
   std::size_t numPatches() const { return numPatches_; }
   /// Index of the first cell of `patch` (cells of a patch are contiguous);
   /// patchFirstCell(numPatches()) == size().

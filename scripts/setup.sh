@@ -10,8 +10,8 @@ mode=${1:-demo}
 root=$(cd "$(dirname "$0")/.." && pwd)
 jobs=$(nproc)
 
-packages=(build-essential cmake ninja-build pkg-config libeigen3-dev libtbb-dev libembree-dev
-          libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev)
+packages=(build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libeigen3-dev libtbb-dev
+          libembree-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev gmsh)
 
 install_missing() {
   local missing=()
@@ -26,13 +26,23 @@ install_missing() {
   fi
 }
 
-# configure_and_build DIR BUILD_TYPE [extra cmake args...]
+# configure_and_build DIR BUILD_TYPE [cmake -D args...] [--target TARGETS...]
 configure_and_build() {
   local dir=$1 type=$2
   shift 2
-  cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE="$type" "$@" > "$dir.configure.log" 2>&1 \
+  local defines=() targets=()
+  while [ $# -gt 0 ]; do
+    if [ "$1" = "--target" ]; then shift; targets=("$@"); break; fi
+    defines+=("$1")
+    shift
+  done
+  cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE="$type" "${defines[@]}" > "$dir.configure.log" 2>&1 \
     || { cat "$dir.configure.log"; exit 1; }
-  cmake --build "$dir" -j "$jobs"
+  if [ ${#targets[@]} -gt 0 ]; then
+    cmake --build "$dir" -j "$jobs" --target "${targets[@]}"
+  else
+    cmake --build "$dir" -j "$jobs"
+  fi
 }
 
 install_missing
@@ -54,11 +64,21 @@ case "$mode" in
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=ON
     # The kernel tests again with AddressSanitizer, UndefinedBehaviorSanitizer and internal asserts.
     configure_and_build "$root/build/asan" Debug -DINVMAP_SANITIZE=ON -DINVMAP_ASSERT=ON \
-      -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=OFF
+      -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=OFF --target invmap_kernel_tests
+    # The parsers under libFuzzer (clang, ASan/UBSan), a bounded time each.
+    CC=clang CXX=clang++ configure_and_build "$root/build/fuzz" RelWithDebInfo -DINVMAP_BUILD_FUZZ=ON \
+      -DINVMAP_SANITIZE=ON -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF --target fuzz_geometry fuzz_points
     echo "== Release suite"
     ctest --test-dir "$root/build/release" -j "$jobs" --output-on-failure --timeout 900
     echo "== Debug + ASan/UBSan suite"
     ctest --test-dir "$root/build/asan" -j "$jobs" --output-on-failure --timeout 900 -L sanitize
+    echo "== Fuzzing the parsers (${INVMAP_FUZZ_SECONDS:-20} s each)"
+    for target in fuzz_geometry fuzz_points; do
+      corpus="$root/build/fuzz/corpus/$target"
+      mkdir -p "$corpus"
+      "$root/build/fuzz/fuzz/$target" -max_total_time="${INVMAP_FUZZ_SECONDS:-20}" -rss_limit_mb=2048 -timeout=10 \
+        -print_final_stats=1 "$corpus" "$root/fuzz/corpus/${target#fuzz_}" 2>&1 | tail -n 3
+    done
     ;;
   *)
     echo "usage: scripts/setup.sh demo|test" >&2
