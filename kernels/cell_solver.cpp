@@ -277,10 +277,13 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
   SlotPool pool(ws, slotSize);
   if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
   const HessianStencil& stencil = *stencil_;
+  // The certificate below is only sound at a true KKT point; a local solve
+  // that stopped early (iteration cap, rounding) does not get it.
+  bool bestIsKkt = best->converged && IsKktPoint(cell_, point, best->ref, size_);
   // The convexity certificate: q - f* WW convex on a subdomain holding the
   // KKT point x* means q >= f* WW there, so no point of it is closer.
   auto certifiedAround = [&](double* slot) {
-    if (!best->converged || !SubdomainContains(cell_.shape, slot, best->ref)) return false;
+    if (!bestIsKkt || !SubdomainContains(cell_.shape, slot, best->ref)) return false;
     double* f = ws->scratch.data();
     const double* q = slot + kHeaderSize;
     const double* ww = rational ? q + n : nullptr;
@@ -308,6 +311,7 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
 
   bool certified = true;
   int examined = 0;
+  int hardSeeds = 0;
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), byLowerBound);
     const int s = heap.back();
@@ -333,12 +337,17 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
     // tie or a degenerate piece (a collapsed edge, where the local minima of
     // the parameters form a continuum): from then on every subdomain also
     // seeds a local solve, which finds basins its center value cannot show.
-    if (fCenter < best->squaredDistance || examined > kHardSearch) {
+    const bool seed = examined > kHardSearch && hardSeeds < kHardSeeds;
+    hardSeeds += seed ? 1 : 0;
+    if (fCenter < best->squaredDistance || seed) {
       LocalSolveOptions options;
       options.size = size_;
       const LocalSolveResult local = LocalSolve(cell_, point, center, options);
       *iterations += local.iterations;
-      if (local.squaredDistance < best->squaredDistance) *best = local;
+      if (local.squaredDistance < best->squaredDistance) {
+        *best = local;
+        bestIsKkt = best->converged && IsKktPoint(cell_, point, best->ref, size_);
+      }
       if (pool[s][kLowerBound] >= pruneLevel() || certifiedAround(pool[s])) {
         pool.Free(s);
         continue;

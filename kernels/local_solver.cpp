@@ -106,7 +106,7 @@ ActiveSet ActiveSetAt(const CellShape& shape, const double* ref) {
     FactorBarycentric(shape, f, ref, lambda);
     const int dim = shape.factor(f).dim;
     for (int k = 0; k <= dim; ++k) {
-      if (lambda[k] <= 0.0) active.enforced[f] |= 1u << k;
+      if (lambda[k] <= kOnFaceTolerance) active.enforced[f] |= 1u << k;
     }
     // Keep one coordinate free (a vertex leaves exactly one).
     if (active.enforced[f] == (1u << (dim + 1)) - 1) active.enforced[f] &= ~1u;
@@ -127,6 +127,12 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
   const double feasible = FeasibleFraction(shape, active, ref, step.data(), &blockFactor, &blockIndex);
   const double slope = 2.0 * g.dot(step);  // derivative of |r|^2 along the step
   if (!(slope < 0.0)) return StepOutcome::Rejected;
+  if (blockFactor >= 0 && feasible * step.norm() <= kStepTolerance) {
+    // Already on that constraint's face (up to rounding): a descent step
+    // that leaves the domain at once means the constraint becomes active.
+    active.enforced[blockFactor] |= 1u << blockIndex;
+    return StepOutcome::Blocked;
+  }
   double alpha = feasible;
   double trial[3], closest[3];
   for (int halving = 0; halving < 60; ++halving) {
@@ -304,6 +310,48 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   result.squaredDistance = SquaredDistanceAt(cell, point, ref, result.closest);
   result.onBoundary = active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0;
   return result;
+}
+
+bool IsKktPoint(const CellView& cell, const double* point, const double* ref, double size) {
+  const CellShape& shape = cell.shape;
+  const int pd = shape.paramDim();
+  MapJet jet;
+  EvaluateMap(cell, ref, JetOrder::First, &jet);
+  double grad[3] = {0, 0, 0}, r2 = 0.0, jac2 = 0.0;
+  for (int k = 0; k < cell.ambientDim; ++k) {
+    const double r = jet.x[k] - point[k];
+    r2 += r * r;
+    for (int i = 0; i < pd; ++i) {
+      grad[i] += jet.d1[k][i] * r;
+      jac2 += jet.d1[k][i] * jet.d1[k][i];
+    }
+  }
+  // A converged solve leaves a residual gradient near rounding; a point that
+  // is not stationary has one of the order of |J| |r|.
+  const double tolerance = 1e-7 * std::sqrt(jac2 * r2) + 1e-12 * size * size;
+  ActiveSet active;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    double lambda[4];
+    FactorBarycentric(shape, f, ref, lambda);
+    const int dim = shape.factor(f).dim;
+    for (int k = 0; k <= dim; ++k) {
+      if (lambda[k] <= 1e-12) active.enforced[f] |= 1u << k;
+    }
+    if (active.enforced[f] == (1u << (dim + 1)) - 1) active.enforced[f] &= ~1u;
+  }
+  FaceBasis face;
+  BuildFaceBasis(shape, active, &face);
+  for (int c = 0; c < face.columns; ++c) {
+    double reduced = 0.0;
+    for (int i = 0; i < pd; ++i) reduced += face.t[i][c] * grad[i];
+    if (std::abs(reduced) > tolerance) return false;
+  }
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    for (int k = 0; k <= shape.factor(f).dim; ++k) {
+      if ((active.enforced[f] & (1u << k)) && ReleaseDerivative(shape, active, f, k, grad) < -tolerance) return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace invmap::kernels

@@ -35,4 +35,10 @@ struct LocalSolveOptions {
 LocalSolveResult LocalSolve(const CellView& cell, const double* point, const double* startRef,
                             const LocalSolveOptions& options);
 
+/// An independent check of the first-order (KKT) conditions of |x(u) - p|^2
+/// at `ref`: the gradient projected on the face of the constraints active
+/// there is small, and no active constraint's release direction descends.
+/// The global search trusts a local solution only after this check.
+bool IsKktPoint(const CellView& cell, const double* point, const double* ref, double size);
+
 }  // namespace invmap::kernels

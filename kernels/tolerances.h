@@ -13,6 +13,10 @@ constexpr double kGradientTolerance = 1e-14;
 /// (the unit domain's coordinates are resolved to about 1e-16).
 constexpr double kStepTolerance = 1e-15;
 
+/// A reference point whose barycentric coordinate is at most this starts the
+/// local solve on that face (warm starts on a face, up to rounding).
+constexpr double kOnFaceTolerance = 1e-14;
+
 /// Full-rank step: the Jacobian is treated as singular below this relative
 /// determinant (then the constrained Newton path takes over).
 constexpr double kSingularTolerance = 1e-12;
@@ -33,6 +37,9 @@ constexpr int kMaxSubdomains = 4096;
 /// Global search in a cell: after this many subdomains, each further one also
 /// seeds a local solve (see CellSolver::Search).
 constexpr int kHardSearch = 64;
+/// ... for at most this many subdomains (ties along a whole curve of minima,
+/// such as a torus seen from its axis, would otherwise seed thousands).
+constexpr int kHardSeeds = 256;
 constexpr int kMaxDepth = 64;
 
 }  // namespace invmap::kernels

@@ -1,0 +1,154 @@
+// Whole-engine inversion on NURBS shapes with closed-form distances: spheres
+// with collapsed poles, tori, circles and annuli in 2D and 3D. The reference
+// is the formula; invmap must find the global minimum for every point,
+// including the near-ties around centres and axes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <random>
+
+#include "invmap/invmap.h"
+#include "tests/support/family_runner.h"
+#include "tests/support/test_geometries.h"
+
+namespace invmap::testing {
+namespace {
+
+/// Checks every point against the analytic `distance` (all must be found).
+void RunAnalytic(const char* name, const Geometry& geometry, const QuerySet& queries,
+                 const std::function<double(const double*)>& distance) {
+  const CheckSummary summary = RunFamily(name, geometry, queries, [&](const double* p) {
+    ReferenceAnswer a;
+    a.distance = distance(p);
+    return a;
+  });
+  EXPECT_EQ(summary.found, static_cast<std::int64_t>(queries.size())) << name;
+}
+
+/// Adds `count` points center + random direction * U(lo, hi) (dimension dim).
+void AddShell(QuerySet* q, const Vec3& center, double lo, double hi, int count, const char* kind, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> radius(lo, hi);
+  count = ScaledCount(count);
+  for (int i = 0; i < count; ++i) {
+    const Vec3 dir = RandomDirection(q->dim, rng);
+    const double r = radius(rng);
+    const Vec3 p{{center[0] + r * dir[0], center[1] + r * dir[1], center[2] + r * dir[2]}};
+    q->Add(p.data(), kind);
+  }
+}
+
+TEST(AnalyticTest, NurbsSphere) {
+  const Vec3 c{{0.3, -0.2, 0.1}};
+  const double r = 1.3;
+  const Geometry g = NurbsSphere(c, r);
+  const double size = GeometrySize(g);
+  QueryMix mix;
+  mix.on = 5000;
+  mix.near = 51000;
+  mix.mid = 17000;
+  mix.far = 25000;
+  QuerySet q = MakeQueries(GeometryCells(g), 3, size, mix, 101);
+  std::mt19937_64 rng(102);
+  // Near the centre every point of the sphere is almost equally close (about
+  // 1 ms a point: the search cannot exclude any part of any cell).
+  AddShell(&q, c, 0.0, 0.05 * r, 2000, "centre", rng);
+  // Around the poles the net collapses (singular parametrization); these
+  // points cost invmap about 9 ms (near) and 2 ms (on the axis) each.
+  for (double side : {-1.0, 1.0}) {
+    AddShell(&q, {{c[0], c[1], c[2] + side * r}}, 0.0, 0.02 * r, 200, "pole", rng);
+    AddShell(&q, {{c[0], c[1], c[2] + side * 3 * r}}, 0.0, 0.5 * r, 200, "pole axis", rng);
+  }
+  RunAnalytic("sphere", g, q, [&](const double* p) { return SphereDistance(c, r, p); });
+}
+
+TEST(AnalyticTest, NurbsTorus) {
+  const Vec3 c{{-0.1, 0.2, 0.05}};
+  const double big = 1.0, small = 0.35;
+  const Geometry g = NurbsTorus(c, big, small);
+  const double size = GeometrySize(g);
+  QueryMix mix;
+  mix.on = 5000;
+  mix.near = 45000;
+  mix.mid = 20000;
+  mix.far = 25000;
+  QuerySet q = MakeQueries(GeometryCells(g), 3, size, mix, 201);
+  std::mt19937_64 rng(202);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // Few axis points: each costs invmap 10 to 500 ms (a whole circle of
+  // exact ties that the certified search cannot exclude).
+  for (int i = 0; i < ScaledCount(5010); ++i) {
+    double p[3];
+    if (i % 501 == 0) {
+      // The z axis: equidistant from a whole circle of the torus.
+      p[0] = c[0] + 1e-7 * (unit(rng) - 0.5);
+      p[1] = c[1] + 1e-7 * (unit(rng) - 0.5);
+      p[2] = c[2] + 3.0 * (unit(rng) - 0.5);
+    } else {
+      // Near the core circle: equidistant from a whole circle of the tube.
+      const double angle = 6.283185307179586 * unit(rng);
+      const Vec3 d = RandomDirection(3, rng);
+      const double rho = big + 0.02 * small * d[0];
+      p[0] = c[0] + rho * std::cos(angle);
+      p[1] = c[1] + rho * std::sin(angle);
+      p[2] = c[2] + 0.02 * small * d[2];
+    }
+    q.Add(p, i % 501 == 0 ? "axis" : "core");
+  }
+  RunAnalytic("torus", g, q, [&](const double* p) { return TorusDistance(c, big, small, p); });
+}
+
+TEST(AnalyticTest, NurbsCircles) {
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE("dimension " + std::to_string(dim));
+    const Frame frame = dim == 3 ? TiltedFrame({{0.2, 0.1, -0.3}}) : Frame{{{0.2, 0.1, 0}}, {{1, 0, 0}}, {{0, 1, 0}}};
+    const double r = 0.8;
+    const Geometry g = NurbsCircle(dim, frame, r);
+    QueryMix mix;
+    mix.on = 3000;
+    mix.near = 22000;
+    mix.mid = 8000;
+    mix.far = 12000;
+    QuerySet q = MakeQueries(GeometryCells(g), dim, GeometrySize(g), mix, 301 + dim);
+    std::mt19937_64 rng(303 + dim);
+    // The centre (2D) or the axis (3D) is equidistant from the whole circle.
+    AddShell(&q, frame.origin, 0.0, 0.03 * r, 4000, "centre", rng);
+    if (dim == 3) {
+      const Vec3 axis{{frame.e1[1] * frame.e2[2] - frame.e1[2] * frame.e2[1],
+                       frame.e1[2] * frame.e2[0] - frame.e1[0] * frame.e2[2],
+                       frame.e1[0] * frame.e2[1] - frame.e1[1] * frame.e2[0]}};
+      std::uniform_real_distribution<double> height(-2.0, 2.0);
+      for (int i = 0; i < ScaledCount(3000); ++i) {
+        const double h = height(rng);
+        const Vec3 p{{frame.origin[0] + h * axis[0], frame.origin[1] + h * axis[1], frame.origin[2] + h * axis[2]}};
+        q.Add(p.data(), "axis");
+      }
+    }
+    RunAnalytic(dim == 2 ? "circle 2D" : "circle 3D", g, q,
+                [&](const double* p) { return CircleDistance(dim, frame, r, p); });
+  }
+}
+
+TEST(AnalyticTest, NurbsAnnuli) {
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE("dimension " + std::to_string(dim));
+    const Frame frame = dim == 3 ? TiltedFrame({{-0.4, 0.3, 0.2}}) : Frame{{{-0.4, 0.3, 0}}, {{1, 0, 0}}, {{0, 1, 0}}};
+    const double r1 = 0.5, r2 = 1.1;
+    const Geometry g = NurbsAnnulus(dim, frame, r1, r2);
+    QueryMix mix;
+    mix.on = 3000;
+    mix.near = 20000;
+    mix.mid = 10000;
+    mix.far = 12000;
+    mix.inside = dim == 2 ? 5000 : 0;  // a 2D annulus is a full-rank patch
+    QuerySet q = MakeQueries(GeometryCells(g), dim, GeometrySize(g), mix, 401 + dim);
+    std::mt19937_64 rng(403 + dim);
+    AddShell(&q, frame.origin, 0.0, 0.03 * r1, 3000, "centre", rng);
+    RunAnalytic(dim == 2 ? "annulus 2D" : "annulus 3D", g, q,
+                [&](const double* p) { return AnnulusDistance(dim, frame, r1, r2, p); });
+  }
+}
+
+}  // namespace
+}  // namespace invmap::testing

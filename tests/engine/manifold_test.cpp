@@ -1,0 +1,633 @@
+// The public Manifold API end to end: determinism across thread counts, the
+// gap tolerance, invalid query points, every PointsView layout and scalar
+// type, 2D and empty and degenerate geometries, malformed geometries
+// rejected at Build with a precise message, Info(), API misuse, and a
+// 10-million-point batch whose peak memory stays near its input and output.
+// Answers are checked against the independent reference of tests/support.
+#include <gtest/gtest.h>
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "invmap/invmap.h"
+#include "tests/support/closest_reference.h"
+#include "tests/support/family_runner.h"
+#include "tests/support/test_geometries.h"
+
+namespace invmap::testing {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Builds or fails the test.
+Manifold BuildOk(const Geometry& g) {
+  BuildResult built = Manifold::Build(g);
+  EXPECT_TRUE(built.error.empty()) << built.error;
+  EXPECT_TRUE(built.manifold.valid());
+  return std::move(built.manifold);
+}
+
+/// A query set of every kind on the 3D mixed geometry (all patch kinds).
+QuerySet MixedQueries(const std::vector<PatchCell>& cells, double size, int perKind, std::uint64_t seed) {
+  QueryMix mix;
+  mix.on = perKind;
+  mix.near = perKind;
+  mix.mid = perKind;
+  mix.far = perKind;
+  mix.inside = perKind;
+  return MakeQueries(cells, 3, size, mix, seed);
+}
+
+// ---------------------------------------------------------------------------
+// Determinism.
+
+TEST(ManifoldTest, ThreadCountDoesNotChangeAnyBit) {
+  const Geometry g = MixedGeometry3();
+  const Manifold m = BuildOk(g);
+  const QuerySet q = MixedQueries(GeometryCells(g), GeometrySize(g), 5000, 1101);
+  Results byThreads[3];
+  const int threads[3] = {1, 2, 0};
+  for (int i = 0; i < 3; ++i) {
+    InversionOptions o;
+    o.threads = threads[i];
+    std::string error;
+    byThreads[i] = InvertQueries(m, q, o, &error);
+    ASSERT_TRUE(error.empty()) << error;
+  }
+  EXPECT_EQ(CompareBitwise(byThreads[0], byThreads[1]), "") << "threads 1 vs 2";
+  EXPECT_EQ(CompareBitwise(byThreads[0], byThreads[2]), "") << "threads 1 vs 0 (all cores)";
+  // Repeating a call on the same manifold is deterministic too.
+  std::string error;
+  const Results again = InvertQueries(m, q, {}, &error);
+  EXPECT_EQ(CompareBitwise(byThreads[2], again), "") << "a repeated call";
+}
+
+/// A quadratic triangle (2D) or tet whose control point on the edge between
+/// reference vertices (1, 0, ..) and (0, 1, ..) is pushed out to (0.7, 0.7):
+/// the closest points of the queries around it lie on the curved face
+/// s + t (+ r) = 1.
+Geometry BulgedSimplex(int dim) {
+  Geometry g;
+  g.dimension = dim;
+  Patch p;
+  p.kind = Patch::Kind::Bezier;
+  p.cell = dim == 2 ? CellType::Tri : CellType::Tet;
+  p.degrees = {2};
+  for (int a3 = 0; a3 <= (dim == 3 ? 2 : 0); ++a3)
+    for (int a2 = 0; a2 + a3 <= 2; ++a2)
+      for (int a1 = 0; a1 + a2 + a3 <= 2; ++a1) {
+        const bool bulge = a1 == 1 && a2 == 1;
+        p.points.insert(p.points.end(), {bulge ? 0.7 : a1 / 2.0, bulge ? 0.7 : a2 / 2.0});
+        if (dim == 3) p.points.push_back(a3 / 2.0);
+      }
+  g.patches.push_back(std::move(p));
+  return g;
+}
+
+TEST(ManifoldTest, BucketSizeNeverChangesCorrectness) {
+  // Points of a bucket share one candidate list and warm-start each other;
+  // every bucket size must still give the global minimum. The grids put
+  // consecutive points near the curved face s + t (+ r) = 1.
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE("dimension " + std::to_string(dim));
+    const Geometry g = BulgedSimplex(dim);
+    ReferenceGeometry reference(g);
+    QuerySet q;
+    q.dim = dim;
+    for (int i = 0; i <= 20; ++i)
+      for (int j = 0; j <= 20; ++j)
+        for (int k = 0; k <= (dim == 3 ? 4 : 0); ++k) {
+          const double p[3] = {0.3 + 0.05 * i, 0.3 + 0.05 * j, 0.1 * k};
+          q.Add(p, "grid");
+        }
+    for (int bucketSize : {1, 7, 32, 256}) {
+      InversionOptions o;
+      o.bucketSize = bucketSize;
+      const std::string name = "bulged simplex, bucket size " + std::to_string(bucketSize);
+      RunFamily(name.c_str(), g, q, [&](const double* p) { return reference.Closest(p); }, o);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Gap tolerance.
+
+TEST(ManifoldTest, GapToleranceSplitsFoundAndNone) {
+  const Geometry g = WavySurfaces();
+  ReferenceGeometry reference(g);
+  QueryMix mix;
+  mix.on = 2000;
+  mix.near = 8000;
+  mix.mid = 8000;
+  mix.far = 2000;
+  const QuerySet q = MakeQueries(reference.cells(), 3, reference.size(), mix, 1201);
+  for (double fraction : {0.0, 0.01, 0.1}) {
+    SCOPED_TRACE("maxDistance = " + std::to_string(fraction) + " x size");
+    InversionOptions o;
+    o.maxDistance = fraction * reference.size();
+    // CheckResults requires None beyond maxDistance (patch/cell -1, NaN
+    // fields), Found within it, and checks every Found against the reference.
+    const CheckSummary s = RunFamily("gap tolerance", g, q, [&](const double* p) { return reference.Closest(p); }, o);
+    if (fraction > 0) {
+      EXPECT_GT(s.found, 0);
+      EXPECT_LT(s.found, s.points);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Invalid query points.
+
+TEST(ManifoldTest, NonFinitePointsAreInvalidAndDisturbNothing) {
+  const Geometry g = WavySurfaces();
+  const Manifold m = BuildOk(g);
+  ReferenceGeometry reference(g);
+  QueryMix mix;
+  mix.near = 6000;
+  mix.far = 2000;
+  const QuerySet clean = MakeQueries(reference.cells(), 3, reference.size(), mix, 1301);
+  // Every 5th point of the mixed set is broken in one coordinate.
+  const double bad[4] = {kNaN, kInf, -kInf, -kNaN};
+  QuerySet mixed;
+  std::vector<std::size_t> cleanIndex;  // mixed index -> clean index, or npos
+  for (std::size_t i = 0; i < clean.size(); ++i) {
+    if (i % 4 == 0) {
+      double p[3] = {clean.point(i)[0], clean.point(i)[1], clean.point(i)[2]};
+      p[(i / 4) % 3] = bad[(i / 12) % 4];
+      mixed.Add(p, "non-finite");
+      cleanIndex.push_back(std::string::npos);
+    }
+    mixed.Add(clean.point(i), clean.kinds[i]);
+    cleanIndex.push_back(i);
+  }
+  std::string error;
+  const Results a = InvertQueries(m, clean, {}, &error);
+  ASSERT_TRUE(error.empty()) << error;
+  const Results b = InvertQueries(m, mixed, {}, &error);
+  ASSERT_TRUE(error.empty()) << error;
+  // Invalid points: status and fields; valid points: against the reference.
+  const CheckSummary s = CheckResults(g, mixed, b, [&](const double* p) { return reference.Closest(p); });
+  EXPECT_EQ(s.failures, 0) << s.report;
+  // The valid points get the same answers as without the broken ones (up to
+  // the solver tolerance: the buckets, hence warm starts, differ).
+  const double tol = 1e-9 * reference.size();
+  int invalid = 0;
+  for (std::size_t j = 0; j < mixed.size(); ++j) {
+    if (cleanIndex[j] == std::string::npos) {
+      ++invalid;
+      continue;
+    }
+    const std::size_t i = cleanIndex[j];
+    ASSERT_EQ(b.status[j], a.status[i]) << "point " << j;
+    EXPECT_NEAR(b.distance[j], a.distance[i], tol) << "point " << j;
+  }
+  EXPECT_EQ(invalid, static_cast<int>((clean.size() + 3) / 4));
+}
+
+// ---------------------------------------------------------------------------
+// Points views.
+
+TEST(ManifoldTest, PointsViewLayoutsAndScalarsAgree) {
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE("dimension " + std::to_string(dim));
+    const Geometry g = dim == 3 ? MixedGeometry3() : MixedGeometry2();
+    const Manifold m = BuildOk(g);
+    QueryMix mix;
+    mix.near = 3000;
+    mix.far = 1000;
+    mix.inside = 1000;
+    const QuerySet q = MakeQueries(GeometryCells(g), dim, GeometrySize(g), mix, 1401 + dim);
+    const std::size_t n = q.size();
+    // Float-representable coordinates, in every layout.
+    std::vector<float> f32(q.points.size());
+    for (std::size_t i = 0; i < f32.size(); ++i) f32[i] = static_cast<float>(q.points[i]);
+    std::vector<double> f64(f32.begin(), f32.end());
+    std::vector<double> sepD[3];
+    std::vector<float> sepF[3];
+    std::vector<double> strided(5 * n, -7.0);  // records of 5 values, coordinates first
+    for (int k = 0; k < dim; ++k) {
+      for (std::size_t i = 0; i < n; ++i) {
+        sepD[k].push_back(f64[i * dim + k]);
+        sepF[k].push_back(f32[i * dim + k]);
+        strided[5 * i + k] = f64[i * dim + k];
+      }
+    }
+    PointsView views[5] = {
+        PointsView::Interleaved(f64.data(), n, dim),
+        PointsView::Interleaved(f32.data(), n, dim),
+        PointsView::Separate(sepD[0].data(), sepD[1].data(), dim == 3 ? sepD[2].data() : nullptr, n, dim),
+        PointsView::Separate(sepF[0].data(), sepF[1].data(), dim == 3 ? sepF[2].data() : nullptr, n, dim),
+        PointsView::Interleaved(strided.data(), n, dim)};
+    views[4].stride = 5;
+    const char* names[5] = {"float64 interleaved", "float32 interleaved", "float64 separate", "float32 separate",
+                            "float64 stride 5"};
+    Results results[5];
+    for (int v = 0; v < 5; ++v) {
+      std::string message;
+      ASSERT_EQ(m.Invert(views[v], {}, &results[v], &message), Error::Ok) << names[v] << ": " << message;
+    }
+    for (int v = 1; v < 5; ++v) EXPECT_EQ(CompareBitwise(results[0], results[v]), "") << names[v];
+    // And the answers themselves are right.
+    ReferenceGeometry reference(g);
+    QuerySet exact;
+    exact.dim = dim;
+    for (std::size_t i = 0; i < n; ++i) exact.Add(&f64[i * dim], q.kinds[i]);
+    const CheckSummary s = CheckResults(g, exact, results[0], [&](const double* p) { return reference.Closest(p); });
+    EXPECT_EQ(s.failures, 0) << s.report;
+  }
+}
+
+TEST(ManifoldTest, EmptyBatch) {
+  const Manifold m = BuildOk(MixedGeometry3());
+  Results r;
+  r.status.assign(5, Status::Found);  // stale content must go
+  std::string message;
+  ASSERT_EQ(m.Invert(PointsView::Interleaved(static_cast<const double*>(nullptr), 0, 3), {}, &r, &message), Error::Ok)
+      << message;
+  EXPECT_TRUE(r.status.empty());
+  EXPECT_TRUE(r.distance.empty());
+  EXPECT_TRUE(r.params.empty());
+}
+
+// ---------------------------------------------------------------------------
+// Empty and degenerate geometries.
+
+TEST(ManifoldTest, EmptyGeometryFindsNothing) {
+  for (int dim : {2, 3}) {
+    Geometry g;
+    g.dimension = dim;
+    const BuildResult built = Manifold::Build(g);
+    ASSERT_TRUE(built.error.empty()) << built.error;
+    EXPECT_EQ(built.manifold.Info().cells, 0u);
+    EXPECT_EQ(built.manifold.Info().patches, 0u);
+    QuerySet q;
+    q.dim = dim;
+    const double pts[4][3] = {{0, 0, 0}, {1e300, -1e300, 5}, {kNaN, 0, 0}, {-3, 2, 1}};
+    for (const auto& p : pts) q.Add(p, "any");
+    std::string error;
+    const Results r = InvertQueries(built.manifold, q, {}, &error);
+    ASSERT_TRUE(error.empty()) << error;
+    const CheckSummary s = CheckResults(g, q, r, [](const double*) { return ReferenceAnswer{}; });
+    EXPECT_EQ(s.failures, 0) << s.report;
+    EXPECT_EQ(r.status[0], Status::None);
+    EXPECT_EQ(r.status[2], Status::Invalid);
+  }
+}
+
+/// Degenerate cells of every kind in one geometry of dimension dim; with
+/// `folded`, only a zero-area quadratic triangle (kept apart because each of
+/// its points costs invmap about 20 ms: a whole curve of exact ties).
+Geometry DegenerateGeometry(int dim, bool folded) {
+  Geometry g;
+  g.dimension = dim;
+  const auto bezier = [&](const RefCell& cell, CellType type, double shift) {
+    Patch p;
+    p.kind = Patch::Kind::Bezier;
+    p.cell = type;
+    p.degrees.push_back(cell.degrees[0]);
+    if (type == CellType::Quad) p.degrees.push_back(cell.degrees[1]);
+    for (std::size_t i = 0; i < cell.points.size(); i += 2) {
+      p.points.insert(p.points.end(), {cell.points[i] + shift, cell.points[i + 1]});
+      if (dim == 3) p.points.push_back(0.1 * shift);
+    }
+    p.weights = cell.weights;
+    return p;
+  };
+  // A zero-area quadratic triangle (folded onto a segment) and a quad with a
+  // collapsed edge (both 2D generators, lifted into 3D when needed).
+  if (folded) {
+    g.patches.push_back(bezier(ZeroAreaTriangle(), CellType::Tri, 0.0));
+    return g;
+  }
+  g.patches.push_back(bezier(CollapsedEdgeQuad(), CellType::Quad, 3.0));
+  // Linear mesh triangles: collinear vertices, two coincident vertices, all three coincident.
+  Patch mesh;
+  mesh.kind = Patch::Kind::Mesh;
+  mesh.cell = CellType::Tri;
+  const double v[7][3] = {{6, 0, 0}, {7, 1, 0}, {8, 2, 0}, {6, 3, 0.5}, {7, 3, 0.5}, {9, 1, 1}, {9, 1, 1}};
+  for (const auto& x : v) mesh.points.insert(mesh.points.end(), x, x + dim);
+  mesh.cells = {0, 1, 2, 3, 3, 4, 5, 6, 5};
+  g.patches.push_back(mesh);
+  // A bicubic B-spline surface (or, in 2D, region) whose v = 0 row collapses to one point.
+  Patch spline;
+  spline.kind = Patch::Kind::BSpline;
+  spline.degrees = {3, 2};
+  spline.counts = {5, 4};
+  spline.knots = {{0, 0, 0, 0, 0.4, 1, 1, 1, 1}, {0, 0, 0, 0.5, 1, 1, 1}};
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 5; ++i) {
+      const double r = 0.5 * j;
+      spline.points.insert(spline.points.end(), {-4 + r * (i - 2), 1 + r * (1 + 0.2 * i)});
+      if (dim == 3) spline.points.push_back(0.3 * j * (i % 2));
+    }
+  g.patches.push_back(spline);
+  // A Bezier quad shrunk to a single point.
+  Patch point;
+  point.kind = Patch::Kind::Bezier;
+  point.cell = CellType::Quad;
+  point.degrees = {2, 1};
+  const double at[3] = {-3.0, -2.0, 0.5};
+  for (int i = 0; i < 6; ++i) point.points.insert(point.points.end(), at, at + dim);
+  g.patches.push_back(point);
+  return g;
+}
+
+/// Compares `mix` queries on DegenerateGeometry(dim, folded) with the reference.
+void RunDegenerate(int dim, bool folded, const QueryMix& mix, std::uint64_t seed) {
+  SCOPED_TRACE("dimension " + std::to_string(dim));
+  const Geometry g = DegenerateGeometry(dim, folded);
+  ReferenceGeometry reference(g);
+  const QuerySet q = MakeQueries(reference.cells(), dim, reference.size(), mix, seed);
+  const std::string name = std::string(folded ? "folded triangle " : "degenerate cells ") + (dim == 2 ? "2D" : "3D");
+  const CheckSummary s = RunFamily(name.c_str(), g, q, [&](const double* p) { return reference.Closest(p); });
+  EXPECT_EQ(s.found, s.points);  // hence finite distance, closest point and parameters
+}
+
+TEST(ManifoldTest, DegenerateCellsGiveFiniteCorrectAnswers) {
+  QueryMix mix;
+  mix.on = 2000;
+  mix.near = 8000;
+  mix.mid = 4000;
+  mix.far = 2000;
+  mix.nearFraction = 0.05;
+  for (int dim : {2, 3}) RunDegenerate(dim, false, mix, 1501 + dim);
+}
+
+TEST(ManifoldTest, ZeroAreaTriangleGivesFiniteCorrectAnswers) {
+  QueryMix mix;
+  mix.on = 40;
+  mix.near = 80;
+  mix.mid = 40;
+  mix.far = 40;
+  mix.nearFraction = 0.05;
+  for (int dim : {2, 3}) RunDegenerate(dim, true, mix, 1511 + dim);
+}
+
+// ---------------------------------------------------------------------------
+// Malformed geometries.
+
+/// A valid patch to put first, so the bad one is patch 1.
+Patch ValidBezierTri(int dim) {
+  Patch p;
+  p.kind = Patch::Kind::Bezier;
+  p.cell = CellType::Tri;
+  p.degrees = {1};
+  p.points = dim == 3 ? std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0} : std::vector<double>{0, 0, 1, 0, 0, 1};
+  return p;
+}
+
+Patch ValidBSplineSurface() {
+  Patch p;
+  p.kind = Patch::Kind::BSpline;
+  p.degrees = {2, 1};
+  p.counts = {4, 2};
+  p.knots = {{0, 0, 0, 0.5, 1, 1, 1}, {0, 0, 1, 1}};
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 4; ++i) p.points.insert(p.points.end(), {double(i), double(j), 0.1 * i * j});
+  return p;
+}
+
+Patch ValidMesh() {
+  Patch p;
+  p.kind = Patch::Kind::Mesh;
+  p.cell = CellType::Tri;
+  p.points = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  p.cells = {0, 1, 2, 1, 3, 2};
+  return p;
+}
+
+struct MalformedCase {
+  const char* what;
+  Geometry geometry;
+  const char* field;  ///< Text the message must contain besides "patch 1".
+};
+
+std::vector<MalformedCase> MalformedCases() {
+  std::vector<MalformedCase> cases;
+  const auto add = [&](const char* what, Patch bad, const char* field, int dim = 3) {
+    Geometry g;
+    g.dimension = dim;
+    g.patches.push_back(ValidBezierTri(dim));
+    g.patches.push_back(std::move(bad));
+    cases.push_back({what, std::move(g), field});
+  };
+  Patch p;
+  p = ValidBSplineSurface(), p.points.resize(p.points.size() - 3);
+  add("B-spline with a control point missing", p, "control_points");
+  p = ValidBezierTri(3), p.cell = CellType::Quad, p.degrees = {1, 1};
+  add("Bezier quad with 3 of 4 control points", p, "control_points");
+  p = ValidBSplineSurface(), p.counts = {5, 2};
+  add("B-spline counts not matching the knots", p, "knots");
+  p = ValidBSplineSurface(), p.knots[0] = {0, 0, 0, 0.6, 0.5, 1, 1};
+  add("decreasing knots", p, "knots[0]");
+  p = ValidBSplineSurface(), p.knots[1] = {0, 0, 1, kNaN};
+  add("NaN knot", p, "knots[1]");
+  p = ValidBSplineSurface(), p.weights = {1, 1, 1, 0, 1, 1, 1, 1};
+  add("zero weight", p, "weights");
+  p = ValidBSplineSurface(), p.weights = {1, 1, 1, 1, 1, -2, 1, 1};
+  add("negative weight", p, "weights");
+  p = ValidBezierTri(3), p.weights = {1, kInf, 1};
+  add("infinite weight", p, "weights");
+  p = ValidBezierTri(3), p.weights = {1, 1};
+  add("weights of the wrong length", p, "weights");
+  p = ValidMesh(), p.cells[4] = 4;
+  add("mesh index past the last vertex", p, "cells");
+  p = ValidMesh(), p.cells[0] = -1;
+  add("negative mesh index", p, "cells");
+  p = ValidMesh(), p.cells.pop_back();
+  add("mesh cell with a vertex missing", p, "cells");
+  p = ValidBezierTri(3), p.points[4] = kNaN;
+  add("NaN control point", p, "control_points");
+  p = ValidBSplineSurface(), p.points[7] = -kInf;
+  add("infinite B-spline control point", p, "control_points");
+  p = ValidMesh(), p.points[2] = kNaN;
+  add("NaN mesh vertex", p, "vertices");
+  p = ValidBezierTri(3), p.degrees = {0};
+  add("degree 0", p, "degrees");
+  p = ValidBezierTri(3), p.degrees = {1, 1};
+  add("two degrees for a triangle", p, "degrees");
+  p = ValidBezierTri(3), p.cell = CellType::Tet, p.points.insert(p.points.end(), {0, 0, 1});
+  add("tet in 2D", p, "dimension", 2);
+  p = ValidBSplineSurface(), p.degrees = {2, 1, 1}, p.counts = {4, 2, 2}, p.knots.push_back({0, 0, 1, 1});
+  p.points.insert(p.points.end(), p.points.begin(), p.points.end());
+  add("B-spline volume in 2D", p, "degrees", 2);
+  p = ValidMesh(), p.points.pop_back();
+  add("2D mesh vertices in a 3D geometry", p, "vertices");
+  return cases;
+}
+
+TEST(ManifoldTest, MalformedGeometryIsRejectedWithPatchAndField) {
+  for (const MalformedCase& c : MalformedCases()) {
+    SCOPED_TRACE(c.what);
+    const BuildResult built = Manifold::Build(c.geometry);
+    EXPECT_FALSE(built.error.empty());
+    EXPECT_FALSE(built.manifold.valid());
+    EXPECT_NE(built.error.find("patch 1"), std::string::npos) << built.error;
+    EXPECT_NE(built.error.find(c.field), std::string::npos) << "expected '" << c.field << "' in: " << built.error;
+  }
+  for (int dim : {0, 1, 4}) {
+    Geometry g;
+    g.dimension = dim;
+    const BuildResult built = Manifold::Build(g);
+    EXPECT_NE(built.error.find("dimension"), std::string::npos) << "dimension " << dim << ": " << built.error;
+    EXPECT_FALSE(built.manifold.valid());
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Info.
+
+TEST(ManifoldTest, InfoCountsCellsAndBoundsTheGeometry) {
+  Geometry g = WavySurfaces();
+  g.patches.push_back(ValidMesh());
+  g.patches.push_back(QuadraticMesh(false).patches[0]);
+  const Manifold m = BuildOk(g);
+  const ManifoldInfo info = m.Info();
+  const std::vector<std::int64_t> counts = CellCounts(g);
+  std::int64_t total = 0;
+  for (std::int64_t c : counts) total += c;
+  EXPECT_EQ(info.dimension, 3);
+  EXPECT_EQ(info.patches, g.patches.size());
+  EXPECT_EQ(info.cells, static_cast<std::size_t>(total));
+  std::size_t byShape = 0;
+  std::size_t quad33 = 0, tri1 = 0, tet2 = 0;
+  for (const auto& [shape, n] : info.cellsByShape) {
+    byShape += n;
+    if (shape == "quad 3x3") quad33 += n;  // the documented spelling
+    if (shape.rfind("tri 1", 0) == 0) tri1 += n;
+    if (shape.rfind("tet 2", 0) == 0) tet2 += n;
+  }
+  EXPECT_EQ(byShape, info.cells);
+  EXPECT_EQ(quad33, static_cast<std::size_t>(counts[0]));
+  EXPECT_EQ(tri1, static_cast<std::size_t>(counts[2]));
+  EXPECT_EQ(tet2, static_cast<std::size_t>(counts[3]));
+  // Bounds: hold every point of every cell, and lie in the control points' box.
+  double lo[3], hi[3];
+  GeometryControlBox(g, lo, hi);
+  const double tol = 1e-12 * GeometrySize(g);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GE(info.boundsLo[k], lo[k] - tol);
+    EXPECT_LE(info.boundsHi[k], hi[k] + tol);
+  }
+  std::mt19937_64 rng(1601);
+  for (const PatchCell& pc : GeometryCells(g)) {
+    for (int s = 0; s < 4; ++s) {
+      const std::array<double, 3> u = RandomRefPoint(pc.cell.type, rng);
+      double x[3];
+      RefEvaluate(pc.cell, u.data(), x);
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_GE(x[k], info.boundsLo[k] - tol);
+        ASSERT_LE(x[k], info.boundsHi[k] + tol);
+      }
+    }
+  }
+  EXPECT_GT(info.memoryBytes, 0u);
+  // A default-constructed manifold is empty.
+  const Manifold empty;
+  EXPECT_FALSE(empty.valid());
+  EXPECT_EQ(empty.Info().cells, 0u);
+}
+
+// ---------------------------------------------------------------------------
+// API misuse: batch-level errors, never exceptions or crashes.
+
+TEST(ManifoldTest, MisuseIsReportedAsInvalidArgument) {
+  const Manifold m = BuildOk(MixedGeometry3());
+  const double xyz[6] = {0, 0, 0, 1, 1, 1};
+  Results r;
+  std::string message;
+  EXPECT_EQ(m.Invert(PointsView::Interleaved(xyz, 2, 2), {}, &r, &message), Error::InvalidArgument);
+  EXPECT_FALSE(message.empty());
+  EXPECT_EQ(m.Invert(PointsView::Interleaved(xyz, 2, 3), {}, nullptr, &message), Error::InvalidArgument);
+  PointsView missing = PointsView::Separate(xyz, nullptr, xyz, 2, 3);
+  EXPECT_EQ(m.Invert(missing, {}, &r, &message), Error::InvalidArgument);
+  for (double bad : {-1.0, kNaN}) {
+    InversionOptions o;
+    o.maxDistance = bad;
+    EXPECT_EQ(m.Invert(PointsView::Interleaved(xyz, 2, 3), o, &r, &message), Error::InvalidArgument) << bad;
+  }
+  InversionOptions negativeThreads;
+  negativeThreads.threads = -2;
+  EXPECT_EQ(m.Invert(PointsView::Interleaved(xyz, 2, 3), negativeThreads, &r, &message), Error::InvalidArgument);
+  const Manifold empty;
+  EXPECT_EQ(empty.Invert(PointsView::Interleaved(xyz, 2, 3), {}, &r, &message), Error::InvalidArgument);
+  // Still usable afterwards.
+  EXPECT_EQ(m.Invert(PointsView::Interleaved(xyz, 2, 3), {}, &r, &message), Error::Ok) << message;
+  EXPECT_EQ(r.status[0], Status::Found);
+}
+
+// ---------------------------------------------------------------------------
+// Scale: 10 million points.
+
+/// Peak resident set size of the process so far, in bytes (Linux: kilobytes).
+double PeakRssBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return 1024.0 * static_cast<double>(usage.ru_maxrss);
+}
+
+TEST(ManifoldTest, TenMillionPointsInBoundedMemory) {
+  Geometry g;
+  g.patches.push_back(BumpySphereMesh(12, 6, {{0, 0, 0}}, 1.0));
+  const Manifold m = BuildOk(g);
+  const std::size_t n = static_cast<std::size_t>(std::max(100000, ScaledCount(10000000)));
+  // The peak before the batch: when other tests ran first in this process
+  // it may already be high, which only makes the check more lenient.
+  const double before = PeakRssBytes();
+  std::vector<double> xyz(3 * n);
+  std::uint64_t state = 0x9e3779b97f4a7c15ull;
+  for (double& x : xyz) {
+    // xorshift64*: 10 million points must be cheap to draw.
+    state ^= state >> 12, state ^= state << 25, state ^= state >> 27;
+    x = 3.0 * (static_cast<double>((state * 0x2545f4914f6cdd1dull) >> 11) * 0x1.0p-53) - 1.5;
+  }
+  Results r;
+  std::string message;
+  const double t0 = Seconds(), c0 = CpuSeconds();
+  ASSERT_EQ(m.Invert(PointsView::Interleaved(xyz.data(), n, 3), {}, &r, &message), Error::Ok) << message;
+  const double t1 = Seconds(), c1 = CpuSeconds();
+  const double after = PeakRssBytes();
+  const double inputBytes = static_cast<double>(xyz.size() * sizeof(double));
+  const double outputBytes =
+      static_cast<double>(r.status.size() * sizeof(Status) + r.patch.size() * sizeof(std::int32_t) +
+                          r.cell.size() * sizeof(std::int64_t) + r.params.size() * sizeof(double) +
+                          r.closest.size() * sizeof(double) + r.distance.size() * sizeof(double) +
+                          r.iterations.size() * sizeof(std::int32_t));
+  std::printf("[10M points] invmap %.2f s (cpu %.2f s); peak RSS grew %.0f MB for %.0f MB of points and %.0f MB of "
+              "results\n",
+              t1 - t0, c1 - c0, (after - before) / 1e6, inputBytes / 1e6, outputBytes / 1e6);
+  EXPECT_LE(after - before, 2.5 * (inputBytes + outputBytes));
+  ASSERT_EQ(r.status.size(), n);
+  std::size_t found = 0;
+  for (Status s : r.status) found += s == Status::Found;
+  EXPECT_EQ(found, n);
+  // A sample of the answers against the reference.
+  ReferenceGeometry reference(g);
+  QuerySet sample;
+  Results sampled;
+  for (std::size_t i = 0; i < n; i += 997) {
+    sample.Add(&xyz[3 * i], "uniform");
+    sampled.status.push_back(r.status[i]);
+    sampled.patch.push_back(r.patch[i]);
+    sampled.cell.push_back(r.cell[i]);
+    sampled.distance.push_back(r.distance[i]);
+    sampled.iterations.push_back(r.iterations[i]);
+    for (int k = 0; k < 3; ++k) {
+      sampled.params.push_back(r.params[3 * i + k]);
+      sampled.closest.push_back(r.closest[3 * i + k]);
+    }
+  }
+  const CheckSummary s = CheckResults(g, sample, sampled, [&](const double* p) { return reference.Closest(p); });
+  EXPECT_EQ(s.failures, 0) << s.report;
+}
+
+}  // namespace
+}  // namespace invmap::testing
