@@ -86,6 +86,9 @@ void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
 }
 
 void WritePlyMesh(const Geometry& geometry, const std::string& path) {
+  if (LowerExtension(path) != ".ply") {
+    throw InputError(path, 0, "triangle meshes are written as PLY: use a .ply file name", InputError::Kind::Output);
+  }
   std::vector<double> vertices;
   std::vector<std::int64_t> triangles;
   for (const Patch& patch : geometry.patches) {

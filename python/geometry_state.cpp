@@ -1,0 +1,145 @@
+#include "python/geometry_state.h"
+
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+#include <vector>
+
+namespace invmap::python {
+namespace {
+
+/// "invmapG" plus the format version: a later version may add fields, and an
+/// old reader must then refuse rather than misread.
+constexpr char kMagic[8] = {'i', 'n', 'v', 'm', 'a', 'p', 'G', '1'};
+/// Read back as another value when the writer had the other byte order.
+constexpr std::uint32_t kByteOrderMark = 0x01020304u;
+
+/// Appends trivially copyable values to a byte string.
+class Writer {
+ public:
+  explicit Writer(std::string* out) : out_(out) {}
+
+  template <typename T>
+  void Value(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    out_->append(reinterpret_cast<const char*>(&value), sizeof(T));
+  }
+
+  /// The length as a uint64, then the elements.
+  template <typename T>
+  void Vector(const std::vector<T>& values) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    Value<std::uint64_t>(values.size());
+    out_->append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  }
+
+ private:
+  std::string* out_;
+};
+
+/// Reads what Writer wrote, checking every length against the bytes left.
+class Reader {
+ public:
+  Reader(const char* data, std::size_t size) : data_(data), left_(size) {}
+
+  template <typename T>
+  T Value() {
+    T value;
+    Take(&value, sizeof(T));
+    return value;
+  }
+
+  template <typename T>
+  std::vector<T> Vector() {
+    const std::uint64_t count = Value<std::uint64_t>();
+    // Dividing (not multiplying) so that a corrupt length cannot overflow.
+    if (count > left_ / sizeof(T)) throw std::invalid_argument("geometry state: truncated");
+    std::vector<T> values(static_cast<std::size_t>(count));
+    Take(values.data(), values.size() * sizeof(T));
+    return values;
+  }
+
+  bool AtEnd() const { return left_ == 0; }
+
+ private:
+  void Take(void* out, std::size_t bytes) {
+    if (bytes > left_) throw std::invalid_argument("geometry state: truncated");
+    if (bytes) std::memcpy(out, data_, bytes);
+    data_ += bytes;
+    left_ -= bytes;
+  }
+
+  const char* data_;
+  std::size_t left_;
+};
+
+}  // namespace
+
+std::string SerializeGeometry(const Geometry& geometry) {
+  std::string out(kMagic, sizeof(kMagic));
+  Writer w(&out);
+  w.Value(kByteOrderMark);
+  w.Value<std::int32_t>(geometry.dimension);
+  w.Value<std::uint64_t>(geometry.patches.size());
+  for (const Patch& patch : geometry.patches) {
+    w.Value(static_cast<std::uint8_t>(patch.kind));
+    w.Value(static_cast<std::uint8_t>(patch.cell));
+    w.Vector(patch.degrees);
+    w.Value<std::uint64_t>(patch.knots.size());
+    for (const std::vector<double>& knots : patch.knots) w.Vector(knots);
+    w.Vector(patch.counts);
+    w.Vector(patch.points);
+    w.Vector(patch.weights);
+    w.Vector(patch.cells);
+    w.Vector(patch.cellTypes);
+    w.Vector(patch.cellDegrees);
+    w.Vector(patch.cellOffsets);
+  }
+  return out;
+}
+
+Geometry DeserializeGeometry(const std::string& state) {
+  if (state.size() < sizeof(kMagic) || std::memcmp(state.data(), kMagic, sizeof(kMagic)) != 0) {
+    throw std::invalid_argument("geometry state: not an invmap geometry of this version");
+  }
+  Reader r(state.data() + sizeof(kMagic), state.size() - sizeof(kMagic));
+  if (r.Value<std::uint32_t>() != kByteOrderMark) {
+    throw std::invalid_argument("geometry state: written on a machine of the other byte order");
+  }
+  Geometry geometry;
+  geometry.dimension = r.Value<std::int32_t>();
+  const std::uint64_t numPatches = r.Value<std::uint64_t>();
+  for (std::uint64_t p = 0; p < numPatches; ++p) {
+    Patch patch;
+    const auto kind = r.Value<std::uint8_t>();
+    const auto cell = r.Value<std::uint8_t>();
+    if (kind > static_cast<std::uint8_t>(Patch::Kind::BezierCells) ||
+        cell > static_cast<std::uint8_t>(CellType::Wedge)) {
+      throw std::invalid_argument("geometry state: patch " + std::to_string(p) + ": unknown kind or cell type");
+    }
+    patch.kind = static_cast<Patch::Kind>(kind);
+    patch.cell = static_cast<CellType>(cell);
+    patch.degrees = r.Vector<int>();
+    const std::uint64_t numKnotVectors = r.Value<std::uint64_t>();
+    // No reserve: a corrupt count then fails as truncated instead of allocating.
+    for (std::uint64_t k = 0; k < numKnotVectors; ++k) patch.knots.push_back(r.Vector<double>());
+    patch.counts = r.Vector<int>();
+    patch.points = r.Vector<double>();
+    patch.weights = r.Vector<double>();
+    patch.cells = r.Vector<std::int64_t>();
+    patch.cellTypes = r.Vector<CellType>();
+    for (CellType type : patch.cellTypes) {
+      if (static_cast<std::uint8_t>(type) > static_cast<std::uint8_t>(CellType::Wedge)) {
+        throw std::invalid_argument("geometry state: patch " + std::to_string(p) + ": unknown cell type");
+      }
+    }
+    patch.cellDegrees = r.Vector<int>();
+    patch.cellOffsets = r.Vector<std::int64_t>();
+    geometry.patches.push_back(std::move(patch));
+  }
+  if (!r.AtEnd()) throw std::invalid_argument("geometry state: unexpected bytes after the last patch");
+  return geometry;
+}
+
+}  // namespace invmap::python

@@ -1,0 +1,148 @@
+"""Inversion of Dask arrays of points, on one machine or a dask.distributed cluster.
+
+    import dask.array as da
+    import invmap, invmap.dask
+
+    manifold = invmap.load("surface.json")
+    points = da.from_array(big_numpy_array, chunks=(1_000_000, 3))   # or da.from_zarr, ...
+    result = invmap.dask.invert(points, manifold, max_distance=0.01)
+    status, distance = dask.compute(result["status"], result["distance"])
+
+Each chunk of rows is inverted by Manifold.invert in a task (map_blocks).
+The geometry enters the task graph once, as a single key every chunk task
+depends on: the scheduler ships it to each worker once, and each worker
+process builds the BVH once, caching the manifold by the geometry's content
+hash (a later graph with the same geometry reuses it).
+"""
+
+import collections
+import hashlib
+import operator
+import threading
+
+import dask
+import dask.array as da
+import numpy as np
+
+from . import InputError, Manifold
+
+__all__ = ["cache_info", "clear_cache", "invert"]
+
+# Worker-process cache of built manifolds, least recently used first. A few
+# entries cover a pipeline that alternates geometries; each holds its BVH.
+_CACHE_SIZE = 4
+_cache = collections.OrderedDict()
+_cache_stats = {"builds": 0, "hits": 0}
+# One lock for lookups and builds: two tasks of a new geometry starting
+# together must not both build it, and builds are rare enough to serialize.
+_cache_lock = threading.Lock()
+
+
+class _GeometryRef:
+    """What the graph carries to the workers: the pickled geometry and its hash.
+
+    In the process that made it, it also holds the manifold itself (never
+    pickled), so a local scheduler uses the caller's manifold without a build.
+    """
+
+    __slots__ = ("key", "state", "local")
+
+    def __init__(self, manifold):
+        self.state = manifold.__getstate__()
+        self.key = hashlib.sha256(self.state).hexdigest()
+        self.local = manifold
+
+    def __getstate__(self):
+        return self.key, self.state
+
+    def __setstate__(self, state):
+        self.key, self.state = state
+        self.local = None
+
+    def manifold(self):
+        """The built manifold: the local one, or this process's cached build."""
+        if self.local is not None:
+            return self.local
+        with _cache_lock:
+            built = _cache.get(self.key)
+            if built is not None:
+                _cache.move_to_end(self.key)
+                _cache_stats["hits"] += 1
+                return built
+            built = Manifold.__new__(Manifold)
+            built.__setstate__(self.state)
+            _cache[self.key] = built
+            _cache_stats["builds"] += 1
+            while len(_cache) > _CACHE_SIZE:
+                _cache.popitem(last=False)
+            return built
+
+
+def cache_info():
+    """This process's manifold cache: {"builds", "hits", "size"}. On a cluster,
+    client.run(invmap.dask.cache_info) returns it per worker."""
+    with _cache_lock:
+        return {"builds": _cache_stats["builds"], "hits": _cache_stats["hits"], "size": len(_cache)}
+
+
+def clear_cache():
+    """Drops this process's cached manifolds and zeroes the counters."""
+    with _cache_lock:
+        _cache.clear()
+        _cache_stats.update(builds=0, hits=0)
+
+
+def _invert_block(points, ref, max_distance, threads):
+    return ref.manifold().invert(points, max_distance=max_distance, threads=threads)
+
+
+def invert(points, manifold, max_distance=None, threads=None):
+    """Manifold.invert over a Dask array of points, chunk by chunk.
+
+    points: (N, dim) dask array (a numpy array is wrapped with
+      da.from_array), chunked by rows; column chunks are merged.
+    manifold: an invmap.Manifold of dimension dim.
+    max_distance, threads: as Manifold.invert; threads is per task, so with
+      several tasks per worker the default (all cores) oversubscribes only
+      mildly (TBB shares one pool per process).
+
+    Returns a dict of dask arrays with Manifold.invert's keys (status, patch,
+    cell, params, closest, distance) and the points' row chunks. One compute
+    call inverts each chunk once, whichever of the arrays it asks for; a
+    second call inverts again, so compute what you need together
+    (dask.compute(result) or dask.compute(result["status"], result["cell"])).
+    Each chunk's rows are exactly Manifold.invert's results on that chunk.
+    """
+    if not isinstance(manifold, Manifold):
+        raise TypeError(f"invert: manifold must be an invmap.Manifold, got {type(manifold).__name__}")
+    if not isinstance(points, da.Array):
+        points = da.from_array(np.asarray(points))
+    dim = manifold.dimension
+    if points.ndim != 2 or points.shape[1] != dim:
+        raise InputError(f"points: shape {points.shape}, expected (N, {dim}) for a {dim}-D geometry")
+    if len(points.chunks[1]) > 1:
+        points = points.rechunk({1: -1})
+
+    ref = _GeometryRef(manifold)
+    geometry = dask.delayed(ref, name="invmap-geometry-" + ref.key, traverse=False)
+    # Blocks of dicts (never computed as an array): one task per chunk, which
+    # the per-key arrays below select from.
+    blocks = da.map_blocks(_invert_block, points, geometry, max_distance, threads,
+                           drop_axis=1, dtype=object, meta=np.empty((0,), dtype=object), name="invmap-invert")
+
+    rows = points.chunks[0]
+    fields = {
+        "status": (np.uint8, ()),
+        "patch": (np.int32, ()),
+        "cell": (np.int64, ()),
+        "params": (np.float64, (3,)),
+        "closest": (np.float64, (dim,)),
+        "distance": (np.float64, ()),
+    }
+    result = {}
+    for key, (dtype, columns) in fields.items():
+        extra = dict(new_axis=1, chunks=(rows, columns)) if columns else dict(chunks=(rows,))
+        result[key] = blocks.map_blocks(operator.itemgetter(key), dtype=dtype,
+                                        meta=np.empty((0,) * (1 + len(columns)), dtype=dtype),
+                                        name=f"invmap-{key}", **extra)
+    return result

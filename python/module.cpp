@@ -1,0 +1,401 @@
+// invmap._invmap: the compiled half of the Python package (pybind11). The
+// package's __init__.py re-exports it and adds the parts that are plain
+// Python (load's dispatch on its argument, from_bspline's axis order).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <new>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "invmap/invmap.h"
+#include "io/geometry_file.h"
+#include "io/geometry_json.h"
+#include "io/input_error.h"
+#include "python/errors.h"
+#include "python/geometry_state.h"
+#include "python/numpy_points.h"
+
+namespace py = pybind11;
+
+namespace invmap::python {
+namespace {
+
+/// A built manifold together with the serialized geometry it was built from,
+/// which is what pickling sends (workers rebuild from it, not from a file).
+class PyManifold {
+ public:
+  /// Builds `geometry`; a malformed one throws InputError
+  /// "<nameForMessages>: <reason>", worded as the command line words it.
+  /// Pure C++: callers may release the GIL around it.
+  PyManifold(const Geometry& geometry, const std::string& nameForMessages)
+      : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
+    BuildResult built = Manifold::Build(geometry);
+    if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
+    manifold_ = std::move(built.manifold);
+    for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
+  }
+
+  const Manifold& manifold() const { return manifold_; }
+  /// SerializeGeometry of the geometry (the pickled state).
+  const std::string& state() const { return state_; }
+  int dimension() const { return dimension_; }
+  std::size_t patches() const { return patches_; }
+  std::int64_t cells() const { return cells_; }
+
+ private:
+  Manifold manifold_;
+  std::string state_;
+  int dimension_;
+  std::size_t patches_;
+  std::int64_t cells_ = 0;
+};
+
+/// True when `path` names a regular file this process can open, i.e. when a
+/// read failure is about the content (InputError), not the file (FileError).
+bool IsReadableFile(const std::string& path) {
+  std::error_code error;
+  return std::filesystem::is_regular_file(path, error) && std::ifstream(path).good();
+}
+
+/// invmap.load of a path: ReadGeometryFile, then the build, without the GIL.
+PyManifold LoadFile(const std::string& path) {
+  py::gil_scoped_release noGil;
+  Geometry geometry;
+  try {
+    geometry = io::ReadGeometryFile(path);
+  } catch (const io::InputError& e) {
+    if (!IsReadableFile(path)) throw FileError(e.what());
+    throw InputError(e.what());
+  }
+  return PyManifold(geometry, path);
+}
+
+/// invmap.load of JSON text (or a dict, dumped to text by __init__.py).
+PyManifold LoadJson(const std::string& text, const std::string& nameForMessages) {
+  py::gil_scoped_release noGil;
+  std::istringstream in(text);
+  Geometry geometry;
+  try {
+    geometry = io::ReadGeometryJson(in, nameForMessages);
+  } catch (const io::InputError& e) {
+    throw InputError(e.what());
+  }
+  return PyManifold(geometry, nameForMessages);
+}
+
+/// Unpickling: rebuilds from PyManifold::state().
+PyManifold FromState(const py::bytes& state) {
+  const std::string bytes = state;
+  py::gil_scoped_release noGil;
+  Geometry geometry;
+  try {
+    geometry = DeserializeGeometry(bytes);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+  return PyManifold(geometry, "pickled manifold");
+}
+
+/// `values` as a C-ordered float64 array (converted when needed), or
+/// InputError naming `field`.
+py::array_t<double, py::array::c_style | py::array::forcecast> RealArray(const py::handle& values, const char* field) {
+  const py::array array = py::array::ensure(values);
+  if (!array || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' && array.dtype().kind() != 'u')) {
+    throw InputError(std::string(field) + ": expected an array of real numbers");
+  }
+  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+}
+
+/// The elements of a C-ordered array. memcpy, because numpy arrays need not
+/// be aligned.
+template <typename T, int Flags>
+std::vector<T> CopyElements(const py::array_t<T, Flags>& array) {
+  static_assert((Flags & py::array::c_style) != 0);
+  std::vector<T> values(static_cast<std::size_t>(array.size()));
+  if (!values.empty()) std::memcpy(values.data(), array.data(), values.size() * sizeof(T));
+  return values;
+}
+
+/// Cell type names of FORMATS.md section 1, with their linear vertex counts.
+struct CellName {
+  const char* name;
+  CellType type;
+  int vertices;
+};
+constexpr CellName kCellNames[] = {{"line", CellType::Line, 2}, {"tri", CellType::Tri, 3},
+                                   {"quad", CellType::Quad, 4}, {"tet", CellType::Tet, 4},
+                                   {"hex", CellType::Hex, 8},   {"wedge", CellType::Wedge, 6}};
+
+const CellName& ParseCell(const std::string& name) {
+  for (const CellName& cell : kCellNames) {
+    if (name == cell.name) return cell;
+  }
+  throw InputError("cell: '" + name + "', expected line, tri, quad, tet, hex or wedge");
+}
+
+/// invmap.from_mesh: one mesh patch from numpy vertices and cells.
+PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const std::string& cellName) {
+  const CellName& cell = ParseCell(cellName);
+  const auto vertexArray = RealArray(vertices, "vertices");
+  if (vertexArray.ndim() != 2 || (vertexArray.shape(1) != 2 && vertexArray.shape(1) != 3)) {
+    throw InputError("vertices: shape " + ShapeText(vertexArray) + ", expected (V, 2) or (V, 3)");
+  }
+  const py::array cellInput = py::array::ensure(cells);
+  // Float indices would be truncated silently by a cast.
+  if (!cellInput || (cellInput.dtype().kind() != 'i' && cellInput.dtype().kind() != 'u')) {
+    throw InputError("cells: expected an array of integer vertex indices");
+  }
+  if (cellInput.ndim() != 2 || cellInput.shape(1) != cell.vertices) {
+    throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
+                     std::to_string(cell.vertices) + " vertices");
+  }
+  const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
+  Geometry geometry;
+  geometry.dimension = static_cast<int>(vertexArray.shape(1));
+  Patch& patch = geometry.patches.emplace_back();
+  patch.kind = Patch::Kind::Mesh;
+  patch.cell = cell.type;
+  patch.points = CopyElements(vertexArray);
+  patch.cells = CopyElements(cellArray);
+  py::gil_scoped_release noGil;
+  return PyManifold(geometry, "from_mesh");
+}
+
+/// invmap.from_bspline, once __init__.py has put the control points (and
+/// weights) in file order, u fastest.
+PyManifold FromBSpline(const py::handle& controlPoints, const std::vector<int>& counts, const std::vector<int>& degrees,
+                       const std::vector<std::vector<double>>& knots, const py::handle& weights) {
+  const auto pointArray = RealArray(controlPoints, "control_points");
+  if (pointArray.ndim() != 2 || (pointArray.shape(1) != 2 && pointArray.shape(1) != 3)) {
+    throw InputError("control_points: shape " + ShapeText(pointArray) + ", expected (N, 2) or (N, 3)");
+  }
+  Geometry geometry;
+  geometry.dimension = static_cast<int>(pointArray.shape(1));
+  Patch& patch = geometry.patches.emplace_back();
+  patch.kind = Patch::Kind::BSpline;
+  patch.degrees = degrees;
+  patch.knots = knots;
+  patch.counts = counts;
+  patch.points = CopyElements(pointArray);
+  if (!weights.is_none()) patch.weights = CopyElements(RealArray(weights, "weights"));
+  py::gil_scoped_release noGil;
+  return PyManifold(geometry, "from_bspline");
+}
+
+/// Turns a batch-level error of Manifold::Invert into the Python exception.
+void ThrowOnError(Error error, const std::string& message) {
+  switch (error) {
+    case Error::Ok:
+      return;
+    case Error::InvalidArgument:
+      throw InputError(message);
+    case Error::OutOfMemory:
+      throw std::bad_alloc();
+    case Error::Internal:
+      break;
+  }
+  throw std::runtime_error(message);
+}
+
+/// A numpy array that owns `values` (moved, not copied): the capsule frees
+/// them with the array.
+template <typename T>
+py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape, const py::dtype& dtype) {
+  auto owned = std::make_unique<std::vector<T>>(std::move(values));
+  py::capsule owner(owned.get(), [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  const void* data = owned.release()->data();
+  return py::array(dtype, std::move(shape), data, owner);
+}
+
+/// The options of invert and trim, validated (None means the default).
+InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads) {
+  InversionOptions options;
+  if (maxDistance) {
+    if (std::isnan(*maxDistance) || *maxDistance < 0.0) {
+      std::ostringstream message;
+      message << "max_distance: " << *maxDistance << ", expected a number >= 0";
+      throw InputError(message.str());
+    }
+    options.maxDistance = *maxDistance;
+  }
+  if (threads) {
+    if (*threads < 0) throw InputError("threads: " + std::to_string(*threads) + ", expected >= 0 (0: all cores)");
+    options.threads = *threads;
+  }
+  return options;
+}
+
+/// Inverts `points` with the GIL released; the points are read in place
+/// where their layout allows (ReadNumpyPoints).
+Results InvertPoints(const PyManifold& self, const py::handle& points, const InversionOptions& options) {
+  const NumpyPoints view = ReadNumpyPoints(points, self.dimension());
+  Results results;
+  std::string message;
+  Error error;
+  {
+    py::gil_scoped_release noGil;
+    error = self.manifold().Invert(view.view, options, &results, &message);
+  }
+  ThrowOnError(error, message);
+  return results;
+}
+
+/// Manifold.invert: the Results as numpy arrays (see its docstring).
+py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
+                std::optional<int> threads) {
+  Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads));
+  const auto n = static_cast<py::ssize_t>(results.status.size());
+  const int dim = self.dimension();
+  if (dim == 2) {
+    // The engine writes z = 0 in 2D; packing the rows in place (the write
+    // index never passes the read index) gives (N, 2) without a copy.
+    for (py::ssize_t i = 0; i < n; ++i) {
+      results.closest[2 * i] = results.closest[3 * i];
+      results.closest[2 * i + 1] = results.closest[3 * i + 1];
+    }
+    results.closest.resize(2 * n);
+  }
+  // Status is a uint8 enum holding the FORMATS.md codes: its vector is the uint8 array.
+  static_assert(sizeof(Status) == sizeof(std::uint8_t));
+  py::dict out;
+  out["status"] = Adopt(std::move(results.status), {n}, py::dtype::of<std::uint8_t>());
+  out["patch"] = Adopt(std::move(results.patch), {n}, py::dtype::of<std::int32_t>());
+  out["cell"] = Adopt(std::move(results.cell), {n}, py::dtype::of<std::int64_t>());
+  out["params"] = Adopt(std::move(results.params), {n, 3}, py::dtype::of<double>());
+  out["closest"] = Adopt(std::move(results.closest), {n, dim}, py::dtype::of<double>());
+  out["distance"] = Adopt(std::move(results.distance), {n}, py::dtype::of<double>());
+  return out;
+}
+
+/// Manifold.trim: the mask of the points `invmap trim` keeps.
+py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep) {
+  if (keep != "near" && keep != "far") throw InputError("keep: '" + keep + "', expected 'near' or 'far'");
+  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt));
+  const bool keepFar = keep == "far";
+  py::array_t<bool> mask(static_cast<py::ssize_t>(results.status.size()));
+  bool* out = mask.mutable_data();
+  // As `invmap trim`: Found means within max_distance, None beyond it;
+  // invalid points have no distance and are in neither set.
+  for (std::size_t i = 0; i < results.status.size(); ++i) {
+    out[i] = results.status[i] == (keepFar ? Status::None : Status::Found);
+  }
+  return mask;
+}
+
+/// Manifold.info: ManifoldInfo as a dict.
+py::dict Info(const PyManifold& self) {
+  const ManifoldInfo info = self.manifold().Info();
+  py::dict shapes;
+  for (const auto& [shape, count] : info.cellsByShape) shapes[py::str(shape)] = count;
+  py::list lo, hi;
+  for (int k = 0; k < info.dimension; ++k) {
+    lo.append(info.boundsLo[k]);
+    hi.append(info.boundsHi[k]);
+  }
+  py::dict out;
+  out["dimension"] = info.dimension;
+  out["patches"] = info.patches;
+  out["cells"] = info.cells;
+  out["cells_by_shape"] = shapes;
+  out["bounds_lo"] = py::tuple(lo);
+  out["bounds_hi"] = py::tuple(hi);
+  out["memory_bytes"] = info.memoryBytes;
+  return out;
+}
+
+}  // namespace
+}  // namespace invmap::python
+
+PYBIND11_MODULE(_invmap, m) {
+  using namespace invmap::python;
+  m.doc() = "Compiled core of the invmap package; use `import invmap`.";
+  m.attr("__version__") = invmap::Version();
+
+  py::register_exception<InputError>(
+      m, "InputError", PyExc_ValueError)
+      .doc() = "Invalid input: a malformed geometry, points of the wrong shape or type, or bad options. "
+               "The message is the one the invmap command prints after 'invmap: '.";
+  py::register_exception<FileError>(m, "FileError", PyExc_OSError).doc() =
+      "A geometry file that cannot be read (missing, a directory, no permission), with the command line's message.";
+
+  py::class_<PyManifold>(m, "Manifold", R"doc(
+An immutable geometry ready for queries: its cells and their BVH, built once.
+
+Made by invmap.load, invmap.from_mesh or invmap.from_bspline. Thread-safe:
+invert releases the GIL, so several Python threads may query one manifold
+at once. Pickling sends the geometry itself (never a file path); unpickling
+rebuilds the BVH.
+)doc")
+      .def_property_readonly("dimension", &PyManifold::dimension, "Ambient dimension, 2 or 3.")
+      .def("info", &Info, R"doc(
+Counts describing the manifold, as `invmap info` prints them.
+
+Returns a dict: dimension (int), patches (int), cells (int), cells_by_shape
+(dict such as {"quad 3x3": 1024}), bounds_lo and bounds_hi (tuples of
+`dimension` floats; zeros when there are no cells) and memory_bytes (heap
+memory of cells, bounds and BVH).
+)doc")
+      .def("invert", &Invert, py::arg("points"), py::arg("max_distance") = py::none(),
+           py::arg("threads") = py::none(), R"doc(
+Closest point, cell and parameters of every query point.
+
+points: (N, dimension) array-like. float32 and float64 arrays are read in
+  place whatever their strides; other real types are converted to float64.
+max_distance: gap tolerance; points farther than this from every cell get
+  status 1 (none). Default: unlimited.
+threads: worker threads, default (None or 0) all cores. Results do not
+  depend on it.
+
+Returns a dict of numpy arrays, one row per point in input order:
+  status   (N,) uint8: 0 found, 1 none, 2 invalid (NaN or infinite input)
+  patch    (N,) int32, -1 when not found
+  cell     (N,) int64, cell index within the patch, -1 when not found
+  params   (N, 3) float64: knot values (B-spline) or reference coordinates
+           (Bezier, mesh); NaN where the cell has fewer parameters
+  closest  (N, dimension) float64, NaN when not found
+  distance (N,) float64, NaN when not found
+The GIL is released while the engine works.
+
+Raises InputError for points of the wrong shape or type and for bad options.
+)doc")
+      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near", R"doc(
+Boolean mask of the points `invmap trim` keeps: those within max_distance
+of the geometry (keep="near") or beyond it (keep="far"). Points with NaN or
+infinite coordinates are in neither set.
+)doc")
+      .def("__repr__",
+           [](const PyManifold& self) {
+             return "<invmap.Manifold dimension=" + std::to_string(self.dimension()) +
+                    " patches=" + std::to_string(self.patches()) + " cells=" + std::to_string(self.cells()) + ">";
+           })
+      .def(py::pickle([](const PyManifold& self) { return py::bytes(self.state()); }, &FromState));
+
+  m.def("_load_file", &LoadFile, py::arg("path"), "Reads and builds a geometry file (see invmap.load).");
+  m.def("_load_json", &LoadJson, py::arg("text"), py::arg("name"),
+        "Reads and builds geometry JSON text; messages name it `name` (see invmap.load).");
+  m.def("from_mesh", &FromMesh, py::arg("vertices"), py::arg("cells"), py::arg("cell") = "tri", R"doc(
+A manifold of linear cells sharing vertices (a "mesh" patch, FORMATS.md section 2).
+
+vertices: (V, 2) or (V, 3) real array; the geometry's dimension follows.
+cells: (C, k) integer array of 0-based vertex indices in finite-element order,
+  k fixed by the cell type (line 2, tri 3, quad 4, tet 4, hex 8, wedge 6).
+cell: "line", "tri", "quad", "tet", "hex" or "wedge".
+Reported parameters are the cells' reference coordinates.
+
+Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
+)doc");
+  m.def("_from_bspline", &FromBSpline, py::arg("control_points"), py::arg("counts"), py::arg("degrees"),
+        py::arg("knots"), py::arg("weights"),
+        "One B-spline patch from control points in file order, u fastest (see invmap.from_bspline).");
+}
