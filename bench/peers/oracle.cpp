@@ -1,0 +1,56 @@
+// invmap's oracle ratio: the engine's full time over the time of the cell
+// solves alone, on the cell the engine reported, from the cell's center.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "bench/peers/harness.h"
+#include "engine/cell_store.h"
+#include "kernels/cell_solver.h"
+
+namespace invmap::bench {
+
+OracleRun RunOracle(const Geometry& geometry, const PointSet& set, std::int64_t count, const Results& invmapResults,
+                    double tolerance) {
+  OracleRun run;
+  // A second copy of the cells, built the same way as the manifold's, so the
+  // oracle reaches the solvers without going through the engine's private Impl.
+  engine::CellStore store;
+  const std::string error = store.Build(geometry, 0);
+  if (!error.empty()) {
+    std::fprintf(stderr, "invmap_bench_peers: oracle: %s\n", error.c_str());
+    std::exit(2);
+  }
+  std::vector<std::int64_t> cells(count, -1);
+  for (std::int64_t i = 0; i < count; ++i) {
+    if (invmapResults.status[i] != Status::Found) continue;
+    cells[i] = store.patchFirstCell(invmapResults.patch[i]) + invmapResults.cell[i];
+  }
+  std::vector<double> distance(count, std::nan(""));
+  kernels::SolveWorkspace workspace;
+  // Warm-up: the workspace's first allocations.
+  for (std::int64_t i = 0; i < std::min<std::int64_t>(count, 100); ++i) {
+    if (cells[i] >= 0) store.solver(cells[i]).Solve(set.point(i), nullptr, &workspace);
+  }
+  const double t0 = Now();
+  for (std::int64_t i = 0; i < count; ++i) {
+    if (cells[i] < 0) continue;
+    const kernels::CellSolver& solver = store.solver(cells[i]);
+    // A volume cell that holds the point needs only its local solve, as in
+    // the engine (7.3.2.1); the full cell solve is the fallback.
+    kernels::CellSolveResult r;
+    if (!(solver.isFullRank() && solver.SolveInside(set.point(i), nullptr, &r))) {
+      r = solver.Solve(set.point(i), nullptr, &workspace);
+    }
+    distance[i] = r.distance;
+  }
+  run.seconds = Now() - t0;
+  run.count = count;
+  for (std::int64_t i = 0; i < count; ++i) {
+    if (cells[i] >= 0 && !(std::abs(distance[i] - invmapResults.distance[i]) <= tolerance)) ++run.disagreements;
+  }
+  return run;
+}
+
+}  // namespace invmap::bench
