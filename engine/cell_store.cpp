@@ -91,6 +91,7 @@ kernels::CellType ToKernelType(CellType type) { return static_cast<kernels::Cell
 void CellStore::AddCell(const kernels::CellShape& shape, const double* points, const double* weights,
                         const CellOrigin& origin) {
   const int n = shape.numControlPoints();
+  hasVolumeCells_ = hasVolumeCells_ || shape.paramDim() == dimension_;
   shapes_.push_back(shape);
   pointOffset_.push_back(static_cast<std::int64_t>(points_.size()));
   points_.insert(points_.end(), points, points + static_cast<std::size_t>(n) * dimension_);

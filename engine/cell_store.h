@@ -42,6 +42,9 @@ class CellStore {
     return origins_[cell];
   }
   std::size_t numPatches() const { return numPatches_; }
+  /// True when some cell is a volume (paramDim == dimension), whose exact
+  /// inside hits the search tries first.
+  bool hasVolumeCells() const { return hasVolumeCells_; }
   /// Index of the first cell of `patch` (cells of a patch are contiguous);
   /// patchFirstCell(numPatches()) == size().
   std::int64_t patchFirstCell(std::size_t patch) const { return patchFirst_[patch]; }
@@ -55,6 +58,7 @@ class CellStore {
 
   int dimension_ = 3;
   std::size_t numPatches_ = 0;
+  bool hasVolumeCells_ = false;
   std::vector<std::int64_t> patchFirst_;  // numPatches_ + 1 entries
   std::vector<kernels::CellShape> shapes_;
   std::vector<std::int64_t> pointOffset_;   // first coordinate of each cell in points_

@@ -59,7 +59,7 @@ double BoxDistance2(const BvhBox& box, const double* p, int dim) {
 /// point: far from the geometry, algorithm 3's box upper bounds admit most of
 /// the cells, and a best-first traversal that tightens with each solved cell
 /// visits far fewer.
-constexpr std::size_t kMaxBucketCandidates = 64;
+constexpr std::size_t kMaxBucketCandidates = 24;
 
 /// The running answer of one point.
 struct PointSearch {
@@ -124,8 +124,10 @@ void SearchCandidates(PointSearch& search) {
   for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
     heap.emplace_back(BoxDistance2(store.solver(candidates[c].cell), search.p, dim), c);
   }
-  for (const auto& [lowerBound2, c] : heap) {
-    if (lowerBound2 == 0.0 && !search.inside) search.TryInside(candidates[c].cell);
+  if (store.hasVolumeCells()) {
+    for (const auto& [lowerBound2, c] : heap) {
+      if (lowerBound2 == 0.0 && !search.inside) search.TryInside(candidates[c].cell);
+    }
   }
   if (search.inside) return;
   const auto later = [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a > b; };
@@ -149,7 +151,7 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
   const std::vector<int>& items = bvh.Items();
   // First the volume cells whose box holds the point (depth-first).
   std::vector<int>& stack = search.scratch.stack;
-  stack.assign(1, 0);
+  stack.assign(search.store.hasVolumeCells() ? 1 : 0, 0);
   while (!stack.empty() && !search.inside) {
     const int index = stack.back();
     stack.pop_back();
