@@ -5,6 +5,7 @@
 #include <map>
 #include <new>
 #include <stdexcept>
+#include <type_traits>
 
 #include "engine/bvh_build.h"
 #include "engine/cell_store.h"
@@ -39,48 +40,45 @@ void CopyCoordinates(const PointsView& view, std::vector<double>* soa) {
 
 }  // namespace
 
+namespace {
+
+template <typename T>
+PointsView MakeInterleaved(const T* xyz, std::size_t count, int dim) {
+  PointsView v;
+  v.count = count;
+  v.dim = dim;
+  v.scalar = std::is_same_v<T, float> ? Scalar::Float32 : Scalar::Float64;
+  for (int k = 0; k < dim; ++k) v.coord[k] = xyz + k;
+  v.stride = static_cast<std::size_t>(dim);
+  return v;
+}
+
+template <typename T>
+PointsView MakeSeparate(const T* x, const T* y, const T* z, std::size_t count, int dim) {
+  PointsView v;
+  v.count = count;
+  v.dim = dim;
+  v.scalar = std::is_same_v<T, float> ? Scalar::Float32 : Scalar::Float64;
+  v.coord[0] = x;
+  v.coord[1] = y;
+  v.coord[2] = dim == 3 ? z : nullptr;
+  v.stride = 1;
+  return v;
+}
+
+}  // namespace
+
 PointsView PointsView::Interleaved(const double* xyz, std::size_t count, int dim) {
-  PointsView v;
-  v.count = count;
-  v.dim = dim;
-  v.scalar = Scalar::Float64;
-  for (int k = 0; k < dim; ++k) v.coord[k] = xyz + k;
-  v.stride = static_cast<std::size_t>(dim);
-  return v;
+  return MakeInterleaved(xyz, count, dim);
 }
-
 PointsView PointsView::Interleaved(const float* xyz, std::size_t count, int dim) {
-  PointsView v;
-  v.count = count;
-  v.dim = dim;
-  v.scalar = Scalar::Float32;
-  for (int k = 0; k < dim; ++k) v.coord[k] = xyz + k;
-  v.stride = static_cast<std::size_t>(dim);
-  return v;
+  return MakeInterleaved(xyz, count, dim);
 }
-
 PointsView PointsView::Separate(const double* x, const double* y, const double* z, std::size_t count, int dim) {
-  PointsView v;
-  v.count = count;
-  v.dim = dim;
-  v.scalar = Scalar::Float64;
-  v.coord[0] = x;
-  v.coord[1] = y;
-  v.coord[2] = dim == 3 ? z : nullptr;
-  v.stride = 1;
-  return v;
+  return MakeSeparate(x, y, z, count, dim);
 }
-
 PointsView PointsView::Separate(const float* x, const float* y, const float* z, std::size_t count, int dim) {
-  PointsView v;
-  v.count = count;
-  v.dim = dim;
-  v.scalar = Scalar::Float32;
-  v.coord[0] = x;
-  v.coord[1] = y;
-  v.coord[2] = dim == 3 ? z : nullptr;
-  v.stride = 1;
-  return v;
+  return MakeSeparate(x, y, z, count, dim);
 }
 
 Manifold::Manifold() = default;
