@@ -12,35 +12,48 @@ namespace {
 /// come from the two lower degrees.
 void EvaluateLineBasis(int degree, double t, JetOrder order, FactorBasis* out) {
   out->size = degree + 1;
-  double level[3][kMaxDegree + 1];  // degrees p - 2, p - 1, p (where they exist)
-  double current[kMaxDegree + 1];
-  current[0] = 1.0;
   const double u = 1.0 - t;
-  for (int n = 0; n <= degree; ++n) {
-    if (n > 0) {
-      current[n] = t * current[n - 1];
-      for (int i = n - 1; i > 0; --i) current[i] = u * current[i] + t * current[i - 1];
-      current[0] *= u;
-    }
-    const int slot = n - (degree - 2);
-    if (slot >= 0) std::copy(current, current + n + 1, level[slot]);
+  // Degrees p - 2, p - 1 and p of the triangle, each raised from the one
+  // below (no copies: the arrays ping-pong).
+  double buffer[2][kMaxDegree + 1];
+  double lower2[kMaxDegree + 1], lower1[kMaxDegree + 1];
+  auto raise = [u, t](const double* from, int n, double* to) {  // degree n - 1 -> n
+    to[n] = t * from[n - 1];
+    for (int i = n - 1; i > 0; --i) to[i] = u * from[i] + t * from[i - 1];
+    to[0] = u * from[0];
+  };
+  buffer[0][0] = 1.0;
+  const double* current = buffer[0];
+  int n = 0;
+  for (; n < degree - 2; ++n) {
+    double* next = buffer[(n + 1) % 2];
+    raise(current, n + 1, next);
+    current = next;
   }
-  std::copy(current, current + degree + 1, out->value);
+  // current is degree max(0, p - 2) here.
+  if (degree >= 2) {
+    for (int i = 0; i <= degree - 2; ++i) lower2[i] = current[i];
+    raise(lower2, degree - 1, lower1);
+    raise(lower1, degree, out->value);
+  } else if (degree == 1) {
+    lower1[0] = 1.0;
+    raise(lower1, 1, out->value);
+  } else {
+    out->value[0] = 1.0;
+  }
   if (order == JetOrder::Value) return;
-  const double* lower = degree >= 1 ? level[1] : nullptr;
   for (int i = 0; i <= degree; ++i) {
-    const double left = i >= 1 ? lower[i - 1] : 0.0;
-    const double right = i < degree ? lower[i] : 0.0;
-    out->d1[i][0] = degree * (left - right);
+    const double left = i >= 1 ? lower1[i - 1] : 0.0;
+    const double right = i < degree ? lower1[i] : 0.0;
+    out->d1[i][0] = degree >= 1 ? degree * (left - right) : 0.0;
   }
   if (order != JetOrder::Second) return;
-  const double* lowest = degree >= 2 ? level[0] : nullptr;
   for (int i = 0; i <= degree; ++i) {
     double d2 = 0.0;
-    if (lowest) {
-      const double a = i >= 2 ? lowest[i - 2] : 0.0;
-      const double b = i >= 1 && i - 1 <= degree - 2 ? lowest[i - 1] : 0.0;
-      const double c = i <= degree - 2 ? lowest[i] : 0.0;
+    if (degree >= 2) {
+      const double a = i >= 2 ? lower2[i - 2] : 0.0;
+      const double b = i >= 1 && i - 1 <= degree - 2 ? lower2[i - 1] : 0.0;
+      const double c = i <= degree - 2 ? lower2[i] : 0.0;
       d2 = degree * (degree - 1) * (a - 2.0 * b + c);
     }
     out->d2[i][0][0] = d2;

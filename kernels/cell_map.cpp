@@ -110,7 +110,10 @@ void EvaluateTensorLines(const CellView& cell, const FactorBasis* basis, JetOrde
   double r0[kMaxOuter][3][4];
   const int slots0 = order == JetOrder::Value ? 1 : (order == JetOrder::First ? 2 : 3);
   for (int o = 0; o < outer0; ++o) {
-    double acc[3][4] = {};
+    double (*acc)[4] = r0[o];
+    for (int s = 0; s < slots0; ++s) {
+      for (int k = 0; k < comps; ++k) acc[s][k] = 0.0;
+    }
     for (int b = 0; b < n0; ++b) {
       const int c = o * n0 + b;
       const double w = rational ? cell.weights[c] : 1.0;
@@ -122,9 +125,6 @@ void EvaluateTensorLines(const CellView& cell, const FactorBasis* basis, JetOrde
       for (int s = 0; s < slots0; ++s) {
         for (int k = 0; k < comps; ++k) acc[s][k] += bv[s] * h[k];
       }
-    }
-    for (int s = 0; s < slots0; ++s) {
-      for (int k = 0; k < comps; ++k) r0[o][s][k] = acc[s][k];
     }
   }
   if (nf == 1) {
@@ -141,7 +141,10 @@ void EvaluateTensorLines(const CellView& cell, const FactorBasis* basis, JetOrde
   double r1[kMaxDegree + 1][6][4];
   const bool first = order != JetOrder::Value, second = order == JetOrder::Second;
   for (int o = 0; o < outer1; ++o) {
-    double acc[6][4] = {};
+    double (*acc)[4] = r1[o];
+    for (int s = 0; s < 6; ++s) {
+      for (int k = 0; k < comps; ++k) acc[s][k] = 0.0;
+    }
     for (int b = 0; b < n1; ++b) {
       const double (*q)[4] = r0[o * n1 + b];
       const double bv = basis[1].value[b];
@@ -156,9 +159,6 @@ void EvaluateTensorLines(const CellView& cell, const FactorBasis* basis, JetOrde
         acc[4][k] += bd * q[1][k];
         acc[5][k] += basis[1].d2[b][0][0] * q[0][k];
       }
-    }
-    for (int s = 0; s < 6; ++s) {
-      for (int k = 0; k < comps; ++k) r1[o][s][k] = acc[s][k];
     }
   }
   if (nf == 2) {
