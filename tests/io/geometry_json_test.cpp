@@ -1,6 +1,7 @@
 // Tests of the JSON geometry reader (FORMATS.md section 2): every accepted
 // form, every validation message with its JSON path and line, malformed and
 // hostile files, and round trips through Manifold::Build.
+#include "tests/io/io_scratch.h"
 #include "io/geometry_json.h"
 
 #include <gtest/gtest.h>
@@ -62,27 +63,7 @@ void ExpectParseError(const std::string& text, std::int64_t line, std::initializ
 }
 
 /// A scratch directory for file-based tests, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    path_ = std::filesystem::temp_directory_path() / ("invmap_geometry_json_test_" + std::to_string(::getpid()) + "_" +
-                                                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  std::string Write(const std::string& name, const std::string& content) const {
-    const std::string file = (path_ / name).string();
-    std::ofstream(file, std::ios::binary) << content;
-    return file;
-  }
-  std::string Path(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = invmap::io::scratch::ScratchDir;
 
 /// Closest point of one query through a built manifold.
 struct Closest {

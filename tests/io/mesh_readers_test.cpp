@@ -2,6 +2,7 @@
 // dispatch: every accepted form, every error with its line, hostile files
 // (truncated, absurd counts, non-numbers), and round trips through
 // Manifold::Build.
+#include "tests/io/io_scratch.h"
 #include "io/mesh_readers.h"
 
 #include <gtest/gtest.h>
@@ -61,27 +62,7 @@ std::string ExpectInputError(const std::function<void()>& read, std::int64_t lin
 }
 
 /// A scratch directory for file-based tests, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    path_ = std::filesystem::temp_directory_path() / ("invmap_mesh_readers_test_" + std::to_string(::getpid()) + "_" +
-                                                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  std::string Write(const std::string& name, const std::string& content) const {
-    const std::string file = (path_ / name).string();
-    std::ofstream(file, std::ios::binary) << content;
-    return file;
-  }
-  std::string Path(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = invmap::io::scratch::ScratchDir;
 
 /// A binary STL: 80-byte header, little-endian triangle count, then per
 /// triangle a normal, three corners (float32 LE) and two attribute bytes.
