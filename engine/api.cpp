@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "engine/bvh_build.h"
+#include "engine/check.h"
 #include "engine/cell_store.h"
 #include "engine/invert_batch.h"
 #include "invmap/invmap.h"
@@ -180,30 +181,18 @@ bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], dou
 
 Error Manifold::Invert(const PointsView& points, const InversionOptions& options, Results* results,
                        std::string* message) const {
-  if (!impl_) {
-    SetMessage(message, "the manifold is empty (not built)");
-    return Error::InvalidArgument;
-  }
-  if (!results) {
-    SetMessage(message, "results: null");
-    return Error::InvalidArgument;
-  }
-  const int dim = impl_->store.dimension();
-  if (points.dim != dim) {
-    SetMessage(message, "points: dimension " + std::to_string(points.dim) + ", the geometry's is " + std::to_string(dim));
-    return Error::InvalidArgument;
-  }
-  for (int k = 0; k < dim; ++k) {
-    if (points.count > 0 && !points.coord[k]) {
-      SetMessage(message, "points: coordinate array " + std::to_string(k) + " is null");
-      return Error::InvalidArgument;
-    }
-  }
-  if (std::isnan(options.maxDistance) || options.maxDistance < 0.0 || options.threads < 0) {
-    SetMessage(message, "options: maxDistance must be >= 0 and threads >= 0");
-    return Error::InvalidArgument;
-  }
   try {
+    // Batch-level checks of the arguments, once per call (never per point).
+    INVMAP_VERIFY(impl_, "the manifold is empty (not built)");
+    INVMAP_VERIFY(results, "results: null");
+    const int dim = impl_->store.dimension();
+    INVMAP_VERIFY(points.dim == dim, "points: dimension " << points.dim << ", the geometry's is " << dim);
+    for (int k = 0; k < dim; ++k) {
+      INVMAP_VERIFY(points.count == 0 || points.coord[k], "points: coordinate array " << k << " is null");
+    }
+    INVMAP_VERIFY(!std::isnan(options.maxDistance) && options.maxDistance >= 0.0,
+                  "options: maxDistance " << options.maxDistance << ", expected >= 0");
+    INVMAP_VERIFY(options.threads >= 0, "options: threads " << options.threads << ", expected >= 0 (0 = all cores)");
     std::vector<double> soa;
     if (points.scalar == Scalar::Float64) {
       CopyCoordinates<double>(points, &soa);
@@ -222,6 +211,9 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
     results->distance.assign(n, 0.0);
     results->iterations.assign(n, 0);
     engine::InvertBatch(impl_->store, impl_->bvh, query, options, results);
+  } catch (const std::invalid_argument& e) {
+    SetMessage(message, e.what());
+    return Error::InvalidArgument;
   } catch (const std::bad_alloc&) {
     SetMessage(message, "out of memory");
     return Error::OutOfMemory;

@@ -48,12 +48,6 @@ CellShape::CellShape(CellType type, std::array<int, kMaxFactors> degrees)
   }
 }
 
-int CellShape::maxDegree() const {
-  int p = 0;
-  for (int i = 0; i < numFactors_; ++i) p = std::max(p, factors_[i].degree);
-  return p;
-}
-
 CellShape CellShape::ScaledDegree(int factor) const {
   std::array<int, kMaxFactors> degrees{};
   for (int i = 0; i < numFactors_; ++i) degrees[i] = factors_[i].degree * factor;

@@ -51,8 +51,6 @@ class CellShape {
   int paramDim() const { return paramDim_; }
   /// Number of control points, the product of the factors' basis sizes.
   int numControlPoints() const { return numControlPoints_; }
-  /// Highest degree of any factor.
-  int maxDegree() const;
   /// The same cell type with every factor's degree multiplied by `factor`
   /// (the shape of products of two maps on this cell).
   CellShape ScaledDegree(int factor) const;
