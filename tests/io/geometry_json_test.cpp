@@ -35,26 +35,7 @@ Geometry Parse(const std::string& text) {
   return ReadGeometryJson(in, "g.json");
 }
 
-/// Runs `read`, requires an InputError at `line` whose message holds every
-/// one of `parts`, and returns the message.
-std::string ExpectInputError(const std::function<void()>& read, std::int64_t line,
-                             std::initializer_list<std::string> parts) {
-  try {
-    read();
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(e.line(), line) << message;
-    EXPECT_EQ(e.kind(), InputError::Kind::Input);
-    for (const std::string& part : parts)
-      EXPECT_NE(message.find(part), std::string::npos) << message << "\nlacks: " << part;
-    return message;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected InputError, got: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "no error";
-  return {};
-}
+using invmap::io::scratch::ExpectInputError;
 
 void ExpectParseError(const std::string& text, std::int64_t line, std::initializer_list<std::string> parts) {
   const std::string message = ExpectInputError([&] { Parse(text); }, line, parts);

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
 #include <iterator>
 #include <string>
 
@@ -70,6 +71,28 @@ void Put(std::string* bytes, T value, bool bigEndian = false) {
     for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
   }
   bytes->append(raw, sizeof(T));
+}
+
+/// Runs `read`, requires an Input-kind InputError at `line` whose message
+/// holds every one of `parts`, and returns the message.
+inline std::string ExpectInputError(const std::function<void()>& read, std::int64_t line,
+                                    std::initializer_list<std::string> parts) {
+  try {
+    read();
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(e.line(), line) << message;
+    EXPECT_EQ(e.kind(), InputError::Kind::Input);
+    for (const std::string& part : parts) {
+      EXPECT_NE(message.find(part), std::string::npos) << message << "\nlacks: " << part;
+    }
+    return message;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected InputError, got: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "no error";
+  return {};
 }
 
 /// Runs `fn`, expects an InputError of `kind` whose file is `file` and line

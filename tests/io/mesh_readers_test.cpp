@@ -41,25 +41,7 @@ Geometry Off(const std::string& text) {
   return ReadOff(in, "m.off");
 }
 
-/// Runs `read`, requires an InputError at `line` whose message holds every
-/// one of `parts`, and returns the message.
-std::string ExpectInputError(const std::function<void()>& read, std::int64_t line,
-                             std::initializer_list<std::string> parts) {
-  try {
-    read();
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(e.line(), line) << message;
-    for (const std::string& part : parts)
-      EXPECT_NE(message.find(part), std::string::npos) << message << "\nlacks: " << part;
-    return message;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected InputError, got: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "no error";
-  return {};
-}
+using invmap::io::scratch::ExpectInputError;
 
 /// A scratch directory for file-based tests, removed afterwards.
 using TempDir = invmap::io::scratch::ScratchDir;
