@@ -17,6 +17,7 @@
 
 #include "io/geometry_file.h"
 #include "io/input_error.h"
+#include "io/json_tracking_iterator.h"
 
 namespace invmap::io {
 namespace {
@@ -24,46 +25,6 @@ namespace {
 using Json = nlohmann::json;
 
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-
-/// A character iterator over the file buffer for nlohmann's lexer that
-/// publishes how far the lexer has read. nlohmann's SAX events carry no
-/// position, so this is how the handler learns the line of each value. The
-/// begin iterator advances a cursor shared with the handler; the end iterator
-/// is a fixed pointer.
-class TrackingIterator {
- public:
-  using iterator_category = std::input_iterator_tag;
-  using value_type = char;
-  using difference_type = std::ptrdiff_t;
-  using pointer = const char*;
-  using reference = const char&;
-
-  /// The reading position: `*cursor` is the next character to read; the
-  /// cursor outlives the parse.
-  explicit TrackingIterator(const char** cursor) : cursor_(cursor), end_(nullptr) {}
-  /// The end of the buffer.
-  explicit TrackingIterator(const char* end) : cursor_(nullptr), end_(end) {}
-
-  // Input-iterator operations, as nlohmann's iterator_input_adapter uses them.
-  reference operator*() const { return **cursor_; }
-  TrackingIterator& operator++() {
-    ++*cursor_;
-    return *this;
-  }
-  TrackingIterator operator++(int) {
-    TrackingIterator before = *this;
-    ++*cursor_;
-    return before;
-  }
-  bool operator==(const TrackingIterator& other) const { return Position() == other.Position(); }
-  bool operator!=(const TrackingIterator& other) const { return Position() != other.Position(); }
-
- private:
-  const char* Position() const { return cursor_ ? *cursor_ : end_; }
-
-  const char** cursor_;
-  const char* end_;
-};
 
 /// The fields a patch object may have (the union over all kinds).
 enum class Field : int { Kind, Cell, Degrees, Knots, Counts, ControlPoints, Weights, Vertices, Cells, None };
