@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace invmap::cli {
 
@@ -42,5 +43,23 @@ struct GenerateOptions {
 };
 
 int RunGenerate(const GenerateOptions& options);
+
+/// `invmap grid`: an adaptive simplicial grid for an implicit complex
+/// (FORMATS.md section 6).
+struct GridCommandOptions {
+  std::string functions;
+  std::string mode = "arrangement";  ///< arrangement, material or csg.
+  std::string tree;                  ///< csg: the tree file.
+  double epsilon = 1e-4;
+  std::string grid;                  ///< An initial .msh grid, or empty for the box.
+  std::vector<double> box;           ///< 4 (2D) or 6 (3D) numbers: the low corner, then the high one.
+  int resolution = 1;
+  std::int64_t maxCells = std::numeric_limits<std::int64_t>::max();
+  int threads = 0;
+  std::string output;                ///< The output directory.
+  bool quiet = false;
+};
+
+int RunGrid(const GridCommandOptions& options);
 
 }  // namespace invmap::cli

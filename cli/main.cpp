@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <new>
 
 #include "cli/commands.h"
@@ -64,6 +65,26 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   generateCommand->add_option("--seed", generate.seed, "random seed");
 
+  invmap::cli::GridCommandOptions grid;
+  CLI::App* gridCommand =
+      app.add_subcommand("grid", "refine a simplicial grid for the zero sets of implicit functions");
+  gridCommand->add_option("--functions,-f", grid.functions, "function list (.json)")->required();
+  gridCommand->add_option("--mode", grid.mode, "arrangement (default), material or csg")
+      ->check(CLI::IsMember({"arrangement", "material", "csg"}));
+  gridCommand->add_option("--tree", grid.tree, "csg: the CSG tree (.json)");
+  gridCommand->add_option("--epsilon", grid.epsilon, "distance threshold in model units (default 1e-4)")
+      ->check(CLI::PositiveNumber);
+  auto* gridFile = gridCommand->add_option("--grid", grid.grid, "initial grid (.msh: linear tetrahedra or triangles)");
+  auto* box = gridCommand->add_option("--box", grid.box, "initial box x0,y0[,z0],x1,y1[,z1]")->delimiter(',');
+  gridFile->excludes(box);
+  gridCommand->add_option("--resolution", grid.resolution, "box: squares or cubes per side (default 1)")
+      ->check(CLI::Range(1, 1000));
+  gridCommand->add_option("--max-cells", grid.maxCells, "stop refining at this many cells")
+      ->check(CLI::Range(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
+  gridCommand->add_option("--threads", grid.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
+  gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -84,6 +105,21 @@ int main(int argc, char** argv) {
         return 2;
       }
       return invmap::cli::RunGenerate(generate);
+    }
+    if (*gridCommand) {
+      if (grid.grid.empty() && grid.box.empty()) {
+        std::fprintf(stderr, "invmap grid: give --grid G.msh or --box x0,y0[,z0],x1,y1[,z1]\n");
+        return 2;
+      }
+      if (!grid.box.empty() && grid.box.size() != 4 && grid.box.size() != 6) {
+        std::fprintf(stderr, "invmap grid: --box needs 4 (2D) or 6 (3D) numbers, got %zu\n", grid.box.size());
+        return 2;
+      }
+      if ((grid.mode == "csg") != !grid.tree.empty()) {
+        std::fprintf(stderr, "invmap grid: --tree is required with --mode csg and only then\n");
+        return 2;
+      }
+      return invmap::cli::RunGrid(grid);
     }
   } catch (const invmap::io::InputError& e) {
     std::fprintf(stderr, "invmap: %s\n", e.what());

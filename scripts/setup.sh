@@ -63,12 +63,13 @@ case "$mode" in
     ;;
   test)
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=ON
-    # The kernel tests again with AddressSanitizer, UndefinedBehaviorSanitizer and
-    # internal asserts: a Debug build at -O1 (at -O0 the brute-force reference
-    # alone takes most of an hour under the sanitizers).
+    # The kernel and implicit-grid tests again with AddressSanitizer,
+    # UndefinedBehaviorSanitizer and internal asserts: a Debug build at -O1 (at
+    # -O0 the brute-force reference alone takes most of an hour under the
+    # sanitizers).
     configure_and_build "$root/build/asan" Debug "-DCMAKE_CXX_FLAGS_DEBUG=-g -O1" -DINVMAP_SANITIZE=ON \
       -DINVMAP_ASSERT=ON -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=OFF -DINVMAP_BUILD_PYTHON=OFF \
-      --target invmap_kernel_tests
+      --target invmap_kernel_tests invmap_implicit_tests
     # The parsers under libFuzzer (clang, ASan/UBSan), a bounded time each.
     CC=clang CXX=clang++ configure_and_build "$root/build/fuzz" RelWithDebInfo -DINVMAP_BUILD_FUZZ=ON \
       -DINVMAP_SANITIZE=ON -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF -DINVMAP_BUILD_PYTHON=OFF \

@@ -253,3 +253,83 @@ TEST_F(CliTest, QuadraticTetMeshPointsInsideAreFoundAtDistanceZero) {
 }
 
 }  // namespace
+
+// --- invmap grid ------------------------------------------------------------
+
+const char kSphereFunction[] = R"([{"type": "sphere", "center": [0.5, 0.5, 0.5], "radius": 0.3}])";
+
+TEST_F(CliTest, GridWritesEveryOutputAndItsSurfaceFeedsInvert) {
+  WriteFile("sphere.json", kSphereFunction);
+  std::string out;
+  ASSERT_EQ(Run("grid -f " + Path("sphere.json") + " --box 0,0,0,1,1,1 --resolution 2 --epsilon 1e-3 -o " +
+                    Path("grid"),
+                &out),
+            0)
+      << out;
+  for (const char* name : {"grid.msh", "grid.vtu", "zero_sets.obj", "zero_sets.ply", "stats.json"})
+    EXPECT_TRUE(fs::exists(Path("grid/") + name)) << name;
+  EXPECT_EQ(ReadFile(Path("grid/grid.msh")).rfind("$MeshFormat\n4.1 0 8\n", 0), 0u);
+  EXPECT_NE(ReadFile(Path("grid/grid.vtu")).find("<VTKFile type=\"UnstructuredGrid\""), std::string::npos);
+  const std::string stats = ReadFile(Path("grid/stats.json"));
+  for (const char* key : {"\"cells\"", "\"active_cells\"", "\"vertices\"", "\"min_radius_ratio\"",
+                          "\"min_radius_ratio_active\"", "\"seconds\""})
+    EXPECT_NE(stats.find(key), std::string::npos) << key;
+
+  // Points of the true sphere are within epsilon of the extracted surface.
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> normal;
+  std::ostringstream points;
+  points.precision(17);
+  for (int i = 0; i < 500; ++i) {
+    double d[3] = {normal(rng), normal(rng), normal(rng)};
+    const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    points << 0.5 + 0.3 * d[0] / n << " " << 0.5 + 0.3 * d[1] / n << " " << 0.5 + 0.3 * d[2] / n << "\n";
+  }
+  WriteFile("sphere_points.xyz", points.str());
+  ASSERT_EQ(Run("invert -q -g " + Path("grid/zero_sets.ply") + " -p " + Path("sphere_points.xyz") + " -o " +
+                    Path("distances.csv"),
+                &out),
+            0)
+      << out;
+  std::string header;
+  const auto rows = CsvRows(ReadFile(Path("distances.csv")), &header);
+  ASSERT_EQ(rows.size(), 500u);
+  std::istringstream names(header);
+  std::string name;
+  int distanceColumn = -1;
+  for (int c = 0; std::getline(names, name, ','); ++c)
+    if (name == "distance") distanceColumn = c;
+  ASSERT_GE(distanceColumn, 0) << header;
+  for (const auto& row : rows) EXPECT_LE(std::stod(row[distanceColumn]), 1e-3);
+}
+
+TEST_F(CliTest, GridIn2DWritesCurves) {
+  WriteFile("quintic.json", R"([{"type": "quintic", "center": [0, 0]}])");
+  std::string out;
+  ASSERT_EQ(Run("grid -f " + Path("quintic.json") + " --box -1.5,-1.5,1.5,1.5 --epsilon 1e-3 -o " + Path("g"), &out),
+            0)
+      << out;
+  const std::string obj = ReadFile(Path("g/zero_sets.obj"));
+  EXPECT_NE(obj.find("\nl "), std::string::npos);
+  EXPECT_FALSE(fs::exists(Path("g/zero_sets.ply")));
+  EXPECT_NE(ReadFile(Path("g/grid.msh")).find("$NodeData"), std::string::npos);
+}
+
+TEST_F(CliTest, GridErrorsHaveExitCodesAndLeaveNoOutput) {
+  WriteFile("sphere.json", kSphereFunction);
+  const std::string box = " --box 0,0,0,1,1,1 -o " + Path("out");
+  std::string out;
+  EXPECT_EQ(Run("grid -f " + Path("missing.json") + box, &out), 3);
+  EXPECT_NE(out.find("missing.json"), std::string::npos) << out;
+  WriteFile("bad.json", "[\n  {\"type\": \"sphere\",\n   \"center\": [0, 0, 0], \"radius\": -1}\n]\n");
+  EXPECT_EQ(Run("grid -f " + Path("bad.json") + box, &out), 3);
+  EXPECT_NE(out.find("bad.json:3"), std::string::npos) << out;
+  EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --mode csg" + box, &out), 2) << out;
+  EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --box 0,0,0,1,1 -o " + Path("out"), &out), 2) << out;
+  EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --box 1,0,0,0,1,1 -o " + Path("out"), &out), 2) << out;
+  EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " -o " + Path("out"), &out), 2) << out;
+  EXPECT_FALSE(fs::exists(Path("out/grid.msh")));
+  WriteFile("occupied", "a file where the output directory should be");
+  EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --box 0,0,0,1,1,1 -o " + Path("occupied"), &out), 4) << out;
+  EXPECT_EQ(ReadFile(Path("occupied")), "a file where the output directory should be");
+}
