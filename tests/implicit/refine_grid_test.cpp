@@ -8,10 +8,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -59,6 +61,8 @@ struct ReferenceCase {
   bool small;
 };
 
+void PrintTo(const ReferenceCase& c, std::ostream* out) { *out << c.functions << " epsilon " << c.epsilon; }
+
 class ReferenceCounts : public ::testing::TestWithParam<ReferenceCase> {};
 
 TEST_P(ReferenceCounts, WithinATenthOfAPercent) {
@@ -85,7 +89,15 @@ INSTANTIATE_TEST_SUITE_P(
                       ReferenceCase{"2-cylSphere.json", nullptr, Mode::Arrangement, 1e-3, 57196, 29961, false},
                       ReferenceCase{"10-wikiBall.json", "10-wikiBall-tree.json", Mode::Csg, 5e-4, 107140, 52398,
                                     false},
-                      ReferenceCase{"10-wikiBall.json", nullptr, Mode::Arrangement, 5e-4, 270631, 155424, false}));
+                      ReferenceCase{"10-wikiBall.json", nullptr, Mode::Arrangement, 5e-4, 270631, 155424, false}),
+    [](const ::testing::TestParamInfo<ReferenceCase>& info) {
+      std::string name = info.param.functions;
+      name = name.substr(0, name.find('.'));
+      for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      const char* mode = info.param.mode == Mode::Csg ? "csg" : info.param.mode == Mode::Arrangement ? "ia" : "mi";
+      return "f" + name + "_" + mode + "_eps" + std::to_string(static_cast<int>(std::round(-std::log10(info.param.epsilon) * 10)));
+    });
 
 // ---------------------------------------------------------------------------
 // An independent re-derivation of the single-function criteria (section 3 of
@@ -370,6 +382,72 @@ TEST(RefineGrid, NearlyTangentCirclesMeetAtTwoPoints) {
     seen[left < right ? 0 : 1] = true;
   }
   EXPECT_TRUE(seen[0] && seen[1]);
+}
+
+
+TEST(RefineGrid, MaterialInterfacesOfEqualDiscsAreBisectors) {
+  // Material i is where r - |x - c_i| is largest: the interface of i and j is
+  // the perpendicular bisector of c_i c_j, inside the Voronoi cells of both.
+  const double epsilon = 1e-4;
+  const std::array<Eigen::Vector2d, 3> centres = {Eigen::Vector2d(0.3, 0.3), Eigen::Vector2d(0.7, 0.35),
+                                                  Eigen::Vector2d(0.45, 0.75)};
+  std::vector<Function> discs;
+  for (const auto& c : centres) discs.push_back(Function::Sphere({c[0], c[1], 0}, 0.2));
+  GridOptions options;
+  options.mode = Mode::MaterialInterface;
+  options.epsilon = epsilon;
+  const GridResult result = RefineGrid(SimplexMesh::Box({0, 0, 0}, {1, 1, 0}, 2, 2), discs, options);
+  ASSERT_EQ(result.error, "");
+  const ZeroSets zs = ExtractZeroSets(result.grid, options);
+  ASSERT_GT(zs.segments.size(), 20u);
+  for (std::size_t s = 0; s < zs.segmentLabels.size(); ++s) {
+    const int i = zs.segmentLabels[s][0], j = zs.segmentLabels[s][1];
+    ASSERT_TRUE(i >= 0 && j > i && j < 3);
+    for (int end = 0; end < 2; ++end) {
+      const Eigen::Vector2d x(&zs.vertices[3 * zs.segments[2 * s + end]]);
+      const Eigen::Vector2d normal = (centres[j] - centres[i]).normalized();
+      EXPECT_LE(std::fabs((x - (centres[i] + centres[j]) / 2).dot(normal)), epsilon) << "segment " << s;
+      const int other = 3 - i - j;
+      EXPECT_LE((x - centres[i]).norm(), (x - centres[other]).norm() + epsilon) << "segment " << s;
+    }
+  }
+  // The three interfaces meet at the circumcentre of the centres.
+  ASSERT_FALSE(zs.points.empty());
+  const Eigen::Vector2d a = centres[0], b = centres[1], c = centres[2];
+  const double d = 2 * (a.x() * (b.y() - c.y()) + b.x() * (c.y() - a.y()) + c.x() * (a.y() - b.y()));
+  const Eigen::Vector2d circumcentre(
+      (a.squaredNorm() * (b.y() - c.y()) + b.squaredNorm() * (c.y() - a.y()) + c.squaredNorm() * (a.y() - b.y())) / d,
+      (a.squaredNorm() * (c.x() - b.x()) + b.squaredNorm() * (a.x() - c.x()) + c.squaredNorm() * (b.x() - a.x())) / d);
+  for (std::uint32_t p : zs.points)
+    EXPECT_LE((Eigen::Vector2d(&zs.vertices[3 * p]) - circumcentre).norm(), epsilon);
+}
+
+TEST(RefineGrid, CsgDiscMinusDiscBoundaryIn2D) {
+  // Inside A and outside B: Intersection(Negation(f_A), f_B), operand regions {f <= 0}.
+  const double epsilon = 1e-4;
+  const Eigen::Vector2d ca(0.5, 0.5), cb(0.72, 0.52);
+  const double ra = 0.3, rb = 0.2;
+  GridOptions options;
+  options.mode = Mode::Csg;
+  options.epsilon = epsilon;
+  options.tree = {{CsgNode::Op::Intersection, 2, -2}, {CsgNode::Op::Negation, -1, 0}};
+  const GridResult result = RefineGrid(SimplexMesh::Box({0, 0, 0}, {1, 1, 0}, 2, 1),
+                                       {Function::Sphere({ca[0], ca[1], 0}, ra), Function::Sphere({cb[0], cb[1], 0}, rb)},
+                                       options);
+  ASSERT_EQ(result.error, "");
+  const ZeroSets zs = ExtractZeroSets(result.grid, options);
+  ASSERT_GT(zs.segments.size(), 100u);
+  for (std::size_t s = 0; s < zs.segmentLabels.size(); ++s) {
+    const int i = zs.segmentLabels[s][0];
+    for (int end = 0; end < 2; ++end) {
+      const Eigen::Vector2d x(&zs.vertices[3 * zs.segments[2 * s + end]]);
+      const double onA = std::fabs((x - ca).norm() - ra), onB = std::fabs((x - cb).norm() - rb);
+      EXPECT_LE(i == 0 ? onA : onB, epsilon) << "segment " << s;
+      // Only boundary pieces: A's arc outside B, B's arc inside A.
+      if (i == 0) EXPECT_GE((x - cb).norm(), rb - epsilon);
+      if (i == 1) EXPECT_LE((x - ca).norm(), ra + epsilon);
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------
