@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <random>
 #include <string>
@@ -19,11 +20,41 @@ namespace {
 using invmap::Geometry;
 using invmap::Manifold;
 
+/// A bicubic B-spline plate over [0, 1]^2 with 128 x 128 uniform spans whose
+/// control points sit at the Greville abscissae, lifted by `waviness` *
+/// sin: with waviness 0 it is exactly affine (one affine region, algorithm
+/// 6); with a tiny waviness every cell is curved and searched on its own.
+Geometry Plate(double waviness) {
+  constexpr int kSpans = 128, kDegree = 3, kCount = kSpans + kDegree;
+  std::vector<double> knots(kDegree + 1, 0.0);
+  for (int i = 1; i < kSpans; ++i) knots.push_back(static_cast<double>(i) / kSpans);
+  knots.insert(knots.end(), kDegree + 1, 1.0);
+  auto greville = [&](int i) { return (knots[i + 1] + knots[i + 2] + knots[i + 3]) / 3; };
+  invmap::Patch patch;
+  patch.kind = invmap::Patch::Kind::BSpline;
+  patch.degrees = {kDegree, kDegree};
+  patch.knots = {knots, knots};
+  patch.counts = {kCount, kCount};
+  for (int j = 0; j < kCount; ++j)
+    for (int i = 0; i < kCount; ++i) {
+      const double u = greville(i), v = greville(j);
+      patch.points.insert(patch.points.end(), {u + 0.2 * v, v, 0.3 * u + waviness * std::sin(20 * u) * std::sin(20 * v)});
+    }
+  Geometry g;
+  g.patches.push_back(patch);
+  return g;
+}
+
 /// Workloads: 0 wavy bicubic surface (32 x 32 spans), 1 NURBS torus,
 /// 2 planar NURBS curve, 3 bumpy-sphere triangle mesh (1.3 M triangles),
-/// 4 quadratic tet mesh (8^3 cubes).
+/// 4 quadratic tet mesh (8^3 cubes), 5 flat plate (one affine region of
+/// 16384 bicubic cells), 6 the same plate with waviness 1e-3 (no region).
 Geometry MakeGeometry(int workload) {
   switch (workload) {
+    case 5:
+      return Plate(0.0);
+    case 6:
+      return Plate(1e-3);
     case 0:
       return invmap::samples::WavySurface(32);
     case 1:
@@ -38,7 +69,7 @@ Geometry MakeGeometry(int workload) {
 }
 
 const char* WorkloadName(int workload) {
-  static const char* const kNames[] = {"surface", "torus", "curve2d", "trimesh", "tets_p2"};
+  static const char* const kNames[] = {"surface", "torus", "curve2d", "trimesh", "tets_p2", "flat_plate", "wavy_plate"};
   return kNames[workload];
 }
 
@@ -130,10 +161,10 @@ void BM_OracleRatio(benchmark::State& state) {
 
 // Arguments: workload, threads (0 = all cores).
 BENCHMARK(BM_InvertBatch)
-    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 2}})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_OracleRatio)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_OracleRatio)->DenseRange(0, 6)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 }  // namespace
 

@@ -95,12 +95,12 @@ BuildResult Manifold::Build(const Geometry& geometry) {
     auto impl = std::make_unique<Impl>();
     result.error = impl->store.Build(geometry, 0);
     if (!result.error.empty()) return result;
-    std::vector<engine::BvhBox> boxes(impl->store.size());
-    for (std::int64_t c = 0; c < impl->store.size(); ++c) {
-      const kernels::CellSolver& s = impl->store.solver(c);
+    // The BVH holds the subdivisions: affine regions and the other cells.
+    std::vector<engine::BvhBox> boxes(impl->store.numSubdivisions());
+    for (std::int64_t s = 0; s < impl->store.numSubdivisions(); ++s) {
       for (int k = 0; k < 3; ++k) {
-        boxes[c].lo[k] = s.boxLo()[k];
-        boxes[c].hi[k] = s.boxHi()[k];
+        boxes[s].lo[k] = impl->store.subdivisionBoxLo(s)[k];
+        boxes[s].hi[k] = impl->store.subdivisionBoxHi(s)[k];
       }
     }
     impl->bvh = engine::BuildBvh(boxes.data(), static_cast<int>(boxes.size()));

@@ -354,6 +354,7 @@ ExtractedCells ExtractBezierCells(const BSplinePatch& patch) {
     } else {
       dirs[dir] = DummyDirection();
     }
+    cells.spans[dir] = dirs[dir].numSpans();
     cells.numCells *= dirs[dir].numSpans();
     cells.pointsPerCell *= dirs[dir].degree + 1;
   }

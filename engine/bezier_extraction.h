@@ -50,6 +50,9 @@ struct ExtractedCells {
   /// Number of cells: the non-empty knot spans inside the parameter domain,
   /// numbered u fastest, then v, then w.
   int numCells = 0;
+  /// Non-empty spans per direction (1 past paramDim): numCells is their
+  /// product, and cell (i, j, k) is i + spans[0] * (j + spans[1] * k).
+  std::array<int, 3> spans{1, 1, 1};
   /// Control points per cell: the product of (degrees[i] + 1).
   int pointsPerCell = 0;
   /// numCells * pointsPerCell * ambientDim Cartesian coordinates; point k of

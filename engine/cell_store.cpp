@@ -1,6 +1,9 @@
 #include "engine/cell_store.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "engine/bezier_extraction.h"
@@ -111,6 +114,14 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
     return "dimension: " + std::to_string(dimension_) + ", expected 2 or 3";
   }
   const int dim = dimension_;
+  // The cell grids of the B-spline patches, searched for affine regions once
+  // the solvers exist.
+  struct SplineGrid {
+    std::int64_t firstCell;
+    std::array<int, 3> spans;
+    int paramDim;
+  };
+  std::vector<SplineGrid> splineGrids;
   for (std::size_t p = 0; p < geometry.patches.size(); ++p) {
     const Patch& patch = geometry.patches[p];
     patchFirst_.push_back(static_cast<std::int64_t>(shapes_.size()));
@@ -136,6 +147,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         }
         const ExtractedCells cells = ExtractBezierCells(spline);
         const kernels::CellShape shape(cells.type, cells.degrees);
+        splineGrids.push_back({static_cast<std::int64_t>(shapes_.size()), cells.spans, cells.paramDim});
         for (int c = 0; c < cells.numCells; ++c) {
           origin.indexInPatch = c;
           for (int d = 0; d < cells.paramDim; ++d) {
@@ -243,6 +255,45 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         }
       },
       maxThreads);
+
+  // Algorithm 6: affine regions, and the subdivisions the BVH is built over.
+  double coordinateMagnitude = 0.0;
+  for (double x : points_) coordinateMagnitude = std::max(coordinateMagnitude, std::fabs(x));
+  for (const SplineGrid& grid : splineGrids) {
+    const std::int64_t cells = static_cast<std::int64_t>(grid.spans[0]) * grid.spans[1] * grid.spans[2];
+    double diagonal2 = 0.0;
+    for (int k = 0; k < dim; ++k) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (std::int64_t c = grid.firstCell; c < grid.firstCell + cells; ++c) {
+        lo = std::min(lo, solvers_[c].boxLo()[k]);
+        hi = std::max(hi, solvers_[c].boxHi()[k]);
+      }
+      diagonal2 += (hi - lo) * (hi - lo);
+    }
+    // Cells whose maps agree to well below the solver's tolerance share a
+    // region; the second term covers the rounding of large coordinates.
+    const double tolerance = 1e-12 * std::sqrt(diagonal2) + 1e-15 * coordinateMagnitude;
+    FindAffineRegions(*this, grid.firstCell, grid.spans.data(), grid.paramDim, tolerance, &regions_);
+  }
+  regionOfCell_.assign(static_cast<std::size_t>(count), -1);
+  for (std::size_t r = 0; r < regions_.size(); ++r) {
+    const AffineRegion& region = regions_[r];
+    std::int64_t extent[3] = {1, 1, 1};
+    for (int d = 0; d < region.paramDim; ++d) extent[d] = static_cast<std::int64_t>(region.breaks[d].size()) - 1;
+    for (std::int64_t k = 0; k < extent[2]; ++k)
+      for (std::int64_t j = 0; j < extent[1]; ++j)
+        for (std::int64_t i = 0; i < extent[0]; ++i)
+          regionOfCell_[region.firstCell + i * region.cellStride[0] + j * region.cellStride[1] +
+                        k * region.cellStride[2]] = static_cast<std::int32_t>(r);
+  }
+  for (std::int64_t c = 0; c < count; ++c) {
+    const std::int32_t r = regionOfCell_[c];
+    if (r < 0) {
+      subdivisions_.push_back(c);
+    } else if (regions_[r].firstCell == c) {
+      subdivisions_.push_back(-1 - static_cast<std::int64_t>(r));
+    }
+  }
   return {};
 }
 
@@ -250,7 +301,11 @@ std::size_t CellStore::MemoryBytes() const {
   std::size_t bytes = points_.capacity() * sizeof(double) + weights_.capacity() * sizeof(double) +
                       shapes_.capacity() * sizeof(kernels::CellShape) +
                       (pointOffset_.capacity() + weightOffset_.capacity()) * sizeof(std::int64_t) +
-                      origins_.capacity() * sizeof(CellOrigin) + solvers_.capacity() * sizeof(kernels::CellSolver);
+                      origins_.capacity() * sizeof(CellOrigin) + solvers_.capacity() * sizeof(kernels::CellSolver) +
+                      regions_.capacity() * sizeof(AffineRegion) + regionOfCell_.capacity() * sizeof(std::int32_t) +
+                      subdivisions_.capacity() * sizeof(std::int64_t);
+  for (const AffineRegion& r : regions_)
+    for (const std::vector<double>& breaks : r.breaks) bytes += breaks.capacity() * sizeof(double);
   for (const kernels::CellSolver& s : solvers_) bytes += s.NetMemoryBytes();
   return bytes;
 }

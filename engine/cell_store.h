@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/affine_regions.h"
 #include "engine/check.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
@@ -51,6 +52,25 @@ class CellStore {
   /// Heap memory of the cells: control points, weights, solvers and their nets.
   std::size_t MemoryBytes() const;
 
+  /// Affine regions of the B-spline patches (engine/affine_regions.h).
+  const std::vector<AffineRegion>& regions() const { return regions_; }
+  /// Subdivisions (algorithm 6): what the BVH holds and the search visits:
+  /// every affine region once, and every cell outside a region.
+  std::int64_t numSubdivisions() const { return static_cast<std::int64_t>(subdivisions_.size()); }
+  /// True when subdivision `s` is an affine region.
+  bool isRegion(std::int64_t s) const { return subdivisions_[s] < 0; }
+  /// The cell of a subdivision that is a cell.
+  std::int64_t subdivisionCell(std::int64_t s) const { return subdivisions_[s]; }
+  /// The region of a subdivision that is a region.
+  const AffineRegion& subdivisionRegion(std::int64_t s) const { return regions_[-1 - subdivisions_[s]]; }
+  /// Bounds of a subdivision's cells.
+  const double* subdivisionBoxLo(std::int64_t s) const {
+    return isRegion(s) ? subdivisionRegion(s).boxLo : solvers_[subdivisions_[s]].boxLo();
+  }
+  const double* subdivisionBoxHi(std::int64_t s) const {
+    return isRegion(s) ? subdivisionRegion(s).boxHi : solvers_[subdivisions_[s]].boxHi();
+  }
+
  private:
   /// Appends one Bezier cell (control points copied) and its origin.
   void AddCell(const kernels::CellShape& shape, const double* points, const double* weights,
@@ -67,6 +87,9 @@ class CellStore {
   std::vector<double> weights_;
   std::vector<CellOrigin> origins_;
   std::vector<kernels::CellSolver> solvers_;  // built last: they point into points_ and weights_
+  std::vector<AffineRegion> regions_;
+  std::vector<std::int32_t> regionOfCell_;    // -1 outside every region
+  std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
 };
 
 /// Converts the public cell type to the kernels' one.

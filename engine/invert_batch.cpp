@@ -5,9 +5,11 @@
 #include <limits>
 #include <vector>
 
+#include "engine/affine_regions.h"
 #include "engine/nearest_cells.h"
 #include "engine/parallel.h"
 #include "engine/spatial_sort.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::engine {
 namespace {
@@ -24,10 +26,13 @@ struct BucketScratch {
   kernels::SolveWorkspace workspace;
 };
 
-double BoxDistance2(const kernels::CellSolver& solver, const double* p, int dim) {
+/// Squared distance from a point to the bounds of a subdivision's cells.
+double SubdivisionBoxDistance2(const CellStore& store, std::int64_t subdivision, const double* p, int dim) {
+  const double* lo = store.subdivisionBoxLo(subdivision);
+  const double* hi = store.subdivisionBoxHi(subdivision);
   double d2 = 0.0;
   for (int k = 0; k < dim; ++k) {
-    const double d = std::max({solver.boxLo()[k] - p[k], 0.0, p[k] - solver.boxHi()[k]});
+    const double d = std::max({lo[k] - p[k], 0.0, p[k] - hi[k]});
     d2 += d * d;
   }
   return d2;
@@ -81,7 +86,32 @@ struct PointSearch {
   /// The squared distance a cell must beat.
   double Bound2() const { return bestCell >= 0 ? best * best : std::nextafter(best * best, kInf); }
 
-  void Solve(std::int64_t cell) {
+  /// Algorithm 6: a region is solved as one block, a cell by the cell solver.
+  void Solve(std::int64_t subdivision) {
+    if (store.isRegion(subdivision)) {
+      SolveRegion(store.subdivisionRegion(subdivision));
+      return;
+    }
+    SolveCell(store.subdivisionCell(subdivision));
+  }
+
+  void SolveRegion(const AffineRegion& region) {
+    const RegionSolution r = SolveAffineRegion(region, p);
+    if (bestCell >= 0 ? !(r.distance < best) : !(r.distance <= best)) return;
+    Accept(r);
+  }
+
+  void Accept(const RegionSolution& r) {
+    best = r.distance;
+    bestCell = r.cell;
+    bestResult = kernels::CellSolveResult();
+    std::copy(r.ref, r.ref + 3, bestResult.ref);
+    std::copy(r.closest, r.closest + 3, bestResult.closest);
+    bestResult.distance = r.distance;
+    bestResult.status = kernels::PointStatus::Converged;
+  }
+
+  void SolveCell(std::int64_t cell) {
     const kernels::CellSolver& solver = store.solver(cell);
     const kernels::CellSolveResult r =
         solver.Solve(p, cell == warmCell ? warmRef : nullptr, &scratch.workspace, Bound2());
@@ -96,7 +126,27 @@ struct PointSearch {
 
   /// 7.3.2.1: a volume cell whose full-rank Newton solve converges inside
   /// holds the point exactly; only the local solve runs, no global search.
-  void TryInside(std::int64_t cell) {
+  void TryInside(std::int64_t subdivision) {
+    if (store.isRegion(subdivision)) {
+      TryInsideRegion(store.subdivisionRegion(subdivision));
+      return;
+    }
+    TryInsideCell(store.subdivisionCell(subdivision));
+  }
+
+  /// A volume region holds the point when its exact solution is the point
+  /// itself (to the distance tolerance of its size).
+  void TryInsideRegion(const AffineRegion& region) {
+    if (region.paramDim != store.dimension()) return;
+    const RegionSolution r = SolveAffineRegion(region, p);
+    double size2 = 0.0;
+    for (int k = 0; k < store.dimension(); ++k) size2 += (region.boxHi[k] - region.boxLo[k]) * (region.boxHi[k] - region.boxLo[k]);
+    if (r.distance > kernels::kDistanceTolerance * std::sqrt(size2)) return;
+    Accept(r);
+    inside = true;
+  }
+
+  void TryInsideCell(std::int64_t cell) {
     const kernels::CellSolver& solver = store.solver(cell);
     if (!solver.isFullRank()) return;
     kernels::CellSolveResult r;
@@ -122,7 +172,7 @@ void SearchCandidates(PointSearch& search) {
   heap.clear();
   const std::vector<CellCandidate>& candidates = search.scratch.candidates;
   for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
-    heap.emplace_back(BoxDistance2(store.solver(candidates[c].cell), search.p, dim), c);
+    heap.emplace_back(SubdivisionBoxDistance2(store, candidates[c].cell, search.p, dim), c);
   }
   if (store.hasVolumeCells()) {
     for (const auto& [lowerBound2, c] : heap) {
