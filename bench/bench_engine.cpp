@@ -48,7 +48,8 @@ Geometry Plate(double waviness) {
 /// Workloads: 0 wavy bicubic surface (32 x 32 spans), 1 NURBS torus,
 /// 2 planar NURBS curve, 3 bumpy-sphere triangle mesh (1.3 M triangles),
 /// 4 quadratic tet mesh (8^3 cubes), 5 flat plate (one affine region of
-/// 16384 bicubic cells), 6 the same plate with waviness 1e-3 (no region).
+/// 16384 bicubic cells), 6 the same plate with waviness 1e-3 (no region),
+/// 7 the triangle mesh of 3 with scan-like points (within 1e-4 of its size).
 Geometry MakeGeometry(int workload) {
   switch (workload) {
     case 5:
@@ -62,6 +63,7 @@ Geometry MakeGeometry(int workload) {
     case 2:
       return invmap::samples::NurbsCurve2D();
     case 3:
+    case 7:
       return invmap::samples::BumpySphere(1000000);
     default:
       return invmap::samples::ToBezierGeometry(invmap::samples::CurvedTetMesh(8));
@@ -69,7 +71,7 @@ Geometry MakeGeometry(int workload) {
 }
 
 const char* WorkloadName(int workload) {
-  static const char* const kNames[] = {"surface", "torus", "curve2d", "trimesh", "tets_p2", "flat_plate", "wavy_plate"};
+  static const char* const kNames[] = {"surface", "torus", "curve2d", "trimesh", "tets_p2", "flat_plate", "wavy_plate", "trimesh_scan"};
   return kNames[workload];
 }
 
@@ -96,7 +98,7 @@ const Workload& GetWorkload(int workload) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> unit(0.0, 1.0), symmetric(-1.0, 1.0);
   const std::int64_t cells = w.manifold.NumCells(0);
-  const double spread = workload == 4 ? 0.0 : 0.02 * std::sqrt(size2);
+  const double spread = workload == 4 ? 0.0 : (workload == 7 ? 1e-4 : 0.02) * std::sqrt(size2);
   for (int i = 0; i < 200000; ++i) {
     const double sample[3] = {unit(rng), unit(rng), unit(rng)};
     double params[3], point[3];
@@ -161,10 +163,10 @@ void BM_OracleRatio(benchmark::State& state) {
 
 // Arguments: workload, threads (0 = all cores).
 BENCHMARK(BM_InvertBatch)
-    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {1, 2}})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_OracleRatio)->DenseRange(0, 6)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_OracleRatio)->DenseRange(0, 7)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 }  // namespace
 

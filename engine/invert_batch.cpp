@@ -24,6 +24,13 @@ struct BucketScratch {
   std::vector<int> stack;
   std::vector<std::pair<double, int>> order;  // (point's lower bound^2, candidate)
   kernels::SolveWorkspace workspace;
+  // The bucket's points as lanes (structure of arrays) and their best answer
+  // over the affine simplex candidates, solved a cell at a time for all lanes.
+  std::vector<double> laneCoord[3];
+  std::vector<double> laneRef[3], laneClosest[3], laneDistance;
+  std::vector<kernels::PointStatus> laneStatus;
+  std::vector<std::int64_t> laneBestCell;
+  std::vector<kernels::CellSolveResult> laneBest;
 };
 
 /// Squared distance from a point to the bounds of a subdivision's cells.
@@ -82,6 +89,16 @@ struct PointSearch {
   kernels::CellSolveResult bestResult;
   int iterations = 0;
   bool inside = false;  // a volume cell holds the point: nothing is closer
+
+  /// Starts from the best answer the bucket's lane solves found (cell -1: none).
+  void Seed(std::int64_t cell, const kernels::CellSolveResult& result) {
+    if (cell < 0) return;
+    best = result.distance;
+    bestCell = cell;
+    bestResult = result;
+    const kernels::CellSolver& solver = store.solver(cell);
+    inside = solver.isFullRank() && result.distance <= kernels::kDistanceTolerance * solver.size();
+  }
 
   /// The squared distance a cell must beat.
   double Bound2() const { return bestCell >= 0 ? best * best : std::nextafter(best * best, kInf); }
@@ -165,13 +182,19 @@ struct PointSearch {
 /// Algorithm 4 over the bucket's candidate list, in the order of this
 /// point's own lower bound (popped lazily from a heap: the search usually
 /// stops after the first few).
-void SearchCandidates(PointSearch& search) {
+/// True for a candidate that SolveAffineSimplexLanes already solved.
+bool SolvedAsLanes(const CellStore& store, std::int64_t subdivision) {
+  return !store.isRegion(subdivision) && store.solver(store.subdivisionCell(subdivision)).isAffineSimplex();
+}
+
+void SearchCandidates(PointSearch& search, bool lanesSolved) {
   const CellStore& store = search.store;
   const int dim = store.dimension();
   std::vector<std::pair<double, int>>& heap = search.scratch.order;
   heap.clear();
   const std::vector<CellCandidate>& candidates = search.scratch.candidates;
   for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
+    if (lanesSolved && SolvedAsLanes(store, candidates[c].cell)) continue;
     heap.emplace_back(SubdivisionBoxDistance2(store, candidates[c].cell, search.p, dim), c);
   }
   if (store.hasVolumeCells()) {
@@ -241,6 +264,62 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
       }
     }
   }
+}
+
+/// Step 5 of the batch (DESIGN.md): the bucket's points that target an affine
+/// segment, triangle or tetrahedron are solved together, one candidate cell
+/// at a time for all lanes, by the vectorized closed form; each lane keeps
+/// its best. Returns false (nothing done) when no candidate is one.
+bool SolveAffineSimplexLanes(const CellStore& store, const std::int64_t* order, std::int64_t count,
+                             const QueryPoints& points, double maxDistance, BucketScratch& scratch) {
+  bool any = false;
+  for (const CellCandidate& candidate : scratch.candidates) any = any || SolvedAsLanes(store, candidate.cell);
+  if (!any) return false;
+  const int dim = store.dimension();
+  const int lanes = static_cast<int>(count);
+  for (int k = 0; k < 3; ++k) {
+    scratch.laneCoord[k].resize(lanes);
+    scratch.laneRef[k].resize(lanes);
+    scratch.laneClosest[k].resize(lanes);
+  }
+  scratch.laneDistance.resize(lanes);
+  scratch.laneStatus.resize(lanes);
+  scratch.laneBestCell.assign(lanes, -1);
+  scratch.laneBest.resize(lanes);
+  for (int l = 0; l < lanes; ++l)
+    for (int k = 0; k < 3; ++k) scratch.laneCoord[k][l] = k < dim ? points.coord[k][order[l]] : 0.0;
+  kernels::QueryLane query;
+  query.count = lanes;
+  kernels::ResultLane result;
+  for (int k = 0; k < 3; ++k) {
+    query.coord[k] = scratch.laneCoord[k].data();
+    result.ref[k] = scratch.laneRef[k].data();
+    result.closest[k] = scratch.laneClosest[k].data();
+  }
+  result.distance = scratch.laneDistance.data();
+  result.status = scratch.laneStatus.data();
+  for (const CellCandidate& candidate : scratch.candidates) {
+    if (!SolvedAsLanes(store, candidate.cell)) continue;
+    const std::int64_t cell = store.subdivisionCell(candidate.cell);
+    store.solver(cell).SolveLane(query, result, &scratch.workspace);
+    for (int l = 0; l < lanes; ++l) {
+      if (scratch.laneStatus[l] == kernels::PointStatus::InvalidInput) continue;
+      const double d = scratch.laneDistance[l];
+      // As PointSearch: the gap tolerance admits equality, a found answer
+      // only a strictly better one (so ties keep the earlier candidate).
+      if (scratch.laneBestCell[l] >= 0 ? !(d < scratch.laneBest[l].distance) : !(d <= maxDistance)) continue;
+      kernels::CellSolveResult& best = scratch.laneBest[l];
+      for (int k = 0; k < 3; ++k) {
+        best.ref[k] = scratch.laneRef[k][l];
+        best.closest[k] = scratch.laneClosest[k][l];
+      }
+      best.distance = d;
+      best.status = scratch.laneStatus[l];
+      best.iterations = 0;
+      scratch.laneBestCell[l] = cell;
+    }
+  }
+  return true;
 }
 
 /// Writes one point's answer at its input index and keeps it as the next
@@ -330,6 +409,9 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& poin
           const bool useBucketList =
               NearestCells(bvh, blo, bhi, &scratch.candidates, &scratch.stack, maxDistance, 4 * kMaxBucketCandidates) &&
               scratch.candidates.size() <= kMaxBucketCandidates;
+          const bool lanesSolved =
+              useBucketList &&
+              SolveAffineSimplexLanes(store, pointNew2Old.data() + first, last - first, points, maxDistance, scratch);
           std::int64_t warmCell = -1;
           double warmRef[3] = {0, 0, 0};
           for (std::int64_t s = first; s < last; ++s) {
@@ -343,7 +425,8 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& poin
             if (!finite) continue;
             PointSearch search(store, p, scratch, warmCell, warmRef, maxDistance);
             if (useBucketList) {
-              SearchCandidates(search);
+              if (lanesSolved) search.Seed(scratch.laneBestCell[s - first], scratch.laneBest[s - first]);
+              SearchCandidates(search, lanesSolved);
             } else {
               SearchBvh(bvh, search);
             }

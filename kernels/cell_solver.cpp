@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "kernels/affine_simplex.h"
+#include "kernels/affine_simplex_lanes.h"
 #include "kernels/cell_bounds.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
@@ -235,6 +236,54 @@ void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result
   result->status = onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
 }
 
+void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const {
+  const int pd = cell_.shape.paramDim();
+  const int ad = cell_.ambientDim;
+  const double* vertices[4];
+  for (int v = 0; v <= pd; ++v) vertices[v] = cell_.points + static_cast<size_t>(vertexControl_[v]) * ad;
+  double ref[3][kSimplexLaneChunk], dist2[kSimplexLaneChunk];
+  bool onBoundary[kSimplexLaneChunk];
+  for (int first = 0; first < queries.count; first += kSimplexLaneChunk) {
+    const int n = std::min(kSimplexLaneChunk, queries.count - first);
+    const double* const coord[3] = {queries.coord[0] + first, queries.coord[1] + first,
+                                    ad > 2 ? queries.coord[2] + first : nullptr};
+    double* const refOut[3] = {ref[0], ref[1], ref[2]};
+    ClosestPointsOnSimplexLanes(pd, ad, vertices, coord, n, refOut, dist2, onBoundary);
+    for (int l = 0; l < n; ++l) {
+      const int lane = first + l;
+      bool finite = true;
+      for (int k = 0; k < ad; ++k) finite = finite && std::isfinite(coord[k][l]);
+      if (!finite) {
+        constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+        for (int i = 0; i < 3; ++i) {
+          if (results.ref[i]) results.ref[i][lane] = kNaN;
+          if (results.closest[i]) results.closest[i][lane] = kNaN;
+        }
+        if (results.distance) results.distance[lane] = kNaN;
+        if (results.status) results.status[lane] = PointStatus::InvalidInput;
+        if (results.iterations) results.iterations[lane] = 0;
+        continue;
+      }
+      for (int i = 0; i < 3; ++i) {
+        if (results.ref[i]) results.ref[i][lane] = i < pd ? ref[i][l] : std::numeric_limits<double>::quiet_NaN();
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (!results.closest[k]) continue;
+        if (k >= ad) {
+          results.closest[k][lane] = std::numeric_limits<double>::quiet_NaN();
+          continue;
+        }
+        double x = vertices[0][k];
+        for (int i = 0; i < pd; ++i) x += ref[i][l] * (vertices[i + 1][k] - vertices[0][k]);
+        results.closest[k][lane] = x;
+      }
+      if (results.distance) results.distance[lane] = std::sqrt(dist2[l]);
+      if (results.status) results.status[lane] = onBoundary[l] ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+      if (results.iterations) results.iterations[lane] = 0;
+    }
+  }
+}
+
 bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result) const {
   const int pd = cell_.shape.paramDim();
   double start[3];
@@ -389,6 +438,12 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
 void CellSolver::SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const {
   const int pd = cell_.shape.paramDim();
   const int ad = cell_.ambientDim;
+  if (vertexControl_[0] >= 0) {
+    SolveAffineSimplexLane(queries, results);
+    return;
+  }
+  // Curved cells: Newton iterations differ per lane, so lanes are solved one
+  // after the other.
   for (int l = 0; l < queries.count; ++l) {
     double point[3] = {0, 0, 0};
     for (int k = 0; k < ad; ++k) point[k] = queries.coord[k][l];

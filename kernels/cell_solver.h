@@ -88,8 +88,14 @@ class CellSolver {
   /// answer is exact and global); false otherwise (result.iterations is set).
   bool SolveInside(const double* point, const double* initialRef, CellSolveResult* result) const;
 
-  /// Solves every lane of `queries`; see QueryLane and ResultLane.
+  /// Solves every lane of `queries`; see QueryLane and ResultLane. Affine
+  /// segments, triangles and tetrahedra solve all lanes at once in closed
+  /// form (vectorized, kernels/affine_simplex_lanes.h); curved cells solve
+  /// the lanes one after the other (initialRef warm-starts each).
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+
+  /// True for affine segments, triangles and tetrahedra, solved in closed form.
+  bool isAffineSimplex() const { return vertexControl_[0] >= 0; }
 
   /// Lower bound of the squared distance from `point` to the cell: the
   /// smallest Bernstein coefficient ratio of the squared distance (exact for
@@ -115,6 +121,8 @@ class CellSolver {
   /// the local answer `best` global; returns false when the budget ran out.
   /// Closed-form answer for affine line, tri and tet cells (7.3.2.2).
   void SolveAffineSimplex(const double* point, CellSolveResult* result) const;
+  /// SolveLane for affine simplices.
+  void SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const;
 
   bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 

@@ -636,5 +636,78 @@ TEST(CellSolverLane, MatchesSolvePerLane) {
   }
 }
 
+TEST(CellSolverLane, AffineSimplexLanesMatchSolve) {
+  // Affine segments, triangles and tetrahedra take the vectorized closed
+  // form: same answers as Solve (to rounding), several chunks of lanes, a NaN
+  // lane, degenerate simplices, points inside tetrahedra.
+  std::mt19937_64 rng(82);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (CellType type : {CellType::Line, CellType::Tri, CellType::Tet}) {
+    for (int ad = std::max(ParamDimOf(type), 2); ad <= 3; ++ad) {
+      for (int variant = 0; variant < 4; ++variant) {
+        RefCell cell = RandomCurvedCell(type, 1, false, ad, rng);
+        // Variant 3: a degenerate simplex (the last vertex on the first edge).
+        const int n = static_cast<int>(cell.points.size()) / ad;
+        if (variant == 3)
+          for (int k = 0; k < ad; ++k)
+            cell.points[(n - 1) * ad + k] = 0.3 * cell.points[k] + 0.7 * cell.points[ad + k];
+        const CellSolver solver(cell.view());
+        ASSERT_TRUE(solver.isAffineSimplex());
+        const int count = 150;
+        std::vector<double> coord[3];
+        for (int l = 0; l < count; ++l) {
+          const Query q = RandomQuery(cell, kQueryKinds[l % 10], rng);
+          for (int k = 0; k < 3; ++k) coord[k].push_back(k < ad ? q.point[k] + (l % 3 == 0 ? 0.0 : 0.3 * unit(rng)) : 0.0);
+        }
+        coord[1][count / 3] = std::numeric_limits<double>::infinity();
+        QueryLane in;
+        in.count = count;
+        for (int k = 0; k < ad; ++k) in.coord[k] = coord[k].data();
+        std::vector<double> ref[3], closest[3], distance(count);
+        std::vector<PointStatus> status(count);
+        std::vector<int> iterations(count);
+        ResultLane out;
+        for (int k = 0; k < 3; ++k) {
+          ref[k].assign(count, -7.0);
+          closest[k].assign(count, -7.0);
+          out.ref[k] = ref[k].data();
+          out.closest[k] = closest[k].data();
+        }
+        out.distance = distance.data();
+        out.status = status.data();
+        out.iterations = iterations.data();
+        SolveWorkspace ws;
+        solver.SolveLane(in, out, &ws);
+        const double tol = 1e-12 * solver.size();
+        for (int l = 0; l < count; ++l) {
+          SCOPED_TRACE(std::string(kernels::CellTypeName(type)) + " " + std::to_string(ad) + "d variant " +
+                       std::to_string(variant) + " lane " + std::to_string(l));
+          const double p[3] = {coord[0][l], coord[1][l], coord[2][l]};
+          const CellSolveResult r = solver.Solve(p, nullptr, &ws);
+          ASSERT_EQ(status[l] == PointStatus::InvalidInput, r.status == PointStatus::InvalidInput);
+          if (r.status == PointStatus::InvalidInput) {
+            EXPECT_TRUE(std::isnan(distance[l]));
+            continue;
+          }
+          EXPECT_NEAR(distance[l], r.distance, tol);
+          EXPECT_EQ(iterations[l], 0);
+          double d2 = 0;
+          for (int k = 0; k < ad; ++k) {
+            EXPECT_NEAR(closest[k][l], r.closest[k], 10 * tol);
+            d2 += (closest[k][l] - p[k]) * (closest[k][l] - p[k]);
+          }
+          EXPECT_NEAR(std::sqrt(d2), distance[l], tol);
+          // Off the simplex the closest point is unique: same status and
+          // parameters (on it, rounding decides between boundary and inside).
+          if (variant != 3 && r.distance > tol) {
+            EXPECT_EQ(status[l], r.status);
+            for (int i = 0; i < ParamDimOf(type); ++i) EXPECT_NEAR(ref[i][l], r.ref[i], 1e-8);
+          }
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace invmap::testing
