@@ -63,6 +63,9 @@ class CellStore {
   std::int64_t subdivisionCell(std::int64_t s) const { return subdivisions_[s]; }
   /// The region of a subdivision that is a region.
   const AffineRegion& subdivisionRegion(std::int64_t s) const { return regions_[-1 - subdivisions_[s]]; }
+  /// True when `cell` belongs to an affine region (it is then searched only
+  /// as part of its region).
+  bool inRegion(std::int64_t cell) const { return regionOfCell_[cell] >= 0; }
   /// Bounds of a subdivision's cells.
   const double* subdivisionBoxLo(std::int64_t s) const {
     return isRegion(s) ? subdivisionRegion(s).boxLo : solvers_[subdivisions_[s]].boxLo();

@@ -33,6 +33,16 @@ struct BucketScratch {
   std::vector<kernels::CellSolveResult> laneBest;
 };
 
+/// Squared distance from a point to a cell's control-point box.
+double CellBoxDistance2(const kernels::CellSolver& solver, const double* p, int dim) {
+  double d2 = 0.0;
+  for (int k = 0; k < dim; ++k) {
+    const double d = std::max({solver.boxLo()[k] - p[k], 0.0, p[k] - solver.boxHi()[k]});
+    d2 += d * d;
+  }
+  return d2;
+}
+
 /// Squared distance from a point to the bounds of a subdivision's cells.
 double SubdivisionBoxDistance2(const CellStore& store, std::int64_t subdivision, const double* p, int dim) {
   const double* lo = store.subdivisionBoxLo(subdivision);
@@ -151,6 +161,22 @@ struct PointSearch {
     TryInsideCell(store.subdivisionCell(subdivision));
   }
 
+  /// The previous point's cell first (7.3.2.1 with a warm start): in Morton
+  /// order a volume's points come in runs inside the same cell. Returns the
+  /// cell tried (the searches skip it), or -1.
+  std::int64_t TryInsideWarmCell() {
+    if (warmCell < 0 || !store.hasVolumeCells() || store.inRegion(warmCell)) return -1;
+    const kernels::CellSolver& solver = store.solver(warmCell);
+    if (!solver.isFullRank() || CellBoxDistance2(solver, p, store.dimension()) > 0.0) return -1;
+    TryInsideCell(warmCell);
+    return warmCell;
+  }
+
+  /// True when subdivision `s` is the cell `cell` (not a region).
+  bool IsCell(std::int64_t s, std::int64_t cell) const {
+    return cell >= 0 && !store.isRegion(s) && store.subdivisionCell(s) == cell;
+  }
+
   /// A volume region holds the point when its exact solution is the point
   /// itself (to the distance tolerance of its size).
   void TryInsideRegion(const AffineRegion& region) {
@@ -198,8 +224,10 @@ void SearchCandidates(PointSearch& search, bool lanesSolved) {
     heap.emplace_back(SubdivisionBoxDistance2(store, candidates[c].cell, search.p, dim), c);
   }
   if (store.hasVolumeCells()) {
+    const std::int64_t tried = search.TryInsideWarmCell();
     for (const auto& [lowerBound2, c] : heap) {
-      if (lowerBound2 == 0.0 && !search.inside) search.TryInside(candidates[c].cell);
+      if (lowerBound2 == 0.0 && !search.inside && !search.IsCell(candidates[c].cell, tried))
+        search.TryInside(candidates[c].cell);
     }
   }
   if (search.inside) return;
@@ -214,8 +242,8 @@ void SearchCandidates(PointSearch& search, bool lanesSolved) {
   }
 }
 
-/// Algorithm 4 with the candidates generated lazily: a best-first traversal
-/// of the BVH by each node's lower bound, cut at the best distance so far.
+/// Algorithm 4 with the candidates generated lazily: a traversal of the BVH
+/// cut at the best distance so far.
 void SearchBvh(const Bvh& bvh, PointSearch& search) {
   const std::vector<BvhNode>& nodes = bvh.Nodes();
   if (nodes.empty()) return;
@@ -223,6 +251,7 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
   const std::vector<BvhBox>& itemBoxes = bvh.ItemBoxes();
   const std::vector<int>& items = bvh.Items();
   // First the volume cells whose box holds the point (depth-first).
+  const std::int64_t tried = search.store.hasVolumeCells() ? search.TryInsideWarmCell() : -1;
   std::vector<int>& stack = search.scratch.stack;
   stack.assign(search.store.hasVolumeCells() ? 1 : 0, 0);
   while (!stack.empty() && !search.inside) {
@@ -232,7 +261,8 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
     const BvhNode& node = nodes[index];
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count && !search.inside; ++i) {
-        if (BoxDistance2(itemBoxes[i], search.p, dim) == 0.0) search.TryInside(items[i]);
+        if (BoxDistance2(itemBoxes[i], search.p, dim) == 0.0 && !search.IsCell(items[i], tried))
+          search.TryInside(items[i]);
       }
     } else {
       stack.push_back(node.first + 1);
@@ -240,29 +270,39 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
     }
   }
   if (search.inside) return;
-  std::vector<std::pair<double, int>>& heap = search.scratch.order;
-  heap.clear();
-  const auto later = [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a > b; };
-  heap.emplace_back(BoxDistance2(bvh.NodeBounds(0), search.p, dim), 0);
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), later);
-    const auto [lowerBound2, index] = heap.back();
-    heap.pop_back();
-    if (lowerBound2 > search.best * search.best) break;
+  // The previous point's cell first: neighbours in Morton order usually share
+  // it, and its distance bounds the traversal from the start.
+  std::int64_t seeded = -1;
+  if (search.warmCell >= 0 && !search.store.inRegion(search.warmCell) &&
+      CellBoxDistance2(search.store.solver(search.warmCell), search.p, dim) <= search.best * search.best) {
+    search.SolveCell(search.warmCell);
+    seeded = search.warmCell;
+  }
+  // Depth first, nearer child first; a node is skipped when its lower bound
+  // (recorded when it was pushed) no longer beats the best distance.
+  std::vector<std::pair<double, int>>& pending = search.scratch.order;
+  pending.clear();
+  pending.emplace_back(BoxDistance2(bvh.NodeBounds(0), search.p, dim), 0);
+  while (!pending.empty()) {
+    const auto [lowerBound2, index] = pending.back();
+    pending.pop_back();
+    if (lowerBound2 > search.best * search.best) continue;
     const BvhNode& node = nodes[index];
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        if (BoxDistance2(itemBoxes[i], search.p, dim) <= search.best * search.best) search.Solve(items[i]);
+        if (BoxDistance2(itemBoxes[i], search.p, dim) > search.best * search.best) continue;
+        if (search.IsCell(items[i], seeded)) continue;
+        search.Solve(items[i]);
       }
       continue;
     }
-    for (int child = node.first; child <= node.first + 1; ++child) {
-      const double childBound2 = BoxDistance2(bvh.NodeBounds(child), search.p, dim);
-      if (childBound2 <= search.best * search.best) {
-        heap.emplace_back(childBound2, child);
-        std::push_heap(heap.begin(), heap.end(), later);
-      }
-    }
+    const double near2 = BoxDistance2(bvh.NodeBounds(node.first), search.p, dim);
+    const double far2 = BoxDistance2(bvh.NodeBounds(node.first + 1), search.p, dim);
+    const bool firstNearer = near2 <= far2;
+    const std::pair<double, int> nearer(firstNearer ? near2 : far2, firstNearer ? node.first : node.first + 1);
+    const std::pair<double, int> farther(firstNearer ? far2 : near2, firstNearer ? node.first + 1 : node.first);
+    if (farther.first <= search.best * search.best) pending.push_back(farther);
+    if (nearer.first <= search.best * search.best) pending.push_back(nearer);
   }
 }
 

@@ -90,13 +90,13 @@ INSTANTIATE_TEST_SUITE_P(
                       ReferenceCase{"10-wikiBall.json", "10-wikiBall-tree.json", Mode::Csg, 5e-4, 107140, 52398,
                                     false},
                       ReferenceCase{"10-wikiBall.json", nullptr, Mode::Arrangement, 5e-4, 270631, 155424, false}),
-    [](const ::testing::TestParamInfo<ReferenceCase>& info) {
-      std::string name = info.param.functions;
+    [](const ::testing::TestParamInfo<ReferenceCase>& param) {
+      std::string name = param.param.functions;
       name = name.substr(0, name.find('.'));
       for (char& c : name)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-      const char* mode = info.param.mode == Mode::Csg ? "csg" : info.param.mode == Mode::Arrangement ? "ia" : "mi";
-      return "f" + name + "_" + mode + "_eps" + std::to_string(static_cast<int>(std::round(-std::log10(info.param.epsilon) * 10)));
+      const char* mode = param.param.mode == Mode::Csg ? "csg" : param.param.mode == Mode::Arrangement ? "ia" : "mi";
+      return "f" + name + "_" + mode + "_eps" + std::to_string(static_cast<int>(std::round(-std::log10(param.param.epsilon) * 10)));
     });
 
 // ---------------------------------------------------------------------------
@@ -444,8 +444,11 @@ TEST(RefineGrid, CsgDiscMinusDiscBoundaryIn2D) {
       const double onA = std::fabs((x - ca).norm() - ra), onB = std::fabs((x - cb).norm() - rb);
       EXPECT_LE(i == 0 ? onA : onB, epsilon) << "segment " << s;
       // Only boundary pieces: A's arc outside B, B's arc inside A.
-      if (i == 0) EXPECT_GE((x - cb).norm(), rb - epsilon);
-      if (i == 1) EXPECT_LE((x - ca).norm(), ra + epsilon);
+      if (i == 0) {
+        EXPECT_GE((x - cb).norm(), rb - epsilon);
+      } else {
+        EXPECT_LE((x - ca).norm(), ra + epsilon);
+      }
     }
   }
 }
