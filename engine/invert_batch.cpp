@@ -23,6 +23,7 @@ struct BucketScratch {
   std::vector<CellCandidate> candidates;
   std::vector<int> stack;
   std::vector<std::pair<double, int>> order;  // (point's lower bound^2, candidate)
+  std::vector<std::pair<double, int>> insideOrder;  // (-inside score, candidate or BVH item)
   kernels::SolveWorkspace workspace;
   // The bucket's points as lanes (structure of arrays) and their best answer
   // over the affine simplex candidates, solved a cell at a time for all lanes.
@@ -225,9 +226,23 @@ void SearchCandidates(PointSearch& search, bool lanesSolved) {
   }
   if (store.hasVolumeCells()) {
     const std::int64_t tried = search.TryInsideWarmCell();
-    for (const auto& [lowerBound2, c] : heap) {
-      if (lowerBound2 == 0.0 && !search.inside && !search.IsCell(candidates[c].cell, tried))
-        search.TryInside(candidates[c].cell);
+    // The cells whose box holds the point, likeliest first (by the point's
+    // place in the straight tetrahedron of the cell's vertices).
+    std::vector<std::pair<double, int>>& boxes = search.scratch.insideOrder;
+    boxes.clear();
+    if (!search.inside) {
+      for (const auto& [lowerBound2, c] : heap) {
+        if (lowerBound2 != 0.0 || search.IsCell(candidates[c].cell, tried)) continue;
+        const std::int64_t s = candidates[c].cell;
+        const double score = store.isRegion(s) ? 0.0 : store.solver(store.subdivisionCell(s)).InsideScore(search.p);
+        boxes.emplace_back(-score, c);
+      }
+      std::stable_sort(boxes.begin(), boxes.end(),
+                       [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a.first < b.first; });
+    }
+    for (const auto& [negativeScore, c] : boxes) {
+      if (search.inside) break;
+      search.TryInside(candidates[c].cell);
     }
   }
   if (search.inside) return;
@@ -250,24 +265,36 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
   const int dim = search.store.dimension();
   const std::vector<BvhBox>& itemBoxes = bvh.ItemBoxes();
   const std::vector<int>& items = bvh.Items();
-  // First the volume cells whose box holds the point (depth-first).
-  const std::int64_t tried = search.store.hasVolumeCells() ? search.TryInsideWarmCell() : -1;
+  // First the volume cells whose box holds the point, the previous point's
+  // cell first, then the likeliest (as in SearchCandidates).
+  const CellStore& store = search.store;
+  const std::int64_t tried = store.hasVolumeCells() ? search.TryInsideWarmCell() : -1;
   std::vector<int>& stack = search.scratch.stack;
-  stack.assign(search.store.hasVolumeCells() ? 1 : 0, 0);
-  while (!stack.empty() && !search.inside) {
+  std::vector<std::pair<double, int>>& boxes = search.scratch.insideOrder;
+  boxes.clear();
+  stack.assign(store.hasVolumeCells() && !search.inside ? 1 : 0, 0);
+  while (!stack.empty()) {
     const int index = stack.back();
     stack.pop_back();
     if (BoxDistance2(bvh.NodeBounds(index), search.p, dim) > 0.0) continue;
     const BvhNode& node = nodes[index];
     if (node.count > 0) {
-      for (int i = node.first; i < node.first + node.count && !search.inside; ++i) {
-        if (BoxDistance2(itemBoxes[i], search.p, dim) == 0.0 && !search.IsCell(items[i], tried))
-          search.TryInside(items[i]);
+      for (int i = node.first; i < node.first + node.count; ++i) {
+        if (BoxDistance2(itemBoxes[i], search.p, dim) > 0.0 || search.IsCell(items[i], tried)) continue;
+        const double score =
+            store.isRegion(items[i]) ? 0.0 : store.solver(store.subdivisionCell(items[i])).InsideScore(search.p);
+        boxes.emplace_back(-score, items[i]);
       }
     } else {
       stack.push_back(node.first + 1);
       stack.push_back(node.first);
     }
+  }
+  std::stable_sort(boxes.begin(), boxes.end(),
+                   [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a.first < b.first; });
+  for (const auto& [negativeScore, item] : boxes) {
+    if (search.inside) break;
+    search.TryInside(item);
   }
   if (search.inside) return;
   // The previous point's cell first: neighbours in Morton order usually share

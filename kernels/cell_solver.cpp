@@ -135,13 +135,15 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
   // A cell of a single point still needs a positive length scale.
   if (!(size_ > 0.0)) size_ = std::max(1.0, std::abs(center[0]) + std::abs(center[1]) + std::abs(center[2])) * 1e-300;
   affine_ = IsAffineCell(cell, size_);
-  if (affine_ && cell.shape.numFactors() == 1) {
+  if (cell.shape.numFactors() == 1) {
+    // A simplex's corner control points are its vertices.
     const SimplexFactor& fac = cell.shape.factor(0);
     const SimplexIndex& index = SimplexIndex::Get(fac.dim, fac.degree);
     for (int v = 0; v <= fac.dim; ++v) {
       std::array<int, 4> corner{0, 0, 0, 0};
       corner[v] = fac.degree;
-      vertexControl_[v] = index.Position(corner);
+      cornerControl_[v] = index.Position(corner);
+      if (affine_) vertexControl_[v] = cornerControl_[v];
     }
   }
 
@@ -234,6 +236,25 @@ void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result
   result->distance = std::sqrt(d2);
   result->iterations = 0;
   result->status = onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+}
+
+double CellSolver::InsideScore(const double* point) const {
+  if (cornerControl_[0] < 0 || cell_.shape.paramDim() != 3 || cell_.ambientDim != 3) return -kInsideScoreUnknown;
+  const double* v[4];
+  for (int i = 0; i < 4; ++i) v[i] = cell_.points + static_cast<size_t>(cornerControl_[i]) * 3;
+  double e[3][3], w[3];
+  for (int k = 0; k < 3; ++k) {
+    for (int i = 0; i < 3; ++i) e[i][k] = v[i + 1][k] - v[0][k];
+    w[k] = point[k] - v[0][k];
+  }
+  // Barycentric coordinates by Cramer's rule; a flat corner tetrahedron has no score.
+  auto det3 = [](const double* a, const double* b, const double* c) {
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  };
+  const double det = det3(e[0], e[1], e[2]);
+  if (!(std::fabs(det) > 0)) return -kInsideScoreUnknown;
+  const double l1 = det3(w, e[1], e[2]) / det, l2 = det3(e[0], w, e[2]) / det, l3 = det3(e[0], e[1], w) / det;
+  return std::min({1 - l1 - l2 - l3, l1, l2, l3});
 }
 
 void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const {

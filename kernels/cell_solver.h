@@ -94,6 +94,13 @@ class CellSolver {
   /// the lanes one after the other (initialRef warm-starts each).
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
 
+  /// Tetrahedra: the smallest barycentric coordinate of `point` relative to
+  /// the cell's corner control points (its vertices): positive inside the
+  /// straight tetrahedron they span, the likeliest to hold the point when the
+  /// cell is curved. Other cells: -kInsideScoreUnknown.
+  double InsideScore(const double* point) const;
+  static constexpr double kInsideScoreUnknown = 1e300;
+
   /// True for affine segments, triangles and tetrahedra, solved in closed form.
   bool isAffineSimplex() const { return vertexControl_[0] >= 0; }
 
@@ -134,6 +141,8 @@ class CellSolver {
   /// Affine simplex cells (line, tri, tet): control points at the vertices,
   /// solved in closed form; -1 otherwise.
   int vertexControl_[4] = {-1, -1, -1, -1};
+  /// Simplex cells: the control points at the vertices; -1 otherwise.
+  int cornerControl_[4] = {-1, -1, -1, -1};
   double paramScale_[3] = {1, 1, 1};  ///< |dx/du_i| at the center: the length of a unit step in u_i.
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
