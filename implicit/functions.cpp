@@ -16,6 +16,32 @@ Vec3 Normalized(const Vec3& v) {
   return {v[0] / length, v[1] / length, v[2] / length};
 }
 
+/// x relative to an axis through `origin` along the unit vector `axis`: the
+/// height along it, the radial vector from it, its length, and the unit
+/// radial direction (any unit vector orthogonal to the axis when x is on it).
+struct AxisCoordinates {
+  double height;
+  Vec3 radial;
+  double distance;
+  Vec3 outward;
+};
+
+AxisCoordinates AroundAxis(const Vec3& origin, const Vec3& axis, const Vec3& x) {
+  AxisCoordinates c;
+  const Vec3 d = {x[0] - origin[0], x[1] - origin[1], x[2] - origin[2]};
+  c.height = Dot(d, axis);
+  c.radial = {d[0] - c.height * axis[0], d[1] - c.height * axis[1], d[2] - c.height * axis[2]};
+  c.distance = std::sqrt(Dot(c.radial, c.radial));
+  if (c.distance > 0) {
+    c.outward = {c.radial[0] / c.distance, c.radial[1] / c.distance, c.radial[2] / c.distance};
+  } else {
+    const Vec3 other = std::fabs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    const double along = Dot(other, axis);
+    c.outward = Normalized({other[0] - along * axis[0], other[1] - along * axis[1], other[2] - along * axis[2]});
+  }
+  return c;
+}
+
 // Wraps a per-point evaluator `f(x, gradient) -> value` as a batch EvaluateFn.
 template <typename PointFn>
 Function MakeFunction(std::string name, PointFn f) {
@@ -54,25 +80,13 @@ Function Function::Sphere(const Vec3& center, double radius, bool squared) {
 Function Function::Cylinder(const Vec3& axisPoint, const Vec3& axisVector, double radius, bool squared) {
   const Vec3 axis = Normalized(axisVector);
   return MakeFunction("cylinder", [axisPoint, axis, radius, squared](const Vec3& x, Vec3& gradient) {
-    const Vec3 d = {x[0] - axisPoint[0], x[1] - axisPoint[1], x[2] - axisPoint[2]};
-    const double h = Dot(d, axis);
-    const Vec3 radial = {d[0] - h * axis[0], d[1] - h * axis[1], d[2] - h * axis[2]};
-    const double rho2 = Dot(radial, radial);
+    const AxisCoordinates c = AroundAxis(axisPoint, axis, x);
     if (squared) {
-      for (int a = 0; a < 3; ++a) gradient[a] = -2 * radial[a];
-      return radius * radius - rho2;
+      for (int a = 0; a < 3; ++a) gradient[a] = -2 * c.radial[a];
+      return radius * radius - c.distance * c.distance;
     }
-    const double rho = std::sqrt(rho2);
-    if (rho > 0) {
-      for (int a = 0; a < 3; ++a) gradient[a] = -radial[a] / rho;
-    } else {
-      // On the axis: any unit vector orthogonal to it.
-      const Vec3 other = std::fabs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-      const double along = Dot(other, axis);
-      gradient = Normalized({other[0] - along * axis[0], other[1] - along * axis[1], other[2] - along * axis[2]});
-      for (double& g : gradient) g = -g;
-    }
-    return radius - rho;
+    for (int a = 0; a < 3; ++a) gradient[a] = -c.outward[a];
+    return radius - c.distance;
   });
 }
 
@@ -87,25 +101,13 @@ Function Function::Plane(const Vec3& point, const Vec3& normal) {
 Function Function::Torus(const Vec3& center, const Vec3& axisVector, double majorRadius, double minorRadius) {
   const Vec3 axis = Normalized(axisVector);
   return MakeFunction("torus", [center, axis, majorRadius, minorRadius](const Vec3& x, Vec3& gradient) {
-    const Vec3 d = {x[0] - center[0], x[1] - center[1], x[2] - center[2]};
-    const double h = Dot(d, axis);
-    const Vec3 radial = {d[0] - h * axis[0], d[1] - h * axis[1], d[2] - h * axis[2]};
-    const double rho = std::sqrt(Dot(radial, radial));
-    // Unit vector from the axis towards x in the torus' plane (any one on the axis).
-    Vec3 outward = {1, 0, 0};
-    if (rho > 0) {
-      outward = {radial[0] / rho, radial[1] / rho, radial[2] / rho};
-    } else {
-      const Vec3 other = std::fabs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-      const double along = Dot(other, axis);
-      outward = Normalized({other[0] - along * axis[0], other[1] - along * axis[1], other[2] - along * axis[2]});
-    }
+    const AxisCoordinates c = AroundAxis(center, axis, x);
     // Distance to the core circle; its gradient is the unit vector from the
     // circle's nearest point to x.
-    const double a = rho - majorRadius;
-    const double tube = std::sqrt(a * a + h * h);
+    const double a = c.distance - majorRadius;
+    const double tube = std::sqrt(a * a + c.height * c.height);
     for (int k = 0; k < 3; ++k) {
-      const double towardX = a * outward[k] + h * axis[k];
+      const double towardX = a * c.outward[k] + c.height * axis[k];
       gradient[k] = tube > 0 ? -towardX / tube : (k == 0 ? -1.0 : 0.0);
     }
     return minorRadius - tube;

@@ -17,7 +17,7 @@
 
 #include "io/geometry_file.h"
 #include "io/input_error.h"
-#include "io/json_tracking_iterator.h"
+#include "io/json_sax.h"
 
 namespace invmap::io {
 namespace {
@@ -688,28 +688,7 @@ bool GeometryHandler::key(std::string& name) {
 
 bool GeometryHandler::parse_error(std::size_t position, const std::string& /*lastToken*/,
                                   const Json::exception& error) {
-  // nlohmann's text is "[json.exception.parse_error.101] parse error at line
-  // 3, column 7: syntax error ..."; the id and its position are replaced by
-  // ours.
-  std::string what = error.what();
-  if (const std::size_t bracket = what.find("] "); bracket != std::string::npos) what.erase(0, bracket + 2);
-  if (what.rfind("parse error", 0) == 0) {
-    if (const std::size_t colon = what.find(": "); colon != std::string::npos) what.erase(0, colon + 2);
-  }
-  // The lexer stops at the first bad character ("N" of NaN, "a" of nan,
-  // read as a broken null), so the word around it is read from the text.
-  const auto isAlpha = [&](std::size_t i) { return std::isalpha(static_cast<unsigned char>(begin_[i])) != 0; };
-  std::size_t start = std::min(position, size_);
-  start = start > 0 ? start - 1 : 0;
-  while (start > 0 && isAlpha(start - 1)) --start;
-  std::string word;
-  for (std::size_t i = start; i < size_ && word.size() < 9 && isAlpha(i); ++i) {
-    word += static_cast<char>(std::tolower(static_cast<unsigned char>(begin_[i])));
-  }
-  if (word == "nan" || word == "inf" || word == "infinity") {
-    what += " (JSON has no NaN or infinity: every number must be finite)";
-  }
-  Fail(position, "invalid JSON: " + what);
+  Fail(position, DescribeJsonParseError(begin_, size_, position, error.what()));
 }
 
 Geometry GeometryHandler::Finish() {

@@ -22,7 +22,7 @@
 #include "io/geometry_file.h"
 #include "io/gmsh_reader.h"
 #include "io/input_error.h"
-#include "io/json_tracking_iterator.h"
+#include "io/json_sax.h"
 
 namespace invmap::io {
 namespace {
@@ -33,7 +33,7 @@ using Json = nlohmann::json;
 // JSON with line numbers. The function and tree files are small, so they are
 // read into a tree of values that remember their line; nlohmann's SAX events
 // carry no position, so the lexer reads through an iterator that publishes
-// how far it has read (io/json_tracking_iterator.h).
+// how far it has read (io/json_sax.h).
 
 /// One JSON value and the line where it starts.
 struct Value {
@@ -158,28 +158,7 @@ class TreeBuilder {
   /// Invalid JSON at byte `position`: throws with nlohmann's reason.
   [[noreturn]] bool parse_error(std::size_t position, const std::string& /*lastToken*/,
                                 const Json::exception& error) {
-    // nlohmann's text is "[json.exception.parse_error.101] parse error at
-    // line 3, column 7: syntax error ..."; the id and position are replaced
-    // by ours.
-    std::string what = error.what();
-    if (const std::size_t bracket = what.find("] "); bracket != std::string::npos) what.erase(0, bracket + 2);
-    if (what.rfind("parse error", 0) == 0) {
-      if (const std::size_t colon = what.find(": "); colon != std::string::npos) what.erase(0, colon + 2);
-    }
-    // The lexer stops at the first bad character ("N" of NaN), so the word
-    // around it is read from the text.
-    const auto isAlpha = [&](std::size_t i) { return std::isalpha(static_cast<unsigned char>(begin_[i])) != 0; };
-    std::size_t start = std::min(position, size_);
-    start = start > 0 ? start - 1 : 0;
-    while (start > 0 && isAlpha(start - 1)) --start;
-    std::string word;
-    for (std::size_t i = start; i < size_ && word.size() < 9 && isAlpha(i); ++i) {
-      word += static_cast<char>(std::tolower(static_cast<unsigned char>(begin_[i])));
-    }
-    if (word == "nan" || word == "inf" || word == "infinity") {
-      what += " (JSON has no NaN or infinity: every number must be finite)";
-    }
-    throw InputError(name_, LineAt(position), "invalid JSON: " + what);
+    throw InputError(name_, LineAt(position), DescribeJsonParseError(begin_, size_, position, error.what()));
   }
 
   /// The whole document (after a successful parse).
