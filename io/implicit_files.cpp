@@ -213,10 +213,9 @@ class TreeBuilder {
   std::int64_t keyLine_ = 0;
 };
 
-/// Parses the JSON file `path` into a Value tree; the top level must be a
-/// non-empty list of `what` ("function objects").
-Value ReadJsonList(const std::string& path, const char* what) {
-  const std::string text = ReadWholeFile(path);
+/// Parses JSON `text` (named `path` in messages) into a Value tree; the top
+/// level must be a non-empty list of `what` ("function objects").
+Value ParseJsonList(const std::string& text, const std::string& path, const char* what) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw InputError(path, 1 + std::count(text.begin(), text.end(), '\n'),
                      std::string("empty file, expected a JSON list of ") + what);
@@ -620,15 +619,23 @@ std::vector<std::size_t> OrderByLabel(const std::vector<std::array<int, 4>>& lab
 // ---------------------------------------------------------------------------
 
 std::vector<implicit::Function> ReadFunctionList(const std::string& path) {
-  const Value root = ReadJsonList(path, "function objects");
+  return ParseFunctionList(ReadWholeFile(path), path);
+}
+
+std::vector<implicit::CsgNode> ReadCsgTree(const std::string& path, int functionCount) {
+  return ParseCsgTree(ReadWholeFile(path), path, functionCount);
+}
+
+std::vector<implicit::Function> ParseFunctionList(const std::string& text, const std::string& path) {
+  const Value root = ParseJsonList(text, path, "function objects");
   std::vector<implicit::Function> functions;
   functions.reserve(root.items.size());
   for (std::size_t i = 0; i < root.items.size(); ++i) functions.push_back(ReadFunction(path, root.items[i], i));
   return functions;
 }
 
-std::vector<implicit::CsgNode> ReadCsgTree(const std::string& path, int functionCount) {
-  const Value root = ReadJsonList(path, "CSG nodes");
+std::vector<implicit::CsgNode> ParseCsgTree(const std::string& text, const std::string& path, int functionCount) {
+  const Value root = ParseJsonList(text, path, "CSG nodes");
   const std::size_t n = root.items.size();
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     throw InputError(path, root.line, "too many nodes (" + std::to_string(n) + ")");

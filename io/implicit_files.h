@@ -74,6 +74,11 @@ std::vector<implicit::CsgNode> ReadCsgTree(const std::string& path, int function
 /// kept cells.
 implicit::SimplexMesh ReadSimplexMeshMsh(const std::string& path);
 
+/// ReadFunctionList and ReadCsgTree of JSON text held in memory, named
+/// `name` in messages (the Python package's lists and dicts).
+std::vector<implicit::Function> ParseFunctionList(const std::string& text, const std::string& name);
+std::vector<implicit::CsgNode> ParseCsgTree(const std::string& text, const std::string& name, int functionCount);
+
 /// Writes the grid as gmsh MSH 4.1 ascii: one volume entity (surface in 2D)
 /// holding every node (tags 1..N, in vertex order) and every cell (tags
 /// 1..C, type 4 tetrahedra or type 2 triangles), then one $NodeData view per

@@ -24,6 +24,7 @@
 #include "io/input_error.h"
 #include "python/errors.h"
 #include "python/geometry_state.h"
+#include "python/grid_binding.h"
 #include "python/numpy_points.h"
 
 namespace py = pybind11;
@@ -398,4 +399,5 @@ Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
   m.def("_from_bspline", &FromBSpline, py::arg("control_points"), py::arg("counts"), py::arg("degrees"),
         py::arg("knots"), py::arg("weights"),
         "One B-spline patch from control points in file order, u fastest (see invmap.from_bspline).");
+  RegisterGrid(m);
 }

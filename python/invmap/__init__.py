@@ -21,7 +21,7 @@ import numpy as np
 from ._invmap import FileError, InputError, Manifold, __version__, from_mesh
 from . import _invmap
 
-__all__ = ["FileError", "InputError", "Manifold", "from_bspline", "from_mesh", "load"]
+__all__ = ["FileError", "InputError", "Manifold", "from_bspline", "from_mesh", "grid", "load"]
 
 # Public names live in `invmap`, not in the private extension module: this
 # is also where pickle looks classes up (manifolds and exceptions travel
@@ -100,3 +100,50 @@ def from_bspline(control_points, knots, degrees, weights=None):
         flat_weights = np.ascontiguousarray(weights.transpose(axes)).reshape(-1)
     return _invmap._from_bspline(flat_points, counts, [int(d) for d in degrees],
                                  [np.asarray(k, dtype=np.float64).tolist() for k in knots], flat_weights)
+
+
+def grid(functions, *, mode="arrangement", tree=None, epsilon=1e-4, box=None, resolution=1, initial_grid=None,
+         max_cells=None, threads=0):
+    """Refines a triangle (2D) or tetrahedron (3D) grid for the zero sets of
+    implicit functions (as `invmap grid`; README "Implicit-complex grids").
+
+    functions: a path to a JSON function list, its JSON text, or a list of
+      dicts such as {"type": "sphere", "center": [0.5, 0.5, 0.5], "radius": 0.3}.
+    mode: "arrangement", "material" or "csg" (then `tree`: a path, JSON text
+      or a list of {"type": "Intersection"|"Union"|"Negation", "elements": [a, b]}).
+    box: (x0, y0[, z0], x1, y1[, z1]) with `resolution` cubes (squares) per
+      side, or initial_grid: a gmsh .msh path of linear tetrahedra (triangles).
+    max_cells: stop refining there (None: no limit). threads: 0 = all cores.
+
+    Returns a dict: "vertices" (V, 3), "cells" (C, dim + 1), "values" (V, k),
+    "active" (C,) bool, "function_names", "stats" (cells, active_cells,
+    vertices, min_radius_ratio, min_radius_ratio_active, seconds,
+    reached_max_cells) and "zero_sets" ("vertices", "triangles",
+    "triangle_labels", "segments", "segment_labels", "points",
+    "point_labels"; labels are 4 function indices, -1 unused).
+    Raises InputError (file and line in the message) or FileError.
+    """
+    functions_text, functions_name = _json_source(functions, "<functions>")
+    tree_text, tree_name = (None, "<tree>") if tree is None else _json_source(tree, "<tree>")
+    if (box is None) == (initial_grid is None):
+        raise InputError("grid: give exactly one of box and initial_grid")
+    return _invmap._grid(functions_text, functions_name, mode, tree_text, tree_name, float(epsilon),
+                         None if box is None else [float(x) for x in box], int(resolution),
+                         None if initial_grid is None else os.fspath(initial_grid),
+                         2**63 - 1 if max_cells is None else int(max_cells), int(threads))
+
+
+def _json_source(source, name):
+    """(text, name for messages) of a JSON path, JSON text or a list."""
+    if isinstance(source, (list, tuple)):
+        return json.dumps(list(source), default=_json_default, indent=1), name
+    if isinstance(source, str) and source.lstrip().startswith("["):
+        return source, name
+    if isinstance(source, (str, os.PathLike)):
+        path = os.fspath(source)
+        try:
+            with open(path, encoding="utf-8") as f:
+                return f.read(), path
+        except OSError as e:
+            raise FileError(f"{path}: {e.strerror}") from e
+    raise TypeError(f"grid: expected a path, JSON text or a list, got {type(source).__name__}")
