@@ -197,13 +197,16 @@ template <int N>
 CellVerdict CriteriaEvaluator<N>::Arrangement() {
   CellVerdict verdict;
   candidates_.clear();
+  const double* values[N + 1];
+  const double* norms[N + 1];
+  for (int i = 0; i <= N; ++i) {
+    values[i] = samples_[i].values;
+    norms[i] = samples_[i].gradientNorms;
+  }
+  mayCross_.resize(functionCount_);
+  MayCross<N>(values, norms, frame_.longestEdge, functionCount_, mayCross_.data());
   for (int f = 0; f < functionCount_; ++f) {
-    double values[N + 1], norms[N + 1];
-    for (int i = 0; i <= N; ++i) {
-      values[i] = samples_[i].values[f];
-      norms[i] = samples_[i].gradientNorms[f];
-    }
-    if (CertainlyNoCrossing<N>(values, norms, frame_.longestEdge)) continue;
+    if (!mayCross_[f]) continue;
     CubicProxy<N>& proxy = proxies_[f];
     SetProxy(f, &proxy);
     if (!proxy.Crosses()) continue;
@@ -226,7 +229,7 @@ template <int N>
 CellVerdict CriteriaEvaluator<N>::MaterialInterface() {
   CellVerdict verdict;
   // Most functions are far below the largest one. Bound each function's
-  // control values from vertex data (as in CertainlyNoCrossing: within
+  // control values from vertex data (as in MayCross: within
   // max |g| L / 2 of the vertex values), and build proxies only for
   // functions that can be candidates or can hold the largest lower bound.
   bounds_.resize(functionCount_);
