@@ -95,7 +95,9 @@ void RunWithThreads(int maxThreads, const Body& body) {
 /// @param grain      largest block size; values below 1 are treated as 1.
 /// @param fn         callable as fn(std::int64_t begin, std::int64_t end); with
 ///                   Par it runs concurrently on disjoint blocks, so it must
-///                   only write to data owned by its block, and must not throw.
+///                   only write to data owned by its block. An exception it
+///                   throws cancels the remaining blocks and reaches the
+///                   caller (TBB rethrows it; Seq simply unwinds).
 /// @param maxThreads Par only: upper limit on threads for this call; 0 uses the
 ///                   caller's task arena (all cores at top level).
 template <typename Fn>

@@ -48,6 +48,7 @@ bool BisectionGrid<N>::Bisect(std::uint32_t a, std::uint32_t b, std::vector<std:
   // The ring's order decides only the order children are reported in; sort it
   // so that it does not depend on the history of the incidence lists.
   std::sort(ring_.begin(), ring_.end());
+  ring_.erase(std::unique(ring_.begin(), ring_.end()), ring_.end());
 
   const std::uint32_t m = static_cast<std::uint32_t>(numVertices());
   const double* pa = point(a);

@@ -31,6 +31,12 @@ std::string ValidateMesh(const SimplexMesh& mesh) {
     if (mesh.cells[i] >= vertices)
       return "initial grid: cell " + std::to_string(i / perCell) + " names vertex " + std::to_string(mesh.cells[i]) +
              " but there are " + std::to_string(vertices) + " vertices";
+    // Bisection needs each cell's vertices distinct.
+    for (std::size_t j = i - i % perCell; j < i; ++j) {
+      if (mesh.cells[j] == mesh.cells[i])
+        return "initial grid: cell " + std::to_string(i / perCell) + " names vertex " + std::to_string(mesh.cells[i]) +
+               " twice";
+    }
   }
   return {};
 }
@@ -79,6 +85,8 @@ GridResult RefineGrid(const SimplexMesh& initial, const std::vector<Function>& f
   } catch (const std::exception& e) {
     // A user callback may throw; report it rather than let it cross the API.
     result.error = std::string("refinement failed: ") + e.what();
+  } catch (...) {
+    result.error = "refinement failed: a function callback threw an exception that is not a std::exception";
   }
   return result;
 }

@@ -51,6 +51,29 @@ CriteriaEvaluator<N>::CriteriaEvaluator(Mode mode, double epsilon, int functionC
       differences_(3),
       hullPoints_(3 * SimplexCounts<N>::kControl) {
   candidates_.reserve(functionCount);
+  if (mode == Mode::Csg) {
+    // Post order of the nodes reachable from the root, each once, without
+    // recursion (trees may be deep and share nodes).
+    std::vector<std::uint8_t> state(tree->size() + 1, 0);  // 0 new, 1 expanded, 2 done
+    std::vector<int> stack = {1};
+    while (!stack.empty()) {
+      const int node = stack.back();
+      if (state[node] == 2) {
+        stack.pop_back();
+        continue;
+      }
+      if (state[node] == 1) {
+        state[node] = 2;
+        csgOrder_.push_back(node);
+        stack.pop_back();
+        continue;
+      }
+      state[node] = 1;
+      const CsgNode& n = (*tree)[node - 1];
+      for (int element : {n.a, n.op == CsgNode::Op::Negation ? 0 : n.b})
+        if (element > 0 && state[element] == 0) stack.push_back(element);
+    }
+  }
 }
 
 template <int N>
@@ -321,52 +344,52 @@ CellVerdict CriteriaEvaluator<N>::MaterialInterface() {
   return verdict;
 }
 
-// Interval of the tree's value at `node` from the functions' proxy intervals;
-// appends to candidates_ the functions of children whose interval straddles
-// zero, and keeps them only if this node's interval straddles too.
-template <int N>
-typename CriteriaEvaluator<N>::Interval CriteriaEvaluator<N>::VisitCsg(int node) {
-  const CsgNode& n = (*tree_)[node - 1];
-  const std::size_t mark = candidates_.size();
-  const int operands = n.op == CsgNode::Op::Negation ? 1 : 2;
-  Interval child[2];
-  for (int c = 0; c < operands; ++c) {
-    const int element = c == 0 ? n.a : n.b;
-    const std::size_t childMark = candidates_.size();
-    if (element < 0) {
-      const int f = -element - 1;
-      child[c] = {proxies_[f].lo, proxies_[f].hi};
-      candidates_.push_back(f);
-    } else {
-      child[c] = VisitCsg(element);
-    }
-    if (!Straddles(child[c].lo, child[c].hi)) candidates_.resize(childMark);
-  }
-  Interval result;
-  switch (n.op) {
-    case CsgNode::Op::Intersection:
-      result = {std::max(child[0].lo, child[1].lo), std::max(child[0].hi, child[1].hi)};
-      break;
-    case CsgNode::Op::Union:
-      result = {std::min(child[0].lo, child[1].lo), std::min(child[0].hi, child[1].hi)};
-      break;
-    case CsgNode::Op::Negation:
-      result = {-child[0].hi, -child[0].lo};
-      break;
-  }
-  if (!Straddles(result.lo, result.hi)) candidates_.resize(mark);
-  return result;
-}
-
+// The tree's interval over the cell, node by node in post order (a node
+// shared by several parents is evaluated once), from the functions' proxy
+// intervals. A node's candidates are those of its operands whose interval
+// straddles zero, kept only if its own interval straddles too.
 template <int N>
 CellVerdict CriteriaEvaluator<N>::Csg() {
   CellVerdict verdict;
   SetAllProxies();
-  candidates_.clear();
-  const Interval root = VisitCsg(1);
+  const std::size_t k = static_cast<std::size_t>(functionCount_);
+  nodeIntervals_.resize(tree_->size() + 1);
+  nodeCandidates_.assign((tree_->size() + 1) * k, 0);
+  for (int node : csgOrder_) {
+    const CsgNode& n = (*tree_)[node - 1];
+    std::uint8_t* mine = &nodeCandidates_[node * k];
+    const int operands = n.op == CsgNode::Op::Negation ? 1 : 2;
+    Interval child[2];
+    for (int c = 0; c < operands; ++c) {
+      const int element = c == 0 ? n.a : n.b;
+      child[c] = element < 0 ? Interval{proxies_[-element - 1].lo, proxies_[-element - 1].hi} : nodeIntervals_[element];
+      if (!Straddles(child[c].lo, child[c].hi)) continue;
+      if (element < 0) {
+        mine[-element - 1] = 1;
+      } else {
+        const std::uint8_t* theirs = &nodeCandidates_[element * k];
+        for (std::size_t f = 0; f < k; ++f) mine[f] |= theirs[f];
+      }
+    }
+    Interval& result = nodeIntervals_[node];
+    switch (n.op) {
+      case CsgNode::Op::Intersection:
+        result = {std::max(child[0].lo, child[1].lo), std::max(child[0].hi, child[1].hi)};
+        break;
+      case CsgNode::Op::Union:
+        result = {std::min(child[0].lo, child[1].lo), std::min(child[0].hi, child[1].hi)};
+        break;
+      case CsgNode::Op::Negation:
+        result = {-child[0].hi, -child[0].lo};
+        break;
+    }
+    if (!Straddles(result.lo, result.hi)) std::fill(mine, mine + k, 0);
+  }
+  const Interval& root = nodeIntervals_[1];
   if (!Straddles(root.lo, root.hi)) return verdict;
-  std::sort(candidates_.begin(), candidates_.end());
-  candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
+  candidates_.clear();
+  for (std::size_t f = 0; f < k; ++f)
+    if (nodeCandidates_[k + f]) candidates_.push_back(static_cast<int>(f));
   verdict.active = !candidates_.empty();
   for (int f : candidates_) {
     if (SingleRefinable(proxies_[f])) {

@@ -48,7 +48,6 @@ class CriteriaEvaluator {
   void SetAllProxies();
   /// Pair and triple stages shared by Arrangement and Csg on `candidates_`.
   bool PairsOrTriplesRefinable();
-  Interval VisitCsg(int node);
   void SetProxy(int function, CubicProxy<N>* proxy) const;
 
   bool SingleRefinable(const CubicProxy<N>& p) const;
@@ -77,6 +76,9 @@ class CriteriaEvaluator {
   std::vector<int> candidates_;          ///< Functions taking part in pairs and triples.
   std::vector<std::uint8_t> pairPasses_; ///< candidates^2: the pair's hull contains the origin.
   std::vector<CubicProxy<N>> differences_;
+  std::vector<int> csgOrder_;               ///< Csg: the tree's nodes in post order.
+  std::vector<Interval> nodeIntervals_;     ///< Csg: per node (1-based).
+  std::vector<std::uint8_t> nodeCandidates_;  ///< Csg: per node, per function.
   std::vector<double> hullPoints_;
 };
 

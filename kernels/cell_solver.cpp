@@ -254,7 +254,8 @@ double CellSolver::InsideScore(const double* point) const {
   const double det = det3(e[0], e[1], e[2]);
   if (!(std::fabs(det) > 0)) return -kInsideScoreUnknown;
   const double l1 = det3(w, e[1], e[2]) / det, l2 = det3(e[0], w, e[2]) / det, l3 = det3(e[0], e[1], w) / det;
-  return std::min({1 - l1 - l2 - l3, l1, l2, l3});
+  const double score = std::min({1 - l1 - l2 - l3, l1, l2, l3});
+  return std::isfinite(score) ? score : -kInsideScoreUnknown;
 }
 
 void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const {

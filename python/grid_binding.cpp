@@ -67,6 +67,8 @@ py::dict Grid(const std::string& functionsText, const std::string& functionsName
       }
       if (gridPath) {
         initial = io::ReadSimplexMeshMsh(*gridPath);
+      } else if (!box) {
+        throw InputError("grid: give exactly one of box and initial_grid");
       } else {
         const std::vector<double>& b = *box;
         if (b.size() != 4 && b.size() != 6) throw InputError("grid: box needs 4 (2D) or 6 (3D) numbers");

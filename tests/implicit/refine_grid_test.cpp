@@ -549,6 +549,41 @@ TEST(RefineGrid, RejectsBadArguments) {
                       throw std::runtime_error("user callback failed");
                     }};
   EXPECT_NE(RefineGrid(Cube6(), {throwing}, options).error.find("user callback failed"), std::string::npos);
+  Function throwingInt{"thrower", [](const double*, std::size_t, double*, double*) { throw 42; }};
+  EXPECT_NE(RefineGrid(Cube6(), {throwingInt}, options).error.find("refinement failed"), std::string::npos);
+
+  // A cell that repeats a vertex cannot be bisected.
+  SimplexMesh repeated;
+  repeated.dimension = 2;
+  repeated.vertices = {0, 0, 0, 1, 0, 0, 0.5, 0.3, 0};
+  repeated.cells = {0, 1, 2, 0, 1, 0};
+  EXPECT_NE(RefineGrid(repeated, sphere, options).error.find("cell 1 names vertex 0 twice"), std::string::npos);
+}
+
+TEST(RefineGrid, CsgTreesThatAreDeepOrShareNodes) {
+  // Union(x, x) = x and Negation(Negation(x)) = x: both trees below are the
+  // function itself, so their grids equal that of Union(f, f).
+  const std::vector<Function> sphere = {Function::Sphere({0.5, 0.5, 0.5}, 0.3)};
+  GridOptions options;
+  options.mode = Mode::Csg;
+  options.epsilon = 1e-2;
+  options.tree = {{CsgNode::Op::Union, -1, -1}};
+  const GridResult plain = RefineGrid(Cube6(), sphere, options);
+  ASSERT_EQ(plain.error, "");
+  // 60 levels, each node's two operands the same next node: 2^60 paths.
+  options.tree.clear();
+  for (int n = 1; n < 60; ++n) options.tree.push_back({CsgNode::Op::Union, n + 1, n + 1});
+  options.tree.push_back({CsgNode::Op::Union, -1, -1});
+  const GridResult shared = RefineGrid(Cube6(), sphere, options);
+  ASSERT_EQ(shared.error, "");
+  EXPECT_EQ(shared.grid.mesh.cells, plain.grid.mesh.cells);
+  // 20,000 nested negations (an even number), deeper than a thread's stack allows recursion.
+  options.tree.clear();
+  for (int n = 1; n <= 20000; ++n) options.tree.push_back({CsgNode::Op::Negation, n + 1, 0});
+  options.tree.push_back({CsgNode::Op::Union, -1, -1});
+  const GridResult deep = RefineGrid(Cube6(), sphere, options);
+  ASSERT_EQ(deep.error, "");
+  EXPECT_EQ(deep.grid.mesh.cells, plain.grid.mesh.cells);
 }
 
 TEST(RadiusRatio, OneForRegularZeroForFlat) {
