@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 
 namespace invmap::implicit {
 
@@ -146,27 +145,24 @@ struct CubicProxy {
   bool Crosses() const { return hi > 0 && lo <= 0; }
 };
 
-/// For each of `count` functions, whether it may cross zero on the simplex:
-/// possible[f] = 0 when vertex data alone proves it does not, since every
-/// control value has its vertex's strict sign when |v_i| > |g_i| L / 2 for all
-/// vertices (edge points move at most |g_i| L / 3 from v_i; a face centroid is
-/// the face's mean vertex value plus at most the mean of |g_i| L / 2). The
-/// margin covers rounding, so the shortcut never disagrees with
-/// CubicProxy::Crosses. values[i][f] and gradientNorms[i][f] belong to
-/// vertex i; the loop over functions has no branches (it vectorizes).
+/// True when function f certainly does not cross zero on the simplex, from
+/// vertex data alone: every control value has its vertex's strict sign when
+/// |v_i| > |g_i| L / 2 for all vertices (edge points move at most |g_i| L / 3
+/// from v_i; a face centroid is the face's mean vertex value plus at most the
+/// mean of |g_i| L / 2). The margin covers rounding, so the shortcut never
+/// disagrees with CubicProxy::Crosses. values[i][f] and gradientNorms[i][f]
+/// belong to vertex i. (An early exit beats a branch-free loop over all
+/// functions here: most functions fail at the first vertex.)
 template <int N>
-void MayCross(const double* const values[N + 1], const double* const gradientNorms[N + 1], double longestEdge,
-              int count, std::uint8_t* possible) {
+bool CertainlyNoCrossing(const double* const values[N + 1], const double* const gradientNorms[N + 1], int f,
+                         double longestEdge) {
   const double reach = 0.5 * (1 + 1e-9) * longestEdge;
-  for (int f = 0; f < count; ++f) {
-    const bool positive = values[0][f] > 0;
-    bool certain = true;
-    for (int i = 0; i <= N; ++i) {
-      certain &= (values[i][f] > 0) == positive;
-      certain &= std::fabs(values[i][f]) > reach * gradientNorms[i][f] + 1e-300;
-    }
-    possible[f] = !certain;
+  const bool positive = values[0][f] > 0;
+  for (int i = 0; i <= N; ++i) {
+    if ((values[i][f] > 0) != positive) return false;
+    if (!(std::fabs(values[i][f]) > reach * gradientNorms[i][f] + 1e-300)) return false;
   }
+  return true;
 }
 
 }  // namespace invmap::implicit

@@ -83,9 +83,7 @@ std::string GridRefiner<N>::EvaluateVertices(std::size_t begin, std::size_t end)
 template <int N>
 void GridRefiner<N>::TestAndQueue(const std::vector<std::uint32_t>& cells) {
   active_.resize(grid_.numCells(), 0);
-  // Per tested cell: its queue entry when refinable (length2 < 0 otherwise),
-  // filled in parallel and queued in cell order below.
-  std::vector<QueueEntry> entries(cells.size());
+  std::vector<std::uint8_t> refinable(cells.size(), 0);
   const std::size_t k = static_cast<std::size_t>(functionCount_);
   engine::ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(cells.size()), kCellGrain,
                        [&](std::int64_t begin, std::int64_t end) {
@@ -103,16 +101,15 @@ void GridRefiner<N>::TestAndQueue(const std::vector<std::uint32_t>& cells) {
                            }
                            const CellVerdict verdict = evaluator.Evaluate(points, samples);
                            active_[cells[i]] = verdict.active;
-                           QueueEntry& entry = entries[i];
-                           entry.length2 = -1;
-                           if (!verdict.refinable) continue;
-                           entry.cell = cells[i];
-                           entry.version = grid_.version(cells[i]);
-                           entry.edge = static_cast<std::uint8_t>(grid_.LongestEdge(cells[i], &entry.length2));
+                           refinable[i] = verdict.refinable;
                          }
                        });
-  for (QueueEntry& entry : entries) {
-    if (entry.length2 < 0) continue;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (!refinable[i]) continue;
+    QueueEntry entry;
+    entry.cell = cells[i];
+    entry.version = grid_.version(cells[i]);
+    entry.edge = static_cast<std::uint8_t>(grid_.LongestEdge(cells[i], &entry.length2));
     entry.sequence = sequence_++;
     queue_.push_back(entry);
     std::push_heap(queue_.begin(), queue_.end(), QueueOrder());

@@ -226,10 +226,8 @@ CellVerdict CriteriaEvaluator<N>::Arrangement() {
     values[i] = samples_[i].values;
     norms[i] = samples_[i].gradientNorms;
   }
-  mayCross_.resize(functionCount_);
-  MayCross<N>(values, norms, frame_.longestEdge, functionCount_, mayCross_.data());
   for (int f = 0; f < functionCount_; ++f) {
-    if (!mayCross_[f]) continue;
+    if (CertainlyNoCrossing<N>(values, norms, f, frame_.longestEdge)) continue;
     CubicProxy<N>& proxy = proxies_[f];
     SetProxy(f, &proxy);
     if (!proxy.Crosses()) continue;
@@ -252,7 +250,7 @@ template <int N>
 CellVerdict CriteriaEvaluator<N>::MaterialInterface() {
   CellVerdict verdict;
   // Most functions are far below the largest one. Bound each function's
-  // control values from vertex data (as in MayCross: within
+  // control values from vertex data (as in CertainlyNoCrossing: within
   // max |g| L / 2 of the vertex values), and build proxies only for
   // functions that can be candidates or can hold the largest lower bound.
   bounds_.resize(functionCount_);

@@ -71,7 +71,6 @@ class CriteriaEvaluator {
   };
 
   std::vector<CubicProxy<N>> proxies_;   ///< One per function.
-  std::vector<std::uint8_t> mayCross_;   ///< Arrangement: per function, see MayCross.
   std::vector<ValueBounds> bounds_;
   std::vector<int> candidates_;          ///< Functions taking part in pairs and triples.
   std::vector<std::uint8_t> pairPasses_; ///< candidates^2: the pair's hull contains the origin.
