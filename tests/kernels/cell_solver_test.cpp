@@ -575,6 +575,30 @@ TEST(CellSolverBound, FartherOnlyWhenTheCellCannotBeatTheBound) {
   EXPECT_EQ(failures, 0);
 }
 
+/// SolveLane's output arrays for `count` lanes (filled with -7 to show
+/// writes) and the ResultLane pointing at them.
+struct LaneOutput {
+  explicit LaneOutput(int count) : distance(count), status(count), iterations(count) {
+    for (int k = 0; k < 3; ++k) {
+      ref[k].assign(count, -7.0);
+      closest[k].assign(count, -7.0);
+      out.ref[k] = ref[k].data();
+      out.closest[k] = closest[k].data();
+    }
+    out.distance = distance.data();
+    out.status = status.data();
+    out.iterations = iterations.data();
+  }
+  LaneOutput(const LaneOutput&) = delete;
+  LaneOutput& operator=(const LaneOutput&) = delete;
+
+  std::vector<double> ref[3], closest[3];
+  std::vector<double> distance;
+  std::vector<PointStatus> status;
+  std::vector<int> iterations;
+  ResultLane out;
+};
+
 TEST(CellSolverLane, MatchesSolvePerLane) {
   std::mt19937_64 rng(81);
   for (CellType type : {CellType::Line, CellType::Tri, CellType::Quad, CellType::Tet, CellType::Hex, CellType::Wedge}) {
@@ -602,20 +626,8 @@ TEST(CellSolverLane, MatchesSolvePerLane) {
           for (int k = 0; k < ad; ++k) in.coord[k] = coord[k].data();
           if (warm)
             for (int k = 0; k < cell.paramDim(); ++k) in.initialRef[k] = init[k].data();
-          std::vector<double> ref[3], closest[3];
-          std::vector<double> distance(count);
-          std::vector<PointStatus> status(count);
-          std::vector<int> iterations(count);
-          ResultLane out;
-          for (int k = 0; k < 3; ++k) {
-            ref[k].assign(count, -7.0);
-            closest[k].assign(count, -7.0);
-            out.ref[k] = ref[k].data();
-            out.closest[k] = closest[k].data();
-          }
-          out.distance = distance.data();
-          out.status = status.data();
-          out.iterations = iterations.data();
+          LaneOutput lane(count);
+          auto& [ref, closest, distance, status, iterations, out] = lane;
           SolveWorkspace laneWs, singleWs;
           solver.SolveLane(in, out, &laneWs);
           for (int l = 0; l < count; ++l) {
@@ -663,19 +675,8 @@ TEST(CellSolverLane, AffineSimplexLanesMatchSolve) {
         QueryLane in;
         in.count = count;
         for (int k = 0; k < ad; ++k) in.coord[k] = coord[k].data();
-        std::vector<double> ref[3], closest[3], distance(count);
-        std::vector<PointStatus> status(count);
-        std::vector<int> iterations(count);
-        ResultLane out;
-        for (int k = 0; k < 3; ++k) {
-          ref[k].assign(count, -7.0);
-          closest[k].assign(count, -7.0);
-          out.ref[k] = ref[k].data();
-          out.closest[k] = closest[k].data();
-        }
-        out.distance = distance.data();
-        out.status = status.data();
-        out.iterations = iterations.data();
+        LaneOutput lane(count);
+        auto& [ref, closest, distance, status, iterations, out] = lane;
         SolveWorkspace ws;
         solver.SolveLane(in, out, &ws);
         const double tol = 1e-12 * solver.size();
