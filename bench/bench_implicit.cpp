@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   const invmap::implicit::SimplexMesh initial = invmap::io::ReadSimplexMeshMsh(data + "/cube6.msh");
   for (const Case& c : kCases) {
     if (smoke && c.referenceCells > 50000) continue;
-    const std::vector<invmap::implicit::Function> functions = invmap::io::ReadFunctionList(data + "/" + c.functions);
+    const std::vector<invmap::implicit::Function> functions = invmap::io::ReadFunctionList(data + "/" + c.functions, 3);
     invmap::implicit::GridOptions options;
     options.mode = c.mode;
     options.epsilon = c.epsilon;

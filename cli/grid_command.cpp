@@ -47,12 +47,16 @@ void WriteOutputs(const GridCommandOptions& options, const implicit::Grid& grid,
   if (error || !fs::is_directory(options.output))
     throw io::InputError(options.output, 0, "cannot create the output directory", io::InputError::Kind::Output);
   const fs::path dir(options.output);
-  std::vector<fs::path> written;
+  // Files of an earlier run would mix with this one's if a write failed
+  // halfway: none of the set survives a failure.
+  const char* const kOutputs[] = {"grid.msh", "grid.vtu", "zero_sets.obj", "zero_sets.ply", "stats.json"};
+  auto removeAll = [&] {
+    for (const char* name : kOutputs) fs::remove(dir / name, error);
+  };
   try {
     auto write = [&](const char* name, auto&& writer) {
       const fs::path path = dir / name;
       writer(path.string());
-      written.push_back(path);
     };
     write("grid.msh", [&](const std::string& path) { io::WriteGridMsh(grid, names, path); });
     write("grid.vtu", [&](const std::string& path) { io::WriteGridVtu(grid, names, path); });
@@ -61,9 +65,11 @@ void WriteOutputs(const GridCommandOptions& options, const implicit::Grid& grid,
       write("zero_sets.ply", [&](const std::string& path) { io::WriteZeroSetsPly(zeroSets, path); });
     write("stats.json", [&](const std::string& path) { io::WriteGridStats(grid.stats, path); });
   } catch (...) {
-    for (const fs::path& path : written) fs::remove(path, error);
+    removeAll();
     throw;
   }
+  // A 2D run writes no PLY: drop an earlier run's.
+  if (grid.mesh.dimension != 3) fs::remove(dir / "zero_sets.ply", error);
 }
 
 void PrintSummary(const implicit::Grid& grid, const implicit::ZeroSets& zeroSets, double epsilon) {
@@ -75,11 +81,16 @@ void PrintSummary(const implicit::Grid& grid, const implicit::ZeroSets& zeroSets
   std::printf("min radius ratio: %.4f (all cells), %.4f (active cells)\n", s.minRadiusRatio, s.minRadiusRatioActive);
   std::printf("zero sets: %zu triangles, %zu segments, %zu points\n", zeroSets.triangles.size() / 3,
               zeroSets.segments.size() / 2, zeroSets.points.size());
+  if (s.activeCells == 0) std::printf("note: no zero set crosses the grid (no active cell)\n");
 }
 
 }  // namespace
 
 int RunGrid(const GridCommandOptions& options) {
+  if (!(options.epsilon > 0) || !std::isfinite(options.epsilon)) {
+    std::fprintf(stderr, "invmap grid: --epsilon must be a positive number\n");
+    return 2;
+  }
   implicit::GridOptions gridOptions;
   gridOptions.mode = ParseMode(options.mode);
   gridOptions.epsilon = options.epsilon;
@@ -92,7 +103,7 @@ int RunGrid(const GridCommandOptions& options) {
   } else if (!MakeBox(options, &initial)) {
     return 2;
   }
-  const std::vector<implicit::Function> functions = io::ReadFunctionList(options.functions);
+  const std::vector<implicit::Function> functions = io::ReadFunctionList(options.functions, initial.dimension);
   if (gridOptions.mode == implicit::Mode::Csg)
     gridOptions.tree = io::ReadCsgTree(options.tree, static_cast<int>(functions.size()));
 

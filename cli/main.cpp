@@ -72,13 +72,13 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--mode", grid.mode, "arrangement (default), material or csg")
       ->check(CLI::IsMember({"arrangement", "material", "csg"}));
   gridCommand->add_option("--tree", grid.tree, "csg: the CSG tree (.json)");
-  gridCommand->add_option("--epsilon", grid.epsilon, "distance threshold in model units (default 1e-4)")
-      ->check(CLI::PositiveNumber);
+  gridCommand->add_option("--epsilon", grid.epsilon, "distance threshold in model units (default 1e-4)");
   auto* gridFile = gridCommand->add_option("--grid", grid.grid, "initial grid (.msh: linear tetrahedra or triangles)");
   auto* box = gridCommand->add_option("--box", grid.box, "initial box x0,y0[,z0],x1,y1[,z1]")->delimiter(',');
   gridFile->excludes(box);
-  gridCommand->add_option("--resolution", grid.resolution, "box: squares or cubes per side (default 1)")
+  auto* resolution = gridCommand->add_option("--resolution", grid.resolution, "box: squares or cubes per side (default 1)")
       ->check(CLI::Range(1, 1000));
+  gridFile->excludes(resolution);
   gridCommand->add_option("--max-cells", grid.maxCells, "stop refining at this many cells")
       ->check(CLI::Range(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
   gridCommand->add_option("--threads", grid.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);

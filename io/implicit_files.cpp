@@ -214,28 +214,29 @@ class TreeBuilder {
 };
 
 /// Parses JSON `text` (named `path` in messages) into a Value tree; the top
-/// level must be a non-empty list of `what` ("function objects").
+/// level must be a non-empty list of `what`s ("function object").
 Value ParseJsonList(const std::string& text, const std::string& path, const char* what) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw InputError(path, 1 + std::count(text.begin(), text.end(), '\n'),
-                     std::string("empty file, expected a JSON list of ") + what);
+                     std::string("empty file, expected a JSON list of ") + what + "s");
   }
   const char* cursor = text.data();
   TreeBuilder builder(path, text.data(), text.size(), &cursor);
   Json::sax_parse(TrackingIterator(&cursor), TrackingIterator(text.data() + text.size()), &builder);
   Value root = std::move(builder.root());
   if (root.type != Value::Type::Array) {
-    throw InputError(path, root.line, "expected a JSON list of " + std::string(what) + ", found " + Describe(root));
+    throw InputError(path, root.line, "expected a JSON list of " + std::string(what) + "s, found " + Describe(root));
   }
-  if (root.items.empty()) throw InputError(path, root.line, std::string("empty list, expected at least one of ") + what);
+  if (root.items.empty()) throw InputError(path, root.line, std::string("empty list, expected at least one ") + what);
   return root;
 }
 
 /// Checks of the fields of one object, with messages "where.field: ...".
 class ObjectReader {
  public:
-  ObjectReader(const std::string& file, const Value& object, std::string where)
-      : file_(file), object_(object), where_(std::move(where)) {}
+  /// `dimension`: how many numbers a point or vector has (function lists).
+  ObjectReader(const std::string& file, const Value& object, std::string where, int dimension = 3)
+      : file_(file), object_(object), where_(std::move(where)), dimension_(dimension) {}
 
   /// Throws InputError at `line`.
   [[noreturn]] void Fail(std::int64_t line, const std::string& message) const {
@@ -282,11 +283,14 @@ class ObjectReader {
     if (!(x > 0)) FailField(v, key, v.text + ", expected a positive number");
     return x;
   }
-  /// [x, y, z] or [x, y] (z = 0) of finite numbers.
+  /// [x, y, z] in 3D or [x, y] (z = 0) in 2D, finite numbers.
   implicit::Vec3 Point(const Value& v, const char* key) const {
-    if (v.type != Value::Type::Array) FailField(v, key, "expected a list of 3 numbers, found " + Describe(v));
-    if (v.items.size() != 3 && v.items.size() != 2) {
-      FailField(v, key, std::to_string(v.items.size()) + " numbers, expected 3 (or 2 in 2D)");
+    const std::string expected = std::to_string(dimension_) + " numbers";
+    if (v.type != Value::Type::Array) FailField(v, key, "expected a list of " + expected + ", found " + Describe(v));
+    if (static_cast<int>(v.items.size()) != dimension_) {
+      FailField(v, key,
+                std::to_string(v.items.size()) + " numbers, expected " + expected + " (the grid is " +
+                    std::to_string(dimension_) + "D)");
     }
     implicit::Vec3 p = {0, 0, 0};
     for (std::size_t i = 0; i < v.items.size(); ++i) {
@@ -299,10 +303,12 @@ class ObjectReader {
     return p;
   }
   /// The required field `key`, a point.
-  implicit::Vec3 Point(const char* key) const { return Point(Required(key, "a list of 3 numbers"), key); }
+  implicit::Vec3 Point(const char* key) const {
+    return Point(Required(key, "a list of " + std::to_string(dimension_) + " numbers"), key);
+  }
   /// A point that is a direction: non-zero, with a finite length.
   implicit::Vec3 Direction(const char* key) const {
-    const Value& v = Required(key, "a non-zero vector of 3 numbers");
+    const Value& v = Required(key, "a non-zero vector of " + std::to_string(dimension_) + " numbers");
     const implicit::Vec3 d = Point(v, key);
     const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (length == 0) FailField(v, key, "zero vector, expected a direction");
@@ -322,6 +328,7 @@ class ObjectReader {
   const std::string& file_;  ///< File name for messages.
   const Value& object_;      ///< The object read.
   std::string where_;        ///< Its path in messages: "functions[2]", "node 3".
+  int dimension_;            ///< Numbers per point or vector.
 };
 
 /// The function types of the list file, with their fields ("type" and
@@ -353,12 +360,12 @@ std::string FunctionTypeList() {
 }
 
 /// Function `index` of the list, from its JSON object.
-implicit::Function ReadFunction(const std::string& path, const Value& object, std::size_t index) {
+implicit::Function ReadFunction(const std::string& path, const Value& object, std::size_t index, int dimension) {
   const std::string where = "functions[" + std::to_string(index) + "]";
   if (object.type != Value::Type::Object) {
     throw InputError(path, object.line, where + ": expected a function object, found " + Describe(object));
   }
-  const ObjectReader r(path, object, where);
+  const ObjectReader r(path, object, where, dimension);
   const Value& typeValue = r.Required("type", "one of " + FunctionTypeList());
   if (typeValue.type != Value::Type::String) {
     r.FailField(typeValue, "type", "expected a string (" + FunctionTypeList() + "), found " + Describe(typeValue));
@@ -618,24 +625,24 @@ std::vector<std::size_t> OrderByLabel(const std::vector<std::array<int, 4>>& lab
 
 // ---------------------------------------------------------------------------
 
-std::vector<implicit::Function> ReadFunctionList(const std::string& path) {
-  return ParseFunctionList(ReadWholeFile(path), path);
+std::vector<implicit::Function> ReadFunctionList(const std::string& path, int dimension) {
+  return ParseFunctionList(ReadWholeFile(path), path, dimension);
 }
 
 std::vector<implicit::CsgNode> ReadCsgTree(const std::string& path, int functionCount) {
   return ParseCsgTree(ReadWholeFile(path), path, functionCount);
 }
 
-std::vector<implicit::Function> ParseFunctionList(const std::string& text, const std::string& path) {
-  const Value root = ParseJsonList(text, path, "function objects");
+std::vector<implicit::Function> ParseFunctionList(const std::string& text, const std::string& path, int dimension) {
+  const Value root = ParseJsonList(text, path, "function object");
   std::vector<implicit::Function> functions;
   functions.reserve(root.items.size());
-  for (std::size_t i = 0; i < root.items.size(); ++i) functions.push_back(ReadFunction(path, root.items[i], i));
+  for (std::size_t i = 0; i < root.items.size(); ++i) functions.push_back(ReadFunction(path, root.items[i], i, dimension));
   return functions;
 }
 
 std::vector<implicit::CsgNode> ParseCsgTree(const std::string& text, const std::string& path, int functionCount) {
-  const Value root = ParseJsonList(text, path, "CSG nodes");
+  const Value root = ParseJsonList(text, path, "CSG node");
   const std::size_t n = root.items.size();
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     throw InputError(path, root.line, "too many nodes (" + std::to_string(n) + ")");
@@ -674,7 +681,7 @@ std::vector<implicit::CsgNode> ParseCsgTree(const std::string& text, const std::
     const std::size_t count = elements.items.size();
     if (negation ? (count != 1 && count != 2) : count != 2) {
       r.FailField(elements, "elements",
-                  std::to_string(count) + " operands, " +
+                  std::to_string(count) + (count == 1 ? " operand, " : " operands, ") +
                       (negation ? "a Negation has one: [a] or [a, 0]" : typeValue.text + " takes two: [a, b]"));
     }
     int operands[2] = {0, 0};
@@ -770,12 +777,12 @@ implicit::SimplexMesh ReadSimplexMeshMsh(const std::string& path) {
       if (type != wanted) {
         if (kParamDim[typeIndex] < dim) continue;  // A boundary tag.
         throw InputError(path, 0,
-                         "element " + std::to_string(element) + " is a " + (degree > 1 ? "curved " : "") +
+                         "element " + std::to_string(element + 1) + " (in file order) is a " + (degree > 1 ? "curved " : "") +
                              kCellNames[typeIndex] + ": an initial grid has " + wantedName + " only");
       }
       if (degree != 1 || patch.cellOffsets[c + 1] - patch.cellOffsets[c] != static_cast<std::int64_t>(per)) {
         throw InputError(path, 0,
-                         "element " + std::to_string(element) + " is a " + kCellNames[typeIndex] + " of order " +
+                         "element " + std::to_string(element + 1) + " (in file order) is a " + kCellNames[typeIndex] + " of order " +
                              std::to_string(degree) + ": an initial grid has " + wantedName + " only");
       }
       for (std::size_t j = 0; j < per; ++j) {

@@ -30,9 +30,9 @@ namespace invmap::io {
 ///  - "quintic":  optional center [3] (default the origin): x^5 + x^4 - 2y^2 of x - center
 ///  - "gyroid":   period > 0
 /// Every object may also carry "name" (a string), which replaces the
-/// function's default name (its type) in output labels. A point or vector
-/// [3] may have 2 numbers for 2D inputs; z is then 0. Every number must be
-/// finite. Functions are built by the factories of implicit.h.
+/// function's default name (its type) in output labels. Points and vectors
+/// have `dimension` numbers: 3, or 2 for a 2D grid (z is then 0). Every
+/// number must be finite. Functions are built by the factories of implicit.h.
 ///
 /// Throws InputError at the line of the offending value for: a missing or
 /// unreadable file, invalid JSON, a top level that is not a non-empty list,
@@ -40,7 +40,7 @@ namespace invmap::io {
 /// message lists the known ones), a missing, unknown (the message lists the
 /// allowed ones), duplicate or mistyped field, a wrong array length, a
 /// non-finite number and the range violations above.
-std::vector<implicit::Function> ReadFunctionList(const std::string& path);
+std::vector<implicit::Function> ReadFunctionList(const std::string& path, int dimension);
 
 /// Reads a CSG tree file: a non-empty JSON list of nodes
 /// {"type": "Intersection" | "Union" | "Negation", "elements": [a, b]}.
@@ -76,7 +76,7 @@ implicit::SimplexMesh ReadSimplexMeshMsh(const std::string& path);
 
 /// ReadFunctionList and ReadCsgTree of JSON text held in memory, named
 /// `name` in messages (the Python package's lists and dicts).
-std::vector<implicit::Function> ParseFunctionList(const std::string& text, const std::string& name);
+std::vector<implicit::Function> ParseFunctionList(const std::string& text, const std::string& name, int dimension);
 std::vector<implicit::CsgNode> ParseCsgTree(const std::string& text, const std::string& name, int functionCount);
 
 /// Writes the grid as gmsh MSH 4.1 ascii: one volume entity (surface in 2D)

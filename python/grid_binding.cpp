@@ -60,11 +60,9 @@ py::dict Grid(const std::string& functionsText, const std::string& functionsName
     implicit::SimplexMesh initial;
     std::vector<implicit::Function> functions;
     try {
-      functions = io::ParseFunctionList(functionsText, functionsName);
-      if (options.mode == implicit::Mode::Csg) {
-        if (!treeText) throw InputError("grid: mode \"csg\" needs a tree");
-        options.tree = io::ParseCsgTree(*treeText, treeName, static_cast<int>(functions.size()));
-      }
+      if (options.mode == implicit::Mode::Csg && !treeText) throw InputError("grid: mode \"csg\" needs a tree");
+      if (options.mode != implicit::Mode::Csg && treeText) throw InputError("grid: a tree is for mode \"csg\" only");
+      if (maxCells < 1) throw InputError("grid: max_cells must be at least 1");
       if (gridPath) {
         initial = io::ReadSimplexMeshMsh(*gridPath);
       } else if (!box) {
@@ -82,6 +80,9 @@ py::dict Grid(const std::string& functionsText, const std::string& functionsName
         if (resolution < 1) throw InputError("grid: resolution must be at least 1");
         initial = implicit::SimplexMesh::Box(lo, hi, dimension, resolution);
       }
+      functions = io::ParseFunctionList(functionsText, functionsName, initial.dimension);
+      if (options.mode == implicit::Mode::Csg)
+        options.tree = io::ParseCsgTree(*treeText, treeName, static_cast<int>(functions.size()));
     } catch (const io::InputError& e) {
       throw InputError(e.what());
     }

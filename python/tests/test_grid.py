@@ -73,3 +73,7 @@ def test_errors_name_the_source_and_line():
         invmap.grid([SPHERE], mode="csg", box=(0, 0, 0, 1, 1, 1))
     with pytest.raises(invmap.InputError, match="mode"):
         invmap.grid([SPHERE], mode="voronoi", box=(0, 0, 0, 1, 1, 1))
+    with pytest.raises(invmap.InputError, match="for mode \"csg\" only"):
+        invmap.grid([SPHERE], tree=[{"type": "Negation", "elements": [-1, 0]}], box=(0, 0, 0, 1, 1, 1))
+    with pytest.raises(invmap.InputError, match="expected 3 numbers"):
+        invmap.grid([{"type": "sphere", "center": [0.5, 0.5], "radius": 0.3}], box=(0, 0, 0, 1, 1, 1))

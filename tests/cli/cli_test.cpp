@@ -325,6 +325,14 @@ TEST_F(CliTest, GridErrorsHaveExitCodesAndLeaveNoOutput) {
   EXPECT_EQ(Run("grid -f " + Path("bad.json") + box, &out), 3);
   EXPECT_NE(out.find("bad.json:3"), std::string::npos) << out;
   EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --mode csg" + box, &out), 2) << out;
+  EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --epsilon -1e-3" + box, &out), 2) << out;
+  EXPECT_NE(out.find("--epsilon must be a positive number"), std::string::npos) << out;
+  // A 2D function list on a 3D grid.
+  WriteFile("disk.json", "[{\"type\": \"sphere\", \"center\": [0.5, 0.5], \"radius\": 0.3}]");
+  EXPECT_EQ(Run("grid -f " + Path("disk.json") + box, &out), 3) << out;
+  EXPECT_NE(out.find("disk.json:1: functions[0].center: 2 numbers, expected 3 numbers (the grid is 3D)"),
+            std::string::npos)
+      << out;
   EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --box 0,0,0,1,1 -o " + Path("out"), &out), 2) << out;
   EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " --box 1,0,0,0,1,1 -o " + Path("out"), &out), 2) << out;
   EXPECT_EQ(Run("grid -f " + Path("sphere.json") + " -o " + Path("out"), &out), 2) << out;

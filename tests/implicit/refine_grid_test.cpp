@@ -68,7 +68,7 @@ class ReferenceCounts : public ::testing::TestWithParam<ReferenceCase> {};
 TEST_P(ReferenceCounts, WithinATenthOfAPercent) {
   const ReferenceCase& c = GetParam();
   if (!c.small && SmallCasesOnly()) GTEST_SKIP() << "large case: Release build only";
-  const std::vector<Function> functions = io::ReadFunctionList(kData + c.functions);
+  const std::vector<Function> functions = io::ReadFunctionList(kData + c.functions, 3);
   std::vector<CsgNode> tree;
   if (c.tree) tree = io::ReadCsgTree(kData + c.tree, static_cast<int>(functions.size()));
   const GridResult result = Refine(functions, Cube6(), c.mode, c.epsilon, 0, tree);
@@ -279,7 +279,7 @@ double CylinderDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& point, 
 
 TEST(RefineGrid, CylinderAndThreeCylindersWithinEpsilon) {
   const double epsilon = 1e-3;
-  const std::vector<Function> functions = io::ReadFunctionList(kData + "3-cyl3.json");
+  const std::vector<Function> functions = io::ReadFunctionList(kData + "3-cyl3.json", 3);
   struct Cylinder {
     Eigen::Vector3d point, axis;
     double radius;
@@ -457,7 +457,7 @@ TEST(RefineGrid, CsgDiscMinusDiscBoundaryIn2D) {
 // Determinism, limits and errors.
 
 TEST(RefineGrid, SameGridForAnyThreadCount) {
-  const std::vector<Function> functions = io::ReadFunctionList(kData + "3-sphere.json");
+  const std::vector<Function> functions = io::ReadFunctionList(kData + "3-sphere.json", 3);
   for (Mode mode : {Mode::Arrangement, Mode::MaterialInterface}) {
     const GridResult one = Refine(functions, Cube6(), mode, 2e-3, 1);
     const GridResult two = Refine(functions, Cube6(), mode, 2e-3, 2);

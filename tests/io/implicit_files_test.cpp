@@ -60,7 +60,7 @@ TEST(ImplicitFunctionList, ReadsEveryBenchmarkList) {
     if (entry.path().extension() != ".json" || name.find("-tree") != std::string::npos) continue;
     SCOPED_TRACE(name);
     ASSERT_EQ(expected.count(name), 1u) << "unexpected benchmark file";
-    const std::vector<implicit::Function> functions = ReadFunctionList(entry.path().string());
+    const std::vector<implicit::Function> functions = ReadFunctionList(entry.path().string(), 3);
     EXPECT_EQ(functions.size(), expected.at(name));
     for (const implicit::Function& f : functions) EXPECT_TRUE(f.evaluate);
     ++lists;
@@ -69,7 +69,7 @@ TEST(ImplicitFunctionList, ReadsEveryBenchmarkList) {
 }
 
 TEST(ImplicitFunctionList, SphereValuesFollowTheFile) {
-  const std::vector<implicit::Function> one = ReadFunctionList(kBenchDir + "1-sphere.json");
+  const std::vector<implicit::Function> one = ReadFunctionList(kBenchDir + "1-sphere.json", 3);
   ASSERT_EQ(one.size(), 1u);
   EXPECT_EQ(one[0].name, "sphere");
   const implicit::Vec3 center = {0.5112321, 0.51412521, 0.51};
@@ -78,7 +78,7 @@ TEST(ImplicitFunctionList, SphereValuesFollowTheFile) {
   }
 
   // 10-wikiBall: planes, squared cylinders and a squared sphere.
-  const std::vector<implicit::Function> ball = ReadFunctionList(kBenchDir + "10-wikiBall.json");
+  const std::vector<implicit::Function> ball = ReadFunctionList(kBenchDir + "10-wikiBall.json", 3);
   ASSERT_EQ(ball.size(), 10u);
   EXPECT_EQ(ball[0].name, "plane");
   EXPECT_EQ(ball[6].name, "cylinder");
@@ -96,16 +96,16 @@ TEST(ImplicitFunctionList, SphereValuesFollowTheFile) {
 TEST(ImplicitFunctionList, EveryTypeAndTwoDimensionalPoints) {
   ScratchDir dir;
   const std::string path = dir.Write("all.json", R"([
-  {"type": "sphere", "center": [1, 2], "radius": 2, "name": "disk"},
+  {"type": "sphere", "center": [1, 2, 0], "radius": 2, "name": "disk"},
   {"type": "cylinder", "axis_point": [0, 0, 0], "axis_vector": [0, 0, 3], "radius": 1, "squared": true},
   {"type": "plane", "point": [0, 0, 1], "normal": [0, 0, -2]},
   {"type": "torus", "center": [0, 0, 0], "axis_vector": [0, 0, 1], "major_radius": 2, "minor_radius": 0.5},
   {"type": "cone", "apex": [0, 0, 0], "axis_vector": [0, 0, 1], "apex_angle": 0.5},
   {"type": "quintic"},
-  {"type": "quintic", "center": [1.0, 0]},
+  {"type": "quintic", "center": [1.0, 0, 0]},
   {"type": "gyroid", "period": 2}
 ])");
-  const std::vector<implicit::Function> f = ReadFunctionList(path);
+  const std::vector<implicit::Function> f = ReadFunctionList(path, 3);
   ASSERT_EQ(f.size(), 8u);
   EXPECT_EQ(f[0].name, "disk");
   EXPECT_EQ(f[1].name, "cylinder");
@@ -118,6 +118,17 @@ TEST(ImplicitFunctionList, EveryTypeAndTwoDimensionalPoints) {
   EXPECT_NEAR(Evaluate(f[3], {2, 0, 0}), 0.5, 1e-12);      // on the core circle
   EXPECT_NEAR(Evaluate(f[5], {1, 1, 0}), 1 + 1 - 2, 1e-15);
   EXPECT_NEAR(Evaluate(f[6], {2, 1, 0}), 1 + 1 - 2, 1e-15);
+
+  // A 2D grid's functions have 2-number points (z = 0), and only those.
+  const std::string planar = dir.Write("planar.json", R"([
+  {"type": "sphere", "center": [1, 2], "radius": 2},
+  {"type": "quintic", "center": [1.0, 0]}
+])");
+  const std::vector<implicit::Function> g = ReadFunctionList(planar, 2);
+  EXPECT_NEAR(Evaluate(g[0], {1, 2, 0}), 2, 1e-15);
+  EXPECT_NEAR(Evaluate(g[1], {2, 1, 0}), 1 + 1 - 2, 1e-15);
+  ExpectInputError([&] { ReadFunctionList(planar, 3); }, planar, 2, "center: 2 numbers, expected 3 numbers (the grid is 3D)");
+  ExpectInputError([&] { ReadFunctionList(path, 2); }, path, 2, "center: 3 numbers, expected 2 numbers (the grid is 2D)");
 }
 
 TEST(ImplicitFunctionList, Errors) {
@@ -158,7 +169,7 @@ TEST(ImplicitFunctionList, Errors) {
        "duplicate field \"radius\""},
       {"[{\"type\": \"plane\", \"point\": [0, 0, 0],\n \"normal\": [0, 0, 0]}]", 2, "normal: zero vector"},
       {"[{\"type\": \"plane\", \"point\": [0, 0, 0],\n \"normal\": [1e300, 1e300, 0]}]", 2, "overflows"},
-      {"[{\"type\": \"cylinder\", \"axis_point\": [0, 0, 0],\n \"axis_vector\": [0, 0],\n \"radius\": 1}]", 2,
+      {"[{\"type\": \"cylinder\", \"axis_point\": [0, 0, 0],\n \"axis_vector\": [0, 0, 0],\n \"radius\": 1}]", 2,
        "axis_vector: zero vector"},
       {"[{\"type\": \"torus\", \"center\": [0, 0, 0], \"axis_vector\": [0, 0, 1],\n \"major_radius\": 1,\n"
        " \"minor_radius\": -1}]",
@@ -175,9 +186,9 @@ TEST(ImplicitFunctionList, Errors) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.text);
     const std::string path = dir.Write("case" + std::to_string(index++) + ".json", c.text);
-    ExpectInputError([&] { ReadFunctionList(path); }, path, c.line, c.part);
+    ExpectInputError([&] { ReadFunctionList(path, 3); }, path, c.line, c.part);
   }
-  ExpectInputError([&] { ReadFunctionList(dir.Path("missing.json")); }, dir.Path("missing.json"), -1, "");
+  ExpectInputError([&] { ReadFunctionList(dir.Path("missing.json"), 3); }, dir.Path("missing.json"), -1, "");
 }
 
 // ---------------------------------------------------------------------------
@@ -218,7 +229,7 @@ TEST(ImplicitCsgTree, Errors) {
       {"[{\"elements\": [-1, -2]}]", 1, "missing field \"type\""},
       {"[{\"type\": \"Union\"}]", 1, "missing field \"elements\""},
       {"[{\"type\": \"Union\", \"elements\": [-1, -2],\n \"extra\": 1}]", 2, "unknown field \"extra\""},
-      {"[{\"type\": \"Union\",\n \"elements\": [-1]}]", 2, "1 operands, Union takes two"},
+      {"[{\"type\": \"Union\",\n \"elements\": [-1]}]", 2, "1 operand, Union takes two"},
       {"[{\"type\": \"Negation\",\n \"elements\": [-1, -2]}]", 2, "the second must be 0"},
       {"[{\"type\": \"Negation\",\n \"elements\": []}]", 2, "0 operands, a Negation has one"},
       {"[{\"type\": \"Union\", \"elements\": [-1,\n 1.5]}]", 2, "expected an integer operand"},
@@ -329,7 +340,7 @@ TEST(ImplicitGridMsh, Errors) {
   // A quadrangle in 2D.
   const std::string quad = dir.Write("quad.msh", MshText({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, 2, 3,
                                                          {{1, 2, 3, 4}}));
-  ExpectInputError([&] { ReadSimplexMeshMsh(quad); }, quad, 0, "element 0 is a quadrangle");
+  ExpectInputError([&] { ReadSimplexMeshMsh(quad); }, quad, 0, "element 1 (in file order) is a quadrangle");
   // A quadratic triangle.
   const std::string curved = dir.Write(
       "p2.msh", MshText({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0, 0}, {0.5, 0.5, 0}, {0, 0.5, 0}}, 2, 9,
