@@ -41,6 +41,7 @@
 #include <cstdint>
 #include <cstring>
 #include <initializer_list>
+#include <limits>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -675,29 +676,34 @@ void ExtractBlock(const Grid& grid, const GridOptions& options, std::int64_t fir
   }
 }
 
-/// Exact coordinates as a hash key (-0 and +0 are one point).
-struct CoordinateKey {
-  std::uint64_t bits[3];
-  bool operator==(const CoordinateKey& o) const {
-    return bits[0] == o.bits[0] && bits[1] == o.bits[1] && bits[2] == o.bits[2];
+/// A cell of the welding lattice (integer coordinates).
+struct LatticeKey {
+  std::int64_t cell[3];
+  bool operator==(const LatticeKey& o) const {
+    return cell[0] == o.cell[0] && cell[1] == o.cell[1] && cell[2] == o.cell[2];
   }
 };
 
-struct CoordinateKeyHash {
-  std::size_t operator()(const CoordinateKey& k) const {
+struct LatticeKeyHash {
+  std::size_t operator()(const LatticeKey& k) const {
     std::uint64_t h = 0x9e3779b97f4a7c15ull;
-    for (std::uint64_t b : k.bits) h = (h ^ b) * 0xff51afd7ed558ccdull, h ^= h >> 32;
+    for (std::int64_t c : k.cell) h = (h ^ static_cast<std::uint64_t>(c)) * 0xff51afd7ed558ccdull, h ^= h >> 32;
     return static_cast<std::size_t>(h);
   }
 };
 
-/// Joins the blocks' primitives, giving each distinct coordinate triple one
-/// vertex. Curves (3D) and points that several cells produce are kept once;
-/// surface primitives never repeat except where a zero set lies on a shared
-/// face with the same side on both sides, where both copies belong.
+/// Joins the blocks' primitives, giving one vertex to points within
+/// `weldTolerance` of each other: neighbouring cells compute a shared vertex
+/// from the same data, but where the complex is degenerate with respect to
+/// the grid (a clipping line along a shared face) two cells can land a few
+/// ulps apart. Primitives that collapse are dropped. Curves (3D) and points
+/// that several cells produce are kept once; surface primitives never repeat
+/// except where a zero set lies on a shared face with the same side on both
+/// sides, where both copies belong.
 class Merger {
  public:
-  explicit Merger(ZeroSets& out) : out_(out) {}
+  Merger(ZeroSets& out, double weldTolerance)
+      : out_(out), tolerance_(weldTolerance), lattice_(4 * weldTolerance) {}
 
   void Add(const BlockOutput& block) {
     for (std::size_t t = 0; t < block.triangleLabels.size(); ++t) {
@@ -739,19 +745,44 @@ class Merger {
   };
   static PrimitiveKey Key(std::uint32_t a, std::uint32_t b, const Label& label) { return {a, b, label}; }
 
+  /// The vertex at x: an earlier one within the tolerance (searched in the
+  /// lattice cells of side 4 tolerance that the tolerance box around x
+  /// touches: one cell, or a few near a cell's border), else a new one.
   std::uint32_t Vertex(const double* x) {
-    CoordinateKey key;
+    std::int64_t lo[3], hi[3];
+    LatticeKey own;
     for (int c = 0; c < 3; ++c) {
-      const double value = x[c] == 0 ? 0.0 : x[c];
-      std::memcpy(&key.bits[c], &value, sizeof value);
+      own.cell[c] = static_cast<std::int64_t>(std::floor(x[c] / lattice_));
+      lo[c] = static_cast<std::int64_t>(std::floor((x[c] - tolerance_) / lattice_));
+      hi[c] = static_cast<std::int64_t>(std::floor((x[c] + tolerance_) / lattice_));
     }
-    const auto [it, inserted] = vertexOf_.emplace(key, static_cast<std::uint32_t>(out_.vertices.size() / 3));
-    if (inserted) out_.vertices.insert(out_.vertices.end(), x, x + 3);
-    return it->second;
+    LatticeKey key;
+    for (key.cell[0] = lo[0]; key.cell[0] <= hi[0]; ++key.cell[0])
+      for (key.cell[1] = lo[1]; key.cell[1] <= hi[1]; ++key.cell[1])
+        for (key.cell[2] = lo[2]; key.cell[2] <= hi[2]; ++key.cell[2]) {
+          const auto found = firstInCell_.find(key);
+          if (found == firstInCell_.end()) continue;
+          for (std::uint32_t v = found->second; v != kNone; v = nextInCell_[v]) {
+            const double* y = &out_.vertices[3 * static_cast<std::size_t>(v)];
+            if (std::fabs(x[0] - y[0]) <= tolerance_ && std::fabs(x[1] - y[1]) <= tolerance_ &&
+                std::fabs(x[2] - y[2]) <= tolerance_)
+              return v;
+          }
+        }
+    const std::uint32_t v = static_cast<std::uint32_t>(out_.vertices.size() / 3);
+    out_.vertices.insert(out_.vertices.end(), x, x + 3);
+    const auto [slot, inserted] = firstInCell_.emplace(own, v);
+    nextInCell_.push_back(inserted ? kNone : slot->second);
+    slot->second = v;
+    return v;
   }
 
+  static constexpr std::uint32_t kNone = 0xffffffffu;
   ZeroSets& out_;
-  std::unordered_map<CoordinateKey, std::uint32_t, CoordinateKeyHash> vertexOf_;
+  double tolerance_;
+  double lattice_;
+  std::unordered_map<LatticeKey, std::uint32_t, LatticeKeyHash> firstInCell_;  ///< Newest vertex per cell.
+  std::vector<std::uint32_t> nextInCell_;  ///< Per vertex: the cell's previous one, or kNone.
   std::unordered_set<PrimitiveKey, PrimitiveKeyHash> seenSegments_, seenPoints_;
 };
 
@@ -772,7 +803,20 @@ ZeroSets ExtractZeroSets(const Grid& grid, const GridOptions& options) {
 
   const std::int64_t cellCount = static_cast<std::int64_t>(grid.mesh.numCells());
   const std::int64_t blockCount = (cellCount + kCellsPerBlock - 1) / kCellsPerBlock;
-  Merger merger(zeroSets);
+  // Welding tolerance: far below any feature the grid resolves, far above
+  // the rounding of coordinates computed in different cells.
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (std::size_t v = 0; v < vertexCount; ++v)
+    for (int c = 0; c < 3; ++c) {
+      const double x = grid.mesh.vertices[3 * v + c];
+      lo[c] = v == 0 ? x : std::min(lo[c], x);
+      hi[c] = v == 0 ? x : std::max(hi[c], x);
+    }
+  const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double magnitude = std::max({std::fabs(lo[0]), std::fabs(lo[1]), std::fabs(lo[2]), std::fabs(hi[0]),
+                                     std::fabs(hi[1]), std::fabs(hi[2])});
+  Merger merger(zeroSets, 1e-12 * diagonal + 1e-15 * magnitude + std::numeric_limits<double>::min());
   std::vector<BlockOutput> blocks;
   for (std::int64_t roundStart = 0; roundStart < blockCount; roundStart += kBlocksPerRound) {
     const std::int64_t roundSize = std::min(kBlocksPerRound, blockCount - roundStart);

@@ -453,6 +453,36 @@ TEST(RefineGrid, CsgDiscMinusDiscBoundaryIn2D) {
   }
 }
 
+TEST(RefineGrid, CsgOfMirroredBallsIsWatertight) {
+  // Two balls mirrored across the grid plane x = 0.5, cut by z = 0.55: the
+  // lens's crease runs inside shared faces of the grid, where neighbouring
+  // cells compute its vertices a few ulps apart; the extraction welds them.
+  GridOptions options;
+  options.mode = Mode::Csg;
+  options.epsilon = 1e-3;
+  // Inside A, inside B and above the plane.
+  options.tree = {{CsgNode::Op::Intersection, 2, 3},
+                  {CsgNode::Op::Intersection, 4, 5},
+                  {CsgNode::Op::Negation, -3, 0},
+                  {CsgNode::Op::Negation, -1, 0},
+                  {CsgNode::Op::Negation, -2, 0}};
+  const std::vector<Function> functions = {Function::Sphere({0.4, 0.5, 0.5}, 0.25),
+                                           Function::Sphere({0.6, 0.5, 0.5}, 0.25),
+                                           Function::Plane({0.5, 0.5, 0.55}, {0, 0, 1})};
+  const GridResult result = RefineGrid(SimplexMesh::Box({0, 0, 0}, {1, 1, 1}, 3, 2), functions, options);
+  ASSERT_EQ(result.error, "");
+  const ZeroSets zs = ExtractZeroSets(result.grid, options);
+  ASSERT_GT(zs.triangles.size(), 3000u);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (std::size_t t = 0; t + 2 < zs.triangles.size(); t += 3)
+    for (int e = 0; e < 3; ++e) ++directed[{zs.triangles[t + e], zs.triangles[t + (e + 1) % 3]}];
+  for (const auto& [edge, count] : directed) {
+    const auto opposite = directed.find({edge.second, edge.first});
+    ASSERT_EQ(count, 1) << "edge " << edge.first << "-" << edge.second;
+    ASSERT_TRUE(opposite != directed.end() && opposite->second == 1) << "edge " << edge.first << "-" << edge.second;
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Determinism, limits and errors.
 
