@@ -36,7 +36,6 @@ class BisectionGrid {
   const Cell& cell(std::uint32_t c) const { return cells_[c]; }
   std::uint32_t version(std::uint32_t c) const { return versions_[c]; }
   const double* point(std::uint32_t v) const { return coordinates_.data() + 3 * static_cast<std::size_t>(v); }
-  const std::vector<double>& coordinates() const { return coordinates_; }
 
   /// The longest edge of cell c (the first in local order among equally long
   /// ones) and its squared length.
