@@ -114,13 +114,17 @@ ActiveSet ActiveSetAt(const CellShape& shape, const double* ref) {
   return active;
 }
 
-enum class StepOutcome { Moved, Blocked, Negligible, Rejected };
+enum class StepOutcome { Moved, Blocked, Negligible, Rejected, Final };
 
 /// Armijo backtracking along the feasible part of `step`. On success moves
 /// `ref` (and enforces the blocking constraint when the whole feasible step
-/// was taken); Negligible when the accepted move is below kStepTolerance.
-StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& active, double f, const Vector& g,
-                       const Vector& step, double* ref) {
+/// was taken); Negligible when the accepted move is below kStepTolerance or
+/// the decrease it promises is below `fNoise`, the rounding level of f (no
+/// evaluation could then tell a decrease from rounding). A Newton step
+/// (`newton`) that promises only such a decrease is in the quadratic
+/// convergence region: it is taken unchecked, and the outcome is Final.
+StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& active, double f, double fNoise,
+                       const Vector& g, const Vector& step, bool newton, double* ref) {
   const CellShape& shape = cell.shape;
   const int pd = shape.paramDim();
   int blockFactor = -1, blockIndex = -1;
@@ -133,10 +137,15 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
     active.enforced[blockFactor] |= 1u << blockIndex;
     return StepOutcome::Blocked;
   }
+  if (newton && -feasible * slope <= fNoise) {
+    for (int i = 0; i < pd; ++i) ref[i] += feasible * step[i];
+    if (blockFactor >= 0) active.enforced[blockFactor] |= 1u << blockIndex;
+    return StepOutcome::Final;
+  }
   double alpha = feasible;
   double trial[3], closest[3];
   for (int halving = 0; halving < 60; ++halving) {
-    if (alpha * step.norm() <= kStepTolerance) return StepOutcome::Negligible;
+    if (alpha * step.norm() <= kStepTolerance || -alpha * slope <= fNoise) return StepOutcome::Negligible;
     for (int i = 0; i < pd; ++i) trial[i] = ref[i] + alpha * step[i];
     const double fTrial = SquaredDistanceAt(cell, point, trial, closest);
     if (fTrial <= f + 1e-4 * alpha * slope && fTrial < f) {
@@ -195,6 +204,12 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       for (int k = 0; k < ad; ++k) grad[i] += jet.d1[k][i] * r[k];
     }
     const double residualScale = gradTol * (size + std::sqrt(f));
+    // Rounding of f: the map's coordinates carry errors of a few ulps of the
+    // coordinates' magnitude, and f = |r|^2 doubles their relative size.
+    double magnitude = size;
+    for (int k = 0; k < ad; ++k) magnitude = std::max(magnitude, std::abs(point[k]) + std::abs(r[k]));
+    const double rError = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+    const double fNoise = 2.0 * std::sqrt(f) * rError + rError * rError;
 
     FaceBasis face;
     BuildFaceBasis(shape, active, &face);
@@ -246,6 +261,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
           }
         }
       }
+      bool newton = haveStep;
       if (!haveStep) {
         // Levenberg-Marquardt on the Gauss-Newton model: a descent direction
         // for any damping, and well defined for singular Jacobians.
@@ -260,19 +276,20 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
         // Right after a release the multiplier promises descent into the
         // interior; a curved model's step back out would only cycle.
         step = T * descent;
+        newton = false;
       }
       releasedFactor = -1;
 
       // The model's step first, then plain descent: a step that the line
       // search cannot use (a nearly singular model) falls back to the gradient.
       const Vector candidates[2] = {step, T * descent};
-      bool moved = false;
-      for (const Vector& candidate : candidates) {
-        const StepOutcome outcome = LineSearch(cell, point, active, f, g, candidate, ref);
+      bool moved = false, final = false;
+      for (int c = 0; c < 2 && !moved && !final; ++c) {
+        const StepOutcome outcome = LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, ref);
         if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
-        moved = true;
-        if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
-        break;
+        if (outcome != StepOutcome::Moved) SnapToFace(shape, active, ref);
+        final = outcome == StepOutcome::Final;
+        moved = !final;
       }
       if (moved) continue;
       // No decrease possible (or a negligible step): a stationary point up to
