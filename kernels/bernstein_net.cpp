@@ -73,23 +73,104 @@ const SplitRule& GetSplitRule(int dim, int degree, int i, int j) {
   return rules[dim - 1][degree][i][j];
 }
 
+/// SplitNet one coefficient at a time: `blocks` x `stride` lines of `count`
+/// coefficients `stride` apart (kContiguous: stride 1, known to the compiler).
+template <bool kContiguous>
+void ApplyRuleEach(const SplitRule& rule, int count, int stride, int blocks, const double* in, double* out) {
+  const int step = kContiguous ? 1 : stride;
+  const int* start = rule.start.data();
+  const int* source = rule.source.data();
+  const double* weight = rule.weight.data();
+  for (int block = 0; block < blocks; ++block) {
+    for (int inner = 0; inner < step; ++inner) {
+      const double* from = in + block * step * count + inner;
+      double* to = out + block * step * count + inner;
+      for (int k = 0; k < count; ++k) {
+        double sum = 0.0;
+        for (int e = start[k]; e < start[k + 1]; ++e) sum += weight[e] * from[source[e] * step];
+        to[k * step] = sum;
+      }
+    }
+  }
+}
+
+/// Appends one row of a Hessian entry (its (source, weight) terms, sources
+/// ascending) to `runs`, extending the last run when the row applies the
+/// same rule one place further on.
+void AppendRow(const std::vector<std::pair<int, double>>& row, std::vector<HessianRun>* runs) {
+  HessianRun next;
+  next.first = row.empty() ? 0 : row.front().first;
+  next.length = 1;
+  next.terms = static_cast<int>(row.size());
+  for (int t = 0; t < next.terms; ++t) {
+    next.offset[t] = row[t].first - next.first;
+    next.weight[t] = row[t].second;
+  }
+  if (!runs->empty()) {
+    HessianRun& last = runs->back();
+    bool same = last.terms == next.terms && last.first + last.length == next.first;
+    for (int t = 0; same && t < next.terms; ++t) {
+      same = last.offset[t] == next.offset[t] && last.weight[t] == next.weight[t];
+    }
+    if (same) {
+      ++last.length;
+      return;
+    }
+  }
+  runs->push_back(next);
+}
+
+/// Folds the rows of `run` into the range [*lo, *hi]. Each row is summed from
+/// 0.0 in term order, exactly as the sparse rule reads, so no row is -0 and
+/// the range does not depend on the order the rows are folded in.
+template <int kTerms>
+void RunRange(const HessianRun& run, const double* f, double* lo, double* hi) {
+  const int terms = kTerms > 0 ? kTerms : run.terms;
+  const double* at = f + run.first;
+  double l = *lo, h = *hi;
+  for (int k = 0; k < run.length; ++k) {
+    double v = 0.0;
+    for (int t = 0; t < terms; ++t) v += run.weight[t] * at[k + run.offset[t]];
+    l = std::min(l, v);
+    h = std::max(h, v);
+  }
+  *lo = l;
+  *hi = h;
+}
+
 }  // namespace
 
 void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in, double* out) {
-  const NetLayout layout(shape);
   const SimplexFactor& fac = shape.factor(factor);
   const SplitRule& rule = GetSplitRule(fac.dim, fac.degree, i, j);
-  const int stride = layout.stride[factor];
-  const int count = layout.count[factor];
+  int stride = 1;
+  for (int f = 0; f < factor; ++f) stride *= SimplexBasisSize(shape.factor(f).dim, shape.factor(f).degree);
+  const int count = SimplexBasisSize(fac.dim, fac.degree);
   const int blocks = NetSize(shape) / (stride * count);
-  // The rule acts along the factor's axis, for every index of the other factors.
+  // The rule acts along the factor's axis, for every index of the other
+  // factors; each coefficient is summed in the rule's order, so the three
+  // loop orders below give the same bits.
+  constexpr int kSliceStride = 8;
+  if (stride == 1) {
+    ApplyRuleEach<true>(rule, count, stride, blocks, in, out);
+    return;
+  }
+  if (stride < kSliceStride) {
+    ApplyRuleEach<false>(rule, count, stride, blocks, in, out);
+    return;
+  }
+  // Long enough slices of coefficients sharing the other factors' lower
+  // indices are contiguous: the rule is applied to whole slices, which vectorizes.
   for (int block = 0; block < blocks; ++block) {
-    for (int inner = 0; inner < stride; ++inner) {
-      const int base = block * stride * count + inner;
-      for (int k = 0; k < count; ++k) {
-        double sum = 0.0;
-        for (int e = rule.start[k]; e < rule.start[k + 1]; ++e) sum += rule.weight[e] * in[base + rule.source[e] * stride];
-        out[base + k * stride] = sum;
+    const double* from = in + block * stride * count;
+    double* to = out + block * stride * count;
+    for (int k = 0; k < count; ++k) {
+      double* __restrict slice = to + k * stride;
+      std::fill(slice, slice + stride, 0.0);
+      for (int e = rule.start[k]; e < rule.start[k + 1]; ++e) {
+        const double w = rule.weight[e];
+        const double* __restrict src = from + rule.source[e] * stride;
+        for (int inner = 0; inner < stride; ++inner) slice[inner] += w * src[inner];
       }
     }
   }
@@ -168,8 +249,8 @@ HessianStencil::HessianStencil(const CellShape& shape) : paramDim_(shape.paramDi
       dirOf[shape.factor(f).offset + d] = d;
     }
   }
-  // Differentiate each unit net twice and keep the non-zero weights: the
-  // rows have at most four terms, so the test is one sparse pass per entry.
+  // Differentiate each unit net twice and keep the non-zero weights: two
+  // differences give rows of at most HessianRun::kMaxTerms terms.
   std::vector<double> unit(n, 0.0), first(n), second(n);
   for (int a = 0; a < paramDim_; ++a) {
     for (int b = a; b < paramDim_; ++b) {
@@ -189,38 +270,43 @@ HessianStencil::HessianStencil(const CellShape& shape) : paramDim_(shape.paramDi
           if (second[r] != 0.0) rows[r].emplace_back(s, second[r]);
         }
       }
-      entry.start.push_back(0);
-      for (const auto& row : rows) {
-        for (const auto& [source, weight] : row) {
-          entry.source.push_back(source);
-          entry.weight.push_back(weight);
-        }
-        entry.start.push_back(static_cast<int>(entry.source.size()));
-      }
+      for (const auto& row : rows) AppendRow(row, &entry.runs);
     }
   }
 }
 
+bool HessianStencil::RowRange(const Entry& entry, const double* f, bool positive, double* lo, double* hi) {
+  double l = std::numeric_limits<double>::infinity(), h = -l;
+  for (const HessianRun& run : entry.runs) {
+    switch (run.terms) {
+      case 3:
+        RunRange<3>(run, f, &l, &h);
+        break;
+      case 4:
+        RunRange<4>(run, f, &l, &h);
+        break;
+      default:
+        RunRange<0>(run, f, &l, &h);
+        break;
+    }
+    if (positive && l <= 0.0) return false;
+  }
+  *lo = l;
+  *hi = h;
+  return true;
+}
+
 bool HessianStencil::IsConvex(const double* f) const {
   double lo[3][3] = {}, hi[3][3] = {};
+  // The diagonal first: a failing one ends the test before any mixed entry.
   for (int a = 0; a < paramDim_; ++a) {
-    for (int b = a; b < paramDim_; ++b) {
-      const Entry& entry = entries_[a][b];
-      const int rows = static_cast<int>(entry.start.size()) - 1;
-      if (rows <= 0) {
-        if (a == b) return false;  // not strictly convex along a
-        continue;
-      }
-      double l = std::numeric_limits<double>::infinity(), h = -l;
-      for (int r = 0; r < rows; ++r) {
-        double v = 0.0;
-        for (int k = entry.start[r]; k < entry.start[r + 1]; ++k) v += entry.weight[k] * f[entry.source[k]];
-        l = std::min(l, v);
-        h = std::max(h, v);
-      }
-      if (a == b && l <= 0.0) return false;
-      lo[a][b] = l;
-      hi[a][b] = h;
+    const Entry& entry = entries_[a][a];
+    if (entry.runs.empty()) return false;  // not strictly convex along a
+    if (!RowRange(entry, f, true, &lo[a][a], &hi[a][a])) return false;
+  }
+  for (int a = 0; a < paramDim_; ++a) {
+    for (int b = a + 1; b < paramDim_; ++b) {
+      if (!entries_[a][b].runs.empty()) RowRange(entries_[a][b], f, false, &lo[a][b], &hi[a][b]);
     }
   }
   if (paramDim_ == 1) return true;

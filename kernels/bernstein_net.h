@@ -20,6 +20,7 @@ void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, co
 /// (barycentric vertex indices), and the half that keeps vertex i (vertex j
 /// moves to the midpoint) is returned in the factor's new local coordinates.
 /// For a line factor, edge (0, 1) keeping 0 is [0, 1/2]. Exact (dyadic) rules.
+/// `in` and `out` must not overlap.
 void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in, double* out);
 
 /// The net of the derivative along free coordinate `dir` (0-based, local to
@@ -28,9 +29,25 @@ void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in
 void DifferentiateNet(const CellShape& shape, int factor, int dir, const double* in, double* out,
                       CellShape* outShape);
 
-/// The second-derivative nets of every net of one shape, as sparse linear
-/// rules on its coefficients, and the convexity test built on them. Shared by
-/// all cells of a shape (Get is thread-safe; the object is immutable).
+/// Consecutive rows of one Hessian entry's net that apply the same rule at
+/// consecutive places: row k of the run (k < length) is
+/// sum over t < terms of weight[t] * f[first + k + offset[t]], summed in order
+/// of t (offsets ascending, as the sparse rule of a row lists them). Runs turn
+/// per-row index lists into strided loops: a line factor's differences give
+/// one run per line of the net, or a single run for the whole net.
+struct HessianRun {
+  /// Most terms in a row: two differences of two terms each.
+  static constexpr int kMaxTerms = 4;
+  int first = 0;
+  int length = 0;
+  int terms = 0;
+  int offset[kMaxTerms] = {};
+  double weight[kMaxTerms] = {};
+};
+
+/// The second-derivative nets of every net of one shape, as runs of short
+/// difference rules on its coefficients, and the convexity test built on
+/// them. Shared by all cells of a shape (Get is thread-safe; immutable).
 class HessianStencil {
  public:
   static const HessianStencil& Get(const CellShape& shape);
@@ -44,13 +61,14 @@ class HessianStencil {
  private:
   explicit HessianStencil(const CellShape& shape);
 
-  /// One entry (a, b) of the Hessian: row r of its net is
-  /// sum over k in [start[r], start[r+1]) of weight[k] * f[source[k]].
+  /// The rows of entry (a, b), a <= b; empty when the entry is identically zero.
   struct Entry {
-    std::vector<int> start;
-    std::vector<int> source;
-    std::vector<double> weight;
+    std::vector<HessianRun> runs;
   };
+  /// Min and max of the rows of `entry`; false as soon as a row is <= 0 when
+  /// `positive` is asked for (a diagonal entry that already fails).
+  static bool RowRange(const Entry& entry, const double* f, bool positive, double* lo, double* hi);
+
   int paramDim_ = 0;
   Entry entries_[3][3];  // a <= b only
 };

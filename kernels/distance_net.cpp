@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "kernels/range_fold.h"
 #include "kernels/simplex_index.h"
 
 namespace invmap::kernels {
@@ -38,6 +39,7 @@ void DistanceNets::Build(const CellView& cell, const double* center) {
   }
   MultiplyNets(base, weightNet, base, weightNet, nets_.data() + static_cast<size_t>(size_) * (ambientDim_ + 1));
   scale2_ = *std::max_element(nn, nn + size_);
+  wwMax_ = *std::max_element(ww(), ww() + size_);
 }
 
 void DistanceNets::SquaredDistanceNumerator(const double* point, double* q) const {
@@ -49,20 +51,30 @@ void DistanceNets::SquaredDistanceNumerator(const double* point, double* q) cons
   }
   const double* nn = nets_.data();
   const double* ww = this->ww();
-  for (int i = 0; i < size_; ++i) q[i] = nn[i] + local2 * ww[i];
+  const double* nw[3] = {nullptr, nullptr, nullptr};
+  double twoP[3] = {0, 0, 0};
   for (int k = 0; k < ambientDim_; ++k) {
-    const double* nw = nets_.data() + static_cast<size_t>(size_) * (k + 1);
-    const double twoP = 2.0 * local[k];
-    for (int i = 0; i < size_; ++i) q[i] -= twoP * nw[i];
+    nw[k] = nets_.data() + static_cast<size_t>(size_) * (k + 1);
+    twoP[k] = 2.0 * local[k];
+  }
+  // One pass, subtracting the coordinates' terms in order k = 0, 1, 2.
+  if (ambientDim_ == 3) {
+    for (int i = 0; i < size_; ++i) {
+      q[i] = nn[i] + local2 * ww[i] - twoP[0] * nw[0][i] - twoP[1] * nw[1][i] - twoP[2] * nw[2][i];
+    }
+    return;
+  }
+  for (int i = 0; i < size_; ++i) {
+    double v = nn[i] + local2 * ww[i];
+    for (int k = 0; k < ambientDim_; ++k) v -= twoP[k] * nw[k][i];
+    q[i] = v;
   }
 }
 
 double DistanceNets::RoundingSlack(const double* point) const {
   double local2 = 0.0;
   for (int k = 0; k < ambientDim_; ++k) local2 += (point[k] - center_[k]) * (point[k] - center_[k]);
-  const double* ww = this->ww();
-  const double wwMax = *std::max_element(ww, ww + size_);
-  const double magnitude = std::sqrt(scale2_) + std::sqrt(local2 * wwMax);
+  const double magnitude = std::sqrt(scale2_) + std::sqrt(local2 * wwMax_);
   // Each coefficient is a short sum of products of these magnitudes; the
   // subdivision steps are convex combinations and add rounding of the same order.
   return 64.0 * std::numeric_limits<double>::epsilon() * magnitude * magnitude;
@@ -70,10 +82,14 @@ double DistanceNets::RoundingSlack(const double* point) const {
 
 double NetLowerBound(int size, const double* q, const double* ww) {
   double lb = std::numeric_limits<double>::infinity();
-  if (ww) {
-    for (int i = 0; i < size; ++i) lb = std::min(lb, q[i] / ww[i]);
-  } else {
-    for (int i = 0; i < size; ++i) lb = std::min(lb, q[i]);
+  if (!ww) return FoldMin(size, q, lb);
+  // The quotients in blocks first: a loop of divisions alone vectorizes.
+  constexpr int kBlock = 64;
+  double ratio[kBlock];
+  for (int first = 0; first < size; first += kBlock) {
+    const int count = std::min(kBlock, size - first);
+    for (int i = 0; i < count; ++i) ratio[i] = q[first + i] / ww[first + i];
+    lb = FoldMin(count, ratio, lb);
   }
   return lb;
 }

@@ -45,6 +45,7 @@ class DistanceNets {
   bool rational_ = false;
   double center_[3] = {0, 0, 0};
   double scale2_ = 0.0;       // largest |N|^2 coefficient, for the slack
+  double wwMax_ = 0.0;        // largest WW coefficient, for the slack
   std::vector<double> nets_;  // NN, NW_0 .. NW_{dim-1}, WW: size_ values each
 };
 
