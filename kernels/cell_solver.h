@@ -82,7 +82,9 @@ class CellSolver {
   CellSolveResult Solve(const double* point, const double* initialRef, SolveWorkspace* ws,
                         double bound2 = std::numeric_limits<double>::infinity()) const;
 
-  /// Volume cells only: the local full-rank solve alone (7.3.2.1). Returns
+  /// Volume cells only: the local full-rank solve alone (7.3.2.1), from the
+  /// point's barycentric place in a tetrahedron's corners, else from
+  /// `initialRef`, else from the center. Returns
   /// true, with `result` filled, when it converges to a point of the cell
   /// within the distance tolerance of `point` (the point is inside: the
   /// answer is exact and global); false otherwise (result.iterations is set).
@@ -130,6 +132,11 @@ class CellSolver {
   void SolveAffineSimplex(const double* point, CellSolveResult* result) const;
   /// SolveLane for affine simplices.
   void SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const;
+
+  /// Tetrahedra: barycentric coordinates (lambda_0 .. lambda_3, lambda_k for
+  /// reference vertex k) of `point` relative to the cell's corner control
+  /// points; false for other cells and flat corner tetrahedra.
+  bool CornerBarycentric(const double* point, double* lambda) const;
 
   bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 
