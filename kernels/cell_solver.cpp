@@ -8,6 +8,7 @@
 #include "kernels/affine_simplex.h"
 #include "kernels/affine_simplex_lanes.h"
 #include "kernels/cell_bounds.h"
+#include "kernels/face_certificate.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
@@ -68,6 +69,27 @@ bool SubdomainContains(const CellShape& shape, double* slot, const double* ref) 
       sum += mu[k];
     }
     if (1.0 - sum < -kInsideTolerance) return false;
+  }
+  return true;
+}
+
+/// For cells of line factors: side[d] = 0 or 1 when `ref` lies on a face
+/// u_d = 0 or 1 of the cell's domain and the subdomain's local face t_d =
+/// side[d] is that face, -1 when `ref` is inside in direction d. False when
+/// `ref` is on a face of the cell that the subdomain does not reach.
+bool ConstrainedSides(const CellShape& shape, double* slot, const double* ref, int* side) {
+  for (int d = 0; d < shape.numFactors(); ++d) {
+    side[d] = -1;
+    for (const double face : {0.0, 1.0}) {
+      if (std::abs(ref[d] - face) > kOnFaceTolerance) continue;
+      if (Vertex(slot, d, 0)[0] == face) {
+        side[d] = 0;
+      } else if (Vertex(slot, d, 1)[0] == face) {
+        side[d] = 1;
+      } else {
+        return false;
+      }
+    }
   }
   return true;
 }
@@ -363,6 +385,7 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
   SlotPool pool(ws, slotSize);
   if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
   const HessianStencil& stencil = *stencil_;
+  const bool faceCertificate = HasFaceCertificate(netShape);
   // The certificate below is only sound at a true KKT point; a local solve
   // that stopped early (iteration cap, rounding) does not get it.
   bool bestIsKkt = best->converged && IsKktPoint(cell_, point, best->ref, size_);
@@ -374,7 +397,10 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
     const double* q = slot + kHeaderSize;
     const double* ww = rational ? q + n : nullptr;
     for (int i = 0; i < n; ++i) f[i] = q[i] - best->squaredDistance * (ww ? ww[i] : 1.0);
-    return stencil.IsConvex(f);
+    if (stencil.IsConvex(f)) return true;
+    int side[3];
+    return faceCertificate && ConstrainedSides(cell_.shape, slot, best->ref, side) &&
+           IsMinimalOnFace(netShape, f, side);
   };
   auto lowerBound = [&](double* slot) {
     const double* q = slot + kHeaderSize;

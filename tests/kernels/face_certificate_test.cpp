@@ -1,0 +1,184 @@
+// The face certificate of the cell search (kernels/face_certificate.h): when
+// it accepts a net, the polynomial must really be at least its minimum over
+// the face, and convex on that face. Checked by dense sampling with an
+// evaluation written here from the Bernstein definition.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "kernels/face_certificate.h"
+
+namespace {
+
+using invmap::kernels::CellShape;
+using invmap::kernels::CellType;
+using invmap::kernels::IsMinimalOnFace;
+
+double Binomial(int n, int k) {
+  double b = 1.0;
+  for (int i = 1; i <= k; ++i) b = b * (n - k + i) / i;
+  return b;
+}
+
+/// A tensor Bernstein net of degrees deg[0..dims), first direction fastest.
+struct Net {
+  int dims;
+  int deg[3];
+  std::vector<double> c;
+
+  int Size(int d) const { return d < dims ? deg[d] + 1 : 1; }
+
+  double operator()(const double* t) const {
+    double sum = 0.0;
+    for (int k = 0; k < Size(2); ++k) {
+      for (int j = 0; j < Size(1); ++j) {
+        for (int i = 0; i < Size(0); ++i) {
+          const int idx[3] = {i, j, k};
+          double b = 1.0;
+          for (int d = 0; d < dims; ++d) {
+            b *= Binomial(deg[d], idx[d]) * std::pow(t[d], idx[d]) * std::pow(1 - t[d], deg[d] - idx[d]);
+          }
+          sum += b * c[i + Size(0) * (j + Size(1) * k)];
+        }
+      }
+    }
+    return sum;
+  }
+
+  CellShape Shape() const {
+    return dims == 2 ? CellShape(CellType::Quad, {deg[0], deg[1], 0}) : CellShape(CellType::Hex, {deg[0], deg[1], deg[2]});
+  }
+};
+
+/// Samples t on a grid of `steps` per direction; calls visit(t).
+template <typename Visit>
+void ForGrid(int dims, int steps, Visit visit) {
+  const int total = dims == 2 ? steps * steps : steps * steps * steps;
+  for (int s = 0; s < total; ++s) {
+    double t[3] = {0, 0, 0};
+    int rest = s;
+    for (int d = 0; d < dims; ++d) {
+      t[d] = static_cast<double>(rest % steps) / (steps - 1);
+      rest /= steps;
+    }
+    visit(t);
+  }
+}
+
+/// A net that is a sum of one term per direction (the Bernstein bases sum to
+/// one in each direction, so coefficients a_0[i] + a_1[j] + .. give exactly
+/// the polynomial a_0(t_0) + a_1(t_1) + ..), then perturbed coefficient by
+/// coefficient so that some nets pass the certificate and some fail.
+Net RandomSeparableNet(std::mt19937& rng, int dims, const int* side) {
+  std::uniform_int_distribution<int> degree(2, dims == 2 ? 6 : 4);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Net net{dims, {0, 0, 0}, {}};
+  std::vector<double> term[3];
+  for (int d = 0; d < dims; ++d) {
+    net.deg[d] = degree(rng);
+    double value = unit(rng);
+    for (int i = 0; i <= net.deg[d]; ++i) {
+      if (side[d] < 0) {
+        // A convex parabola in the free direction.
+        const double x = static_cast<double>(i) / net.deg[d] - unit(rng) * 0.2;
+        term[d].push_back(x * x);
+      } else {
+        // Monotone away from the constrained face.
+        value += (side[d] == 0 ? 1.0 : -1.0) * (0.05 + unit(rng));
+        term[d].push_back(value);
+      }
+    }
+  }
+  std::normal_distribution<double> noise(0.0, 0.15);
+  for (int k = 0; k < net.Size(2); ++k) {
+    for (int j = 0; j < net.Size(1); ++j) {
+      for (int i = 0; i < net.Size(0); ++i) {
+        double v = term[0][i] + term[1][j] + (dims > 2 ? term[2][k] : 0.0);
+        net.c.push_back(v + noise(rng));
+      }
+    }
+  }
+  return net;
+}
+
+TEST(FaceCertificate, AcceptedNetsAreAtLeastTheirMinimumOnTheFace) {
+  std::mt19937 rng(20261122);
+  std::uniform_int_distribution<int> sideOf(-1, 1);
+  int accepted = 0, rejected = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int dims = trial % 3 == 0 ? 3 : 2;
+    int side[3] = {-1, -1, -1};
+    for (int d = 0; d < dims; ++d) side[d] = sideOf(rng);
+    const Net net = RandomSeparableNet(rng, dims, side);
+    if (!IsMinimalOnFace(net.Shape(), net.c.data(), side)) {
+      ++rejected;
+      continue;
+    }
+    ++accepted;
+    const int steps = dims == 2 ? 21 : 9;
+    // The face where the constrained directions meet, sampled.
+    double faceMin = 1e300;
+    ForGrid(dims, steps, [&](const double* t) {
+      for (int d = 0; d < dims; ++d) {
+        if (side[d] >= 0 && t[d] != side[d]) return;
+      }
+      faceMin = std::min(faceMin, net(t));
+    });
+    ForGrid(dims, steps, [&](const double* t) { ASSERT_GE(net(t), faceMin - 1e-12) << "trial " << trial; });
+    // Convex along the face's free directions: second differences of samples.
+    for (int d = 0; d < dims; ++d) {
+      if (side[d] >= 0) continue;
+      ForGrid(dims, steps, [&](const double* t) {
+        for (int e = 0; e < dims; ++e) {
+          if (side[e] >= 0 && t[e] != side[e]) return;
+        }
+        if (t[d] > 1.0 - 2.5 / (steps - 1)) return;
+        double a[3] = {t[0], t[1], t[2]}, b[3] = {t[0], t[1], t[2]};
+        a[d] += 1.0 / (steps - 1);
+        b[d] += 2.0 / (steps - 1);
+        ASSERT_GE(net(b) - 2 * net(a) + net(t), -1e-12) << "trial " << trial;
+      });
+    }
+  }
+  // Both outcomes occur, so the checks above are not vacuous.
+  EXPECT_GT(accepted, 300);
+  EXPECT_GT(rejected, 300);
+}
+
+TEST(FaceCertificate, ParabolaOnAnEdgeIsCertified) {
+  // f = t_0 + (t_1 - 1/2)^2, least at (0, 1/2). In Bernstein form t_0 has coefficients
+  // (0, 1/2, 1) at degree 2, (t_1 - 1/2)^2 has (1/4, -1/4, 1/4).
+  const double a[3] = {0.0, 0.5, 1.0}, b[3] = {0.25, -0.25, 0.25};
+  std::vector<double> c;
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) c.push_back(a[i] + b[j]);
+  }
+  const CellShape quad(CellType::Quad, {2, 2, 0});
+  const int onEdge[3] = {0, -1, -1};
+  EXPECT_TRUE(IsMinimalOnFace(quad, c.data(), onEdge));
+  // Decreasing away from t_0 = 1: wrong side.
+  const int wrongSide[3] = {1, -1, -1};
+  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), wrongSide));
+  // The corner (0, 0) is not where f is least along t_1.
+  const int corner[3] = {0, 0, -1};
+  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), corner));
+  // Nothing constrained: the convexity certificate's job, not this one's.
+  const int none[3] = {-1, -1, -1};
+  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), none));
+}
+
+TEST(FaceCertificate, NonConvexFaceIsRejected) {
+  // f = t_0 - (t_1 - 1/2)^2: monotone in t_0, concave along the face t_0 = 0.
+  const double a[3] = {0.0, 0.5, 1.0}, b[3] = {-0.25, 0.25, -0.25};
+  std::vector<double> c;
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) c.push_back(a[i] + b[j]);
+  }
+  const int onEdge[3] = {0, -1, -1};
+  EXPECT_FALSE(IsMinimalOnFace(CellShape(CellType::Quad, {2, 2, 0}), c.data(), onEdge));
+}
+
+}  // namespace
