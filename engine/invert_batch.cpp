@@ -265,25 +265,31 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
   const int dim = search.store.dimension();
   const std::vector<BvhBox>& itemBoxes = bvh.ItemBoxes();
   const std::vector<int>& items = bvh.Items();
-  // First the volume cells whose box holds the point, the previous point's
-  // cell first, then the likeliest (as in SearchCandidates).
+  // First the volume cells whose box holds the point: the previous point's
+  // cell, then any whose straight corner tetrahedron holds the point (tried
+  // at once: that is almost always the cell, and the traversal stops there),
+  // then the others, likeliest first (as in SearchCandidates).
   const CellStore& store = search.store;
   const std::int64_t tried = store.hasVolumeCells() ? search.TryInsideWarmCell() : -1;
   std::vector<int>& stack = search.scratch.stack;
   std::vector<std::pair<double, int>>& boxes = search.scratch.insideOrder;
   boxes.clear();
   stack.assign(store.hasVolumeCells() && !search.inside ? 1 : 0, 0);
-  while (!stack.empty()) {
+  while (!stack.empty() && !search.inside) {
     const int index = stack.back();
     stack.pop_back();
     if (BoxDistance2(bvh.NodeBounds(index), search.p, dim) > 0.0) continue;
     const BvhNode& node = nodes[index];
     if (node.count > 0) {
-      for (int i = node.first; i < node.first + node.count; ++i) {
+      for (int i = node.first; i < node.first + node.count && !search.inside; ++i) {
         if (BoxDistance2(itemBoxes[i], search.p, dim) > 0.0 || search.IsCell(items[i], tried)) continue;
         const double score =
             store.isRegion(items[i]) ? 0.0 : store.solver(store.subdivisionCell(items[i])).InsideScore(search.p);
-        boxes.emplace_back(-score, items[i]);
+        if (score >= 0.0) {
+          search.TryInside(items[i]);
+        } else {
+          boxes.emplace_back(-score, items[i]);
+        }
       }
     } else {
       stack.push_back(node.first + 1);
