@@ -114,6 +114,46 @@ ActiveSet ActiveSetAt(const CellShape& shape, const double* ref) {
   return active;
 }
 
+/// Newton step -H^-1 g of f / 2 with H = J^T J + sum_k r_k d2x_k, by an
+/// LDL^T factorization of the pd x pd Hessian. False unless H is positive
+/// definite and the step is finite and descends.
+bool InteriorNewtonStep(const MapJet& jet, const double* r, const double* grad, int pd, int ad, double* step) {
+  double h[3][3];
+  for (int i = 0; i < pd; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      double v = 0.0;
+      for (int k = 0; k < ad; ++k) v += jet.d1[k][i] * jet.d1[k][j] + r[k] * jet.d2[k][i][j];
+      h[i][j] = h[j][i] = v;
+    }
+  }
+  // LDL^T in place: l[i][j] (j < i) below the diagonal, d[i] on it.
+  double l[3][3] = {}, d[3];
+  for (int i = 0; i < pd; ++i) {
+    for (int j = 0; j < i; ++j) {
+      double v = h[i][j];
+      for (int k = 0; k < j; ++k) v -= l[i][k] * d[k] * l[j][k];
+      l[i][j] = v / d[j];
+    }
+    double v = h[i][i];
+    for (int k = 0; k < i; ++k) v -= l[i][k] * d[k] * l[i][k];
+    if (!(v > 0.0)) return false;
+    d[i] = v;
+  }
+  double y[3];
+  for (int i = 0; i < pd; ++i) {
+    y[i] = -grad[i];
+    for (int k = 0; k < i; ++k) y[i] -= l[i][k] * y[k];
+  }
+  double slope = 0.0;
+  for (int i = pd - 1; i >= 0; --i) {
+    step[i] = y[i] / d[i];
+    for (int k = i + 1; k < pd; ++k) step[i] -= l[k][i] * step[k];
+    slope += step[i] * grad[i];
+  }
+  for (int i = pd; i < 3; ++i) step[i] = 0.0;
+  return std::isfinite(slope) && slope < 0.0;
+}
+
 enum class StepOutcome { Moved, Blocked, Negligible, Rejected, Final };
 
 /// Armijo backtracking along the feasible part of `step`. On success moves
@@ -219,6 +259,29 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     const Vector gReduced = T.transpose() * g;
 
     bool stationary = m == 0 || gReduced.norm() <= residualScale;
+    if (!stationary && noneEnforced && !useFullRank && releasedFactor < 0 && order == JetOrder::Second) {
+      // The common case, in the interior: the Newton step of the full
+      // Hessian (the same step as the reduced one below, whose basis is then
+      // square), without the fallbacks' set-up. Anything else falls through.
+      double step[3];
+      if (InteriorNewtonStep(jet, r, grad, pd, ad, step)) {
+        const StepOutcome outcome =
+            LineSearch(cell, point, active, f, fNoise, g, Eigen::Map<const Vector>(step), true, ref);
+        if (outcome == StepOutcome::Moved) continue;
+        if (outcome == StepOutcome::Blocked) {
+          SnapToFace(shape, active, ref);
+          continue;
+        }
+        if (outcome == StepOutcome::Final) {
+          SnapToFace(shape, active, ref);
+          if (active.enforced[0] == 0 && active.enforced[1] == 0 && active.enforced[2] == 0) {
+            result.converged = true;
+            break;
+          }
+          continue;  // stopped on a face: its multipliers are checked next iteration
+        }
+      }
+    }
     Vector step = Vector::Zero();
     if (!stationary) {
       Matrix jac = Matrix::Zero();  // rows: ambient coordinates, columns: parameters
