@@ -154,6 +154,35 @@ bool InteriorNewtonStep(const MapJet& jet, const double* r, const double* grad, 
   return std::isfinite(slope) && slope < 0.0;
 }
 
+/// The step -J^-1 r of a volume cell (pd = ambient dimension 2 or 3) by
+/// Cramer's rule; false when J is singular to kSingularTolerance (as the
+/// general path decides) or the step is not finite.
+bool FullRankStep(const MapJet& jet, const double* r, int pd, double size, double* step) {
+  step[2] = 0.0;
+  if (pd == 2) {
+    const double det = jet.d1[0][0] * jet.d1[1][1] - jet.d1[0][1] * jet.d1[1][0];
+    if (!(std::abs(det) > kSingularTolerance * size * size)) return false;
+    step[0] = -(r[0] * jet.d1[1][1] - r[1] * jet.d1[0][1]) / det;
+    step[1] = -(jet.d1[0][0] * r[1] - jet.d1[1][0] * r[0]) / det;
+    return std::isfinite(step[0]) && std::isfinite(step[1]);
+  }
+  // Columns of J: the derivatives along each parameter.
+  double c[3][3];
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) c[i][k] = jet.d1[k][i];
+  }
+  auto det3 = [](const double* a, const double* b, const double* e) {
+    return a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0]) + a[2] * (b[0] * e[1] - b[1] * e[0]);
+  };
+  const double det = det3(c[0], c[1], c[2]);
+  if (!(std::abs(det) > kSingularTolerance * size * size * size)) return false;
+  const double minusR[3] = {-r[0], -r[1], -r[2]};
+  step[0] = det3(minusR, c[1], c[2]) / det;
+  step[1] = det3(c[0], minusR, c[2]) / det;
+  step[2] = det3(c[0], c[1], minusR) / det;
+  return std::isfinite(step[0]) && std::isfinite(step[1]) && std::isfinite(step[2]);
+}
+
 enum class StepOutcome { Moved, Blocked, Negligible, Rejected, Final };
 
 /// Armijo backtracking along the feasible part of `step`. On success moves
@@ -259,12 +288,13 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     const Vector gReduced = T.transpose() * g;
 
     bool stationary = m == 0 || gReduced.norm() <= residualScale;
-    if (!stationary && noneEnforced && !useFullRank && releasedFactor < 0 && order == JetOrder::Second) {
-      // The common case, in the interior: the Newton step of the full
-      // Hessian (the same step as the reduced one below, whose basis is then
-      // square), without the fallbacks' set-up. Anything else falls through.
+    if (!stationary && noneEnforced && releasedFactor < 0 && (useFullRank || order == JetOrder::Second)) {
+      // The common case, in the interior: the step -J^-1 r of a volume cell
+      // (7.3.2.1), or the Newton step of the full Hessian (the same step as
+      // the reduced one below, whose basis is then square), without the
+      // fallbacks' set-up. Anything else falls through.
       double step[3];
-      if (InteriorNewtonStep(jet, r, grad, pd, ad, step)) {
+      if (useFullRank ? FullRankStep(jet, r, pd, size, step) : InteriorNewtonStep(jet, r, grad, pd, ad, step)) {
         const StepOutcome outcome =
             LineSearch(cell, point, active, f, fNoise, g, Eigen::Map<const Vector>(step), true, ref);
         if (outcome == StepOutcome::Moved) continue;
