@@ -256,6 +256,8 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
       },
       maxThreads);
 
+  if (hasVolumeCells_) tetAdjacency_.Build(solvers_, maxThreads);
+
   // Algorithm 6: affine regions, and the subdivisions the BVH is built over.
   double coordinateMagnitude = 0.0;
   for (double x : points_) coordinateMagnitude = std::max(coordinateMagnitude, std::fabs(x));
@@ -303,7 +305,7 @@ std::size_t CellStore::MemoryBytes() const {
                       (pointOffset_.capacity() + weightOffset_.capacity()) * sizeof(std::int64_t) +
                       origins_.capacity() * sizeof(CellOrigin) + solvers_.capacity() * sizeof(kernels::CellSolver) +
                       regions_.capacity() * sizeof(AffineRegion) + regionOfCell_.capacity() * sizeof(std::int32_t) +
-                      subdivisions_.capacity() * sizeof(std::int64_t);
+                      subdivisions_.capacity() * sizeof(std::int64_t) + tetAdjacency_.MemoryBytes();
   for (const AffineRegion& r : regions_)
     for (const std::vector<double>& breaks : r.breaks) bytes += breaks.capacity() * sizeof(double);
   for (const kernels::CellSolver& s : solvers_) bytes += s.NetMemoryBytes();

@@ -8,6 +8,7 @@
 
 #include "engine/affine_regions.h"
 #include "engine/check.h"
+#include "engine/tet_adjacency.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
 
@@ -66,6 +67,8 @@ class CellStore {
   /// True when `cell` belongs to an affine region (it is then searched only
   /// as part of its region).
   bool inRegion(std::int64_t cell) const { return regionOfCell_[cell] >= 0; }
+  /// Face neighbours of the tetrahedral cells (empty without tetrahedra).
+  const TetAdjacency& tetAdjacency() const { return tetAdjacency_; }
   /// Bounds of a subdivision's cells.
   const double* subdivisionBoxLo(std::int64_t s) const {
     return isRegion(s) ? subdivisionRegion(s).boxLo : solvers_[subdivisions_[s]].boxLo();
@@ -93,6 +96,7 @@ class CellStore {
   std::vector<AffineRegion> regions_;
   std::vector<std::int32_t> regionOfCell_;    // -1 outside every region
   std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
+  TetAdjacency tetAdjacency_;
 };
 
 /// Converts the public cell type to the kernels' one.

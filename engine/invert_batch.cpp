@@ -24,6 +24,7 @@ struct BucketScratch {
   std::vector<int> stack;
   std::vector<std::pair<double, int>> order;  // (point's lower bound^2, candidate)
   std::vector<std::pair<double, int>> insideOrder;  // (-inside score, candidate or BVH item)
+  std::vector<std::int64_t> triedCells;             // volume cells already tried for the point
   kernels::SolveWorkspace workspace;
   // The bucket's points as lanes (structure of arrays) and their best answer
   // over the affine simplex candidates, solved a cell at a time for all lanes.
@@ -84,6 +85,9 @@ double BoxDistance2(const BvhBox& box, const double* p, int dim) {
 /// visits far fewer.
 constexpr std::size_t kMaxBucketCandidates = 24;
 
+/// Steps of the walk through a tetrahedral mesh before the BVH takes over.
+constexpr int kMaxWalk = 8;
+
 /// The running answer of one point.
 struct PointSearch {
   PointSearch(const CellStore& s, const double* point, BucketScratch& work, std::int64_t warm, const double* warmAt,
@@ -100,6 +104,7 @@ struct PointSearch {
   kernels::CellSolveResult bestResult;
   int iterations = 0;
   bool inside = false;  // a volume cell holds the point: nothing is closer
+  std::vector<std::int64_t>& tried = scratch.triedCells;
 
   /// Starts from the best answer the bucket's lane solves found (cell -1: none).
   void Seed(std::int64_t cell, const kernels::CellSolveResult& result) {
@@ -163,15 +168,41 @@ struct PointSearch {
   }
 
   /// The previous point's cell first (7.3.2.1 with a warm start): in Morton
-  /// order a volume's points come in runs inside the same cell. Returns the
-  /// cell tried (the searches skip it), or -1.
-  std::int64_t TryInsideWarmCell() {
-    if (warmCell < 0 || !store.hasVolumeCells() || store.inRegion(warmCell)) return -1;
+  /// order a volume's points come in runs inside the same cell. Then, in a
+  /// tetrahedral mesh, a walk: across the face of each cell's straight
+  /// corner tetrahedron that the point lies beyond, to the neighbour there,
+  /// which usually holds it. The cells tried are kept (the searches skip them).
+  void TryInsideNearWarmCell() {
+    tried.clear();
+    if (warmCell < 0 || !store.hasVolumeCells() || store.inRegion(warmCell)) return;
     const kernels::CellSolver& solver = store.solver(warmCell);
-    if (!solver.isFullRank() || CellBoxDistance2(solver, p, store.dimension()) > 0.0) return -1;
-    TryInsideCell(warmCell);
-    return warmCell;
+    if (!solver.isFullRank()) return;
+    if (CellBoxDistance2(solver, p, store.dimension()) == 0.0) {
+      TryInsideCell(warmCell);
+      tried.push_back(warmCell);
+    }
+    const TetAdjacency& adjacency = store.tetAdjacency();
+    std::int64_t cell = warmCell;
+    for (int step = 0; step < kMaxWalk && !inside && !adjacency.empty(); ++step) {
+      double lambda[4];
+      if (!store.solver(cell).CornerBarycentric(p, lambda)) return;
+      const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
+      // Inside the straight tetrahedron of a cell that did not hold the
+      // point: the walk has no direction left.
+      if (lambda[exit] >= 0.0) return;
+      cell = adjacency.Neighbor(cell, exit);
+      if (cell < 0 || store.inRegion(cell) || IsTriedCell(cell)) return;
+      if (CellBoxDistance2(store.solver(cell), p, store.dimension()) == 0.0) {
+        TryInsideCell(cell);
+        tried.push_back(cell);
+      }
+    }
   }
+
+  bool IsTriedCell(std::int64_t cell) const { return std::find(tried.begin(), tried.end(), cell) != tried.end(); }
+
+  /// True when subdivision `s` is a cell that TryInsideNearWarmCell tried.
+  bool WasTried(std::int64_t s) const { return !store.isRegion(s) && IsTriedCell(store.subdivisionCell(s)); }
 
   /// True when subdivision `s` is the cell `cell` (not a region).
   bool IsCell(std::int64_t s, std::int64_t cell) const {
@@ -225,14 +256,14 @@ void SearchCandidates(PointSearch& search, bool lanesSolved) {
     heap.emplace_back(SubdivisionBoxDistance2(store, candidates[c].cell, search.p, dim), c);
   }
   if (store.hasVolumeCells()) {
-    const std::int64_t tried = search.TryInsideWarmCell();
+    search.TryInsideNearWarmCell();
     // The cells whose box holds the point, likeliest first (by the point's
     // place in the straight tetrahedron of the cell's vertices).
     std::vector<std::pair<double, int>>& boxes = search.scratch.insideOrder;
     boxes.clear();
     if (!search.inside) {
       for (const auto& [lowerBound2, c] : heap) {
-        if (lowerBound2 != 0.0 || search.IsCell(candidates[c].cell, tried)) continue;
+        if (lowerBound2 != 0.0 || search.WasTried(candidates[c].cell)) continue;
         const std::int64_t s = candidates[c].cell;
         const double score = store.isRegion(s) ? 0.0 : store.solver(store.subdivisionCell(s)).InsideScore(search.p);
         boxes.emplace_back(-score, c);
@@ -270,7 +301,7 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
   // at once: that is almost always the cell, and the traversal stops there),
   // then the others, likeliest first (as in SearchCandidates).
   const CellStore& store = search.store;
-  const std::int64_t tried = store.hasVolumeCells() ? search.TryInsideWarmCell() : -1;
+  if (store.hasVolumeCells()) search.TryInsideNearWarmCell();
   std::vector<int>& stack = search.scratch.stack;
   std::vector<std::pair<double, int>>& boxes = search.scratch.insideOrder;
   boxes.clear();
@@ -282,7 +313,7 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
     const BvhNode& node = nodes[index];
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count && !search.inside; ++i) {
-        if (BoxDistance2(itemBoxes[i], search.p, dim) > 0.0 || search.IsCell(items[i], tried)) continue;
+        if (BoxDistance2(itemBoxes[i], search.p, dim) > 0.0 || search.WasTried(items[i])) continue;
         const double score =
             store.isRegion(items[i]) ? 0.0 : store.solver(store.subdivisionCell(items[i])).InsideScore(search.p);
         if (score >= 0.0) {

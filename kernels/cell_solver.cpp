@@ -220,7 +220,7 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   double start[3];
   if (initialRef) {
     std::copy(initialRef, initialRef + pd, start);
-  } else {
+  } else if (!NearestControlPointStart(point, start)) {
     ReferenceCenter(cell_.shape, start);
   }
   LocalSolveOptions options;
@@ -262,9 +262,9 @@ void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result
 }
 
 bool CellSolver::CornerBarycentric(const double* point, double* lambda) const {
-  if (cornerControl_[0] < 0 || cell_.shape.paramDim() != 3 || cell_.ambientDim != 3) return false;
+  if (!isTetrahedron()) return false;
   const double* v[4];
-  for (int i = 0; i < 4; ++i) v[i] = cell_.points + static_cast<size_t>(cornerControl_[i]) * 3;
+  for (int i = 0; i < 4; ++i) v[i] = CornerPoint(i);
   double e[3][3], w[3];
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < 3; ++i) e[i][k] = v[i + 1][k] - v[0][k];
@@ -281,6 +281,32 @@ bool CellSolver::CornerBarycentric(const double* point, double* lambda) const {
   lambda[3] = det3(e[0], e[1], w) / det;
   lambda[0] = 1 - lambda[1] - lambda[2] - lambda[3];
   return std::isfinite(lambda[0]) && std::isfinite(lambda[1]) && std::isfinite(lambda[2]) && std::isfinite(lambda[3]);
+}
+
+bool CellSolver::NearestControlPointStart(const double* point, double* ref) const {
+  const CellShape& shape = cell_.shape;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    if (shape.factor(f).dim != 1 || shape.factor(f).degree < 1) return false;
+  }
+  const int ad = cell_.ambientDim;
+  int nearest = 0;
+  double nearest2 = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < shape.numControlPoints(); ++c) {
+    const double* x = cell_.points + static_cast<size_t>(c) * ad;
+    double d2 = 0.0;
+    for (int k = 0; k < ad; ++k) d2 += (x[k] - point[k]) * (x[k] - point[k]);
+    if (d2 < nearest2) {
+      nearest2 = d2;
+      nearest = c;
+    }
+  }
+  // Control point (i, j, ..) sits over the Greville parameters (i / p, j / q, ..).
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const int n = shape.factor(f).degree + 1;
+    ref[f] = static_cast<double>(nearest % n) / (n - 1);
+    nearest /= n;
+  }
+  return true;
 }
 
 double CellSolver::InsideScore(const double* point) const {

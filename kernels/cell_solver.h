@@ -103,6 +103,19 @@ class CellSolver {
   double InsideScore(const double* point) const;
   static constexpr double kInsideScoreUnknown = 1e300;
 
+  /// Tetrahedra: barycentric coordinates (lambda_0 .. lambda_3, lambda_k for
+  /// reference vertex k) of `point` relative to the cell's corner control
+  /// points; false for other cells and flat corner tetrahedra.
+  bool CornerBarycentric(const double* point, double* lambda) const;
+
+  /// True for tetrahedral cells in 3D (CornerPoint is then defined).
+  bool isTetrahedron() const { return cornerControl_[0] >= 0 && cell_.shape.paramDim() == 3 && cell_.ambientDim == 3; }
+  /// Simplex cells: the control point at corner `v` (the vertex where
+  /// barycentric coordinate v is one).
+  const double* CornerPoint(int v) const {
+    return cell_.points + static_cast<size_t>(cornerControl_[v]) * cell_.ambientDim;
+  }
+
   /// True for affine segments, triangles and tetrahedra, solved in closed form.
   bool isAffineSimplex() const { return vertexControl_[0] >= 0; }
 
@@ -133,10 +146,10 @@ class CellSolver {
   /// SolveLane for affine simplices.
   void SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const;
 
-  /// Tetrahedra: barycentric coordinates (lambda_0 .. lambda_3, lambda_k for
-  /// reference vertex k) of `point` relative to the cell's corner control
-  /// points; false for other cells and flat corner tetrahedra.
-  bool CornerBarycentric(const double* point, double* lambda) const;
+  /// Cells of line factors (line, quad, hex): the Greville parameters of the
+  /// control point nearest to `point`, a start for the local solve that is
+  /// closer than the center; false for other cells.
+  bool NearestControlPointStart(const double* point, double* ref) const;
 
   bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 
