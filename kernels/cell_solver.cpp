@@ -384,6 +384,7 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
   LocalSolveOptions options;
   options.affine = affine_;
   options.size = size_;
+  options.stopAtBoundary = true;
   const LocalSolveResult local = LocalSolve(cell_, point, start, options);
   result->iterations = local.iterations;
   const double tau = kDistanceTolerance * size_;

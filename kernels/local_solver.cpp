@@ -268,6 +268,9 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       r[k] = jet.x[k] - point[k];
       f += r[k] * r[k];
     }
+    // On the boundary and still far from the point: it lies outside the cell
+    // (a point on a face is within rounding of its iterate there, and goes on).
+    if (options.stopAtBoundary && !noneEnforced && f > kBoundaryGiveUp * kBoundaryGiveUp * size * size) break;
     double grad[3] = {0, 0, 0};  // gradient of f / 2 = J^T r
     for (int i = 0; i < pd; ++i) {
       for (int k = 0; k < ad; ++k) grad[i] += jet.d1[k][i] * r[k];
