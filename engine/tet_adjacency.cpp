@@ -1,7 +1,5 @@
 #include "engine/tet_adjacency.h"
 
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -33,8 +31,8 @@ bool SameFace(const FacePoints& a, const FacePoints& b) {
   return true;
 }
 
-/// A hash of the face's coordinates' bits (+0 and -0 differ, as do the
-/// corners of the two cells only when they really differ).
+/// A hash of the face's coordinates' bits (-0 counted as +0, since the
+/// comparison treats them as equal).
 std::uint64_t HashFace(const FacePoints& face) {
   std::uint64_t h = 1469598103934665603ull;
   for (const double* corner : face) {
@@ -75,9 +73,10 @@ void TetAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int ma
       maxThreads);
   entries.erase(std::remove_if(entries.begin(), entries.end(), [](const FaceEntry& e) { return e.cellFace < 0; }),
                 entries.end());
-  tbb::parallel_sort(entries.begin(), entries.end(), [](const FaceEntry& a, const FaceEntry& b) {
-    return a.hash != b.hash ? a.hash < b.hash : a.cellFace < b.cellFace;
-  });
+  Sort(
+      ExecutionPolicy::Par, entries.begin(), entries.end(),
+      [](const FaceEntry& a, const FaceEntry& b) { return a.hash != b.hash ? a.hash < b.hash : a.cellFace < b.cellFace; },
+      maxThreads);
   // Within a run of equal hashes, pair the faces whose corners agree; a face
   // met three or more times stays unpaired.
   for (std::size_t first = 0; first < entries.size();) {

@@ -1,5 +1,7 @@
 #include "kernels/face_certificate.h"
 
+#include <vector>
+
 #include "kernels/bernstein_net.h"
 
 namespace invmap::kernels {
@@ -7,6 +9,24 @@ namespace {
 
 /// Largest face net: a quad face of a hex net of degree 2 kMaxDegree.
 constexpr int kMaxFaceNet = (2 * kMaxDegree + 1) * (2 * kMaxDegree + 1);
+
+/// The stencil of a face shape. HessianStencil::Get takes a lock; the few
+/// face shapes one thread meets are remembered here (stencils live forever).
+const HessianStencil& FaceStencil(const CellShape& face) {
+  struct Known {
+    CellType type;
+    int degree0, degree1;
+    const HessianStencil* stencil;
+  };
+  thread_local std::vector<Known> known;
+  const int degree1 = face.numFactors() > 1 ? face.factor(1).degree : 0;
+  for (const Known& k : known) {
+    if (k.type == face.type() && k.degree0 == face.factor(0).degree && k.degree1 == degree1) return *k.stencil;
+  }
+  const HessianStencil& stencil = HessianStencil::Get(face);
+  known.push_back(Known{face.type(), face.factor(0).degree, degree1, &stencil});
+  return stencil;
+}
 
 }  // namespace
 
@@ -61,7 +81,7 @@ bool IsMinimalOnFace(const CellShape& shape, const double* f, const int* side) {
   }
   const CellShape faceShape = freeCount == 1 ? CellShape(CellType::Line, {n0 - 1, 0, 0})
                                              : CellShape(CellType::Quad, {n0 - 1, n1 - 1, 0});
-  return HessianStencil::Get(faceShape).IsConvex(face);
+  return FaceStencil(faceShape).IsConvex(face);
 }
 
 }  // namespace invmap::kernels

@@ -183,15 +183,21 @@ bool FullRankStep(const MapJet& jet, const double* r, int pd, double size, doubl
   return std::isfinite(step[0]) && std::isfinite(step[1]) && std::isfinite(step[2]);
 }
 
+/// Longest unchecked Newton step (reference coordinates): in the quadratic
+/// region it leaves an error of about its square.
+constexpr double kFinalStep = 1e-6;
+
 enum class StepOutcome { Moved, Blocked, Negligible, Rejected, Final };
 
 /// Armijo backtracking along the feasible part of `step`. On success moves
 /// `ref` (and enforces the blocking constraint when the whole feasible step
 /// was taken); Negligible when the accepted move is below kStepTolerance or
 /// the decrease it promises is below `fNoise`, the rounding level of f (no
-/// evaluation could then tell a decrease from rounding). A Newton step
-/// (`newton`) that promises only such a decrease is in the quadratic
-/// convergence region: it is taken unchecked, and the outcome is Final.
+/// evaluation could then tell a decrease from rounding). A short Newton step
+/// (`newton`, within the domain, at most kFinalStep) that promises only such
+/// a decrease is in the quadratic convergence region: it is taken unchecked,
+/// and the outcome is Final. (A long step promising so little means a nearly
+/// singular Hessian, where the model cannot be trusted.)
 StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& active, double f, double fNoise,
                        const Vector& g, const Vector& step, bool newton, double* ref) {
   const CellShape& shape = cell.shape;
@@ -206,9 +212,8 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
     active.enforced[blockFactor] |= 1u << blockIndex;
     return StepOutcome::Blocked;
   }
-  if (newton && -feasible * slope <= fNoise) {
-    for (int i = 0; i < pd; ++i) ref[i] += feasible * step[i];
-    if (blockFactor >= 0) active.enforced[blockFactor] |= 1u << blockIndex;
+  if (newton && blockFactor < 0 && -slope <= fNoise && step.norm() <= kFinalStep) {
+    for (int i = 0; i < pd; ++i) ref[i] += step[i];
     return StepOutcome::Final;
   }
   double alpha = feasible;
@@ -268,8 +273,9 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       r[k] = jet.x[k] - point[k];
       f += r[k] * r[k];
     }
-    // On the boundary and still far from the point: it lies outside the cell
-    // (a point on a face is within rounding of its iterate there, and goes on).
+    // On the boundary and still far from the point: it most likely lies
+    // outside the cell. (Giving up on a point inside only costs the caller a
+    // full solve.)
     if (options.stopAtBoundary && !noneEnforced && f > kBoundaryGiveUp * kBoundaryGiveUp * size * size) break;
     double grad[3] = {0, 0, 0};  // gradient of f / 2 = J^T r
     for (int i = 0; i < pd; ++i) {
@@ -306,12 +312,8 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
           continue;
         }
         if (outcome == StepOutcome::Final) {
-          SnapToFace(shape, active, ref);
-          if (active.enforced[0] == 0 && active.enforced[1] == 0 && active.enforced[2] == 0) {
-            result.converged = true;
-            break;
-          }
-          continue;  // stopped on a face: its multipliers are checked next iteration
+          result.converged = true;
+          break;
         }
       }
     }
@@ -383,7 +385,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       for (int c = 0; c < 2 && !moved && !final; ++c) {
         const StepOutcome outcome = LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, ref);
         if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
-        if (outcome != StepOutcome::Moved) SnapToFace(shape, active, ref);
+        if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
         final = outcome == StepOutcome::Final;
         moved = !final;
       }

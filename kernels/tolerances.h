@@ -17,6 +17,11 @@ constexpr double kStepTolerance = 1e-15;
 /// local solve on that face (warm starts on a face, up to rounding).
 constexpr double kOnFaceTolerance = 1e-14;
 
+/// Starting points of volume cells guessed from the query (corner
+/// barycentrics, nearest control point) are moved this far inside the
+/// reference domain (see CellSolver::SolveInside).
+constexpr double kStartInset = 1e-2;
+
 /// Full-rank step: the Jacobian is treated as singular below this relative
 /// determinant (then the constrained Newton path takes over).
 constexpr double kSingularTolerance = 1e-12;

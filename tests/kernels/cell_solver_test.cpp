@@ -712,3 +712,37 @@ TEST(CellSolverLane, AffineSimplexLanesMatchSolve) {
 
 }  // namespace
 }  // namespace invmap::testing
+
+// ---------------------------------------------------------------------------
+// The inside test (7.3.2.1) on a point that lies in a curved tetrahedron but
+// outside the straight tetrahedron of its corners: its start must not sit on
+// a face, where the solve would give up at once.
+
+TEST(CellSolverInside, FindsAPointInTheOutwardBulge) {
+  // A quadratic tet with its control points at the domain points a / 2
+  // (the identity map) except the middle of edge (1,0,0)-(0,1,0), pushed
+  // out by (0.1, 0.1, 0). Then x(s) = s + 2 s1 s2 (0.1, 0.1, 0).
+  const invmap::kernels::CellShape shape(invmap::kernels::CellType::Tet, {2, 0, 0});
+  std::vector<double> points;
+  for (int a3 = 0; a3 <= 2; ++a3) {
+    for (int a2 = 0; a2 + a3 <= 2; ++a2) {
+      for (int a1 = 0; a1 + a2 + a3 <= 2; ++a1) {
+        const bool pushed = a1 == 1 && a2 == 1;
+        points.insert(points.end(), {a1 / 2.0 + (pushed ? 0.1 : 0.0), a2 / 2.0 + (pushed ? 0.1 : 0.0), a3 / 2.0});
+      }
+    }
+  }
+  invmap::kernels::CellView view;
+  view.shape = shape;
+  view.ambientDim = 3;
+  view.points = points.data();
+  const invmap::kernels::CellSolver solver(view);
+  const double s[3] = {0.45, 0.45, 0.05};
+  const double bump = 2 * s[0] * s[1] * 0.1;
+  const double p[3] = {s[0] + bump, s[1] + bump, s[2]};
+  ASSERT_GT(p[0] + p[1] + p[2], 1.0);  // beyond the corners' face x + y + z = 1
+  invmap::kernels::CellSolveResult r;
+  ASSERT_TRUE(solver.SolveInside(p, nullptr, &r));
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(r.ref[i], s[i], 1e-12);
+  EXPECT_LE(r.distance, 1e-13);
+}
