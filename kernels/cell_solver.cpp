@@ -169,6 +169,20 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
       if (affine_) vertexControl_[v] = cornerControl_[v];
     }
   }
+  if (isTetrahedron()) {
+    // The cell lies in the convex hull of its control points, so no point of
+    // it has a corner barycentric coordinate below theirs.
+    double least = 0.0;
+    for (int c = 0; c < cell.shape.numControlPoints(); ++c) {
+      double lambda[4];
+      if (!CornerBarycentric(cell.points + static_cast<size_t>(c) * 3, lambda)) {
+        least = -std::numeric_limits<double>::infinity();
+        break;
+      }
+      least = std::min({least, lambda[0], lambda[1], lambda[2], lambda[3]});
+    }
+    cornerHullMargin_ = -least;
+  }
 
   double ref[3];
   ReferenceCenter(cell.shape, ref);
@@ -372,6 +386,12 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
   double start[3];
   double lambda[4];
   if (CornerBarycentric(point, lambda)) {
+    // Beyond the control points' hull (with a margin far above the distance
+    // tolerance): outside the cell, no solve needed.
+    if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) {
+      result->iterations = 0;
+      return false;
+    }
     // The point's place in the straight tetrahedron of the corners: exact
     // for a straight cell, close for the mildly curved cells of meshes, and
     // better than the previous point's answer (measured on order-2 meshes).

@@ -164,6 +164,12 @@ class CellSolver {
   /// Simplex cells: the control points at the vertices; -1 otherwise.
   int cornerControl_[4] = {-1, -1, -1, -1};
   double paramScale_[3] = {1, 1, 1};  ///< |dx/du_i| at the center: the length of a unit step in u_i.
+  /// Tetrahedra: how far (in corner barycentric coordinates) the control
+  /// points, and so the cell, reach beyond the straight corner tetrahedron.
+  double cornerHullMargin_ = std::numeric_limits<double>::infinity();
+  /// Barycentric slack of the hull test, far above rounding and the distance
+  /// tolerance relative to the cell's size.
+  static constexpr double kHullSlack = 1e-9;
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
 };
