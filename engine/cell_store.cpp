@@ -150,6 +150,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         splineGrids.push_back({static_cast<std::int64_t>(shapes_.size()), cells.spans, cells.paramDim});
         for (int c = 0; c < cells.numCells; ++c) {
           origin.indexInPatch = c;
+          origin.sharedParameters = true;
           for (int d = 0; d < cells.paramDim; ++d) {
             const double lo = cells.spanLo[static_cast<std::size_t>(c) * cells.paramDim + d];
             const double hi = cells.spanHi[static_cast<std::size_t>(c) * cells.paramDim + d];

@@ -22,6 +22,9 @@ struct CellOrigin {
   std::int64_t indexInPatch = 0;
   double paramLo[3] = {0, 0, 0};
   double paramScale[3] = {1, 1, 1};
+  /// True when the patch's cells tile one parameter domain (B-spline
+  /// patches), so a parameter of one cell means a place near another.
+  bool sharedParameters = false;
 };
 
 /// All cells of a geometry. Immutable after Build; safe to read from many threads.

@@ -146,8 +146,9 @@ struct PointSearch {
 
   void SolveCell(std::int64_t cell) {
     const kernels::CellSolver& solver = store.solver(cell);
-    const kernels::CellSolveResult r =
-        solver.Solve(p, cell == warmCell ? warmRef : nullptr, &scratch.workspace, Bound2());
+    double start[3];
+    const double* initial = cell == warmCell ? warmRef : (StartFromBest(cell, start) ? start : nullptr);
+    const kernels::CellSolveResult r = solver.Solve(p, initial, &scratch.workspace, Bound2());
     iterations += r.iterations;
     if (r.status == kernels::PointStatus::Farther) return;
     if (bestCell < 0 || r.distance < best) {
@@ -155,6 +156,25 @@ struct PointSearch {
       bestCell = cell;
       bestResult = r;
     }
+  }
+
+  /// A start in `cell` from the best answer so far when both cells tile one
+  /// B-spline patch: the best point's patch parameters, clamped into the cell.
+  /// The foot of a point whose best cell lost to a neighbour is usually just
+  /// across their common edge, where this start lands.
+  bool StartFromBest(std::int64_t cell, double* start) const {
+    if (bestCell < 0) return false;
+    const CellOrigin& from = store.origin(bestCell);
+    const CellOrigin& to = store.origin(cell);
+    if (from.patch != to.patch || !from.sharedParameters) return false;
+    const int pd = store.solver(cell).cell().shape.paramDim();
+    if (pd != store.solver(bestCell).cell().shape.paramDim()) return false;
+    for (int i = 0; i < pd; ++i) {
+      const double u = from.paramLo[i] + from.paramScale[i] * bestResult.ref[i];
+      start[i] = std::clamp((u - to.paramLo[i]) / to.paramScale[i], 0.0, 1.0);
+      if (!std::isfinite(start[i])) return false;
+    }
+    return true;
   }
 
   /// 7.3.2.1: a volume cell whose full-rank Newton solve converges inside
