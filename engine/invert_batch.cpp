@@ -159,7 +159,7 @@ struct PointSearch {
   }
 
   /// A start in `cell` from the best answer so far when both cells tile one
-  /// B-spline patch: the best point's patch parameters, clamped into the cell.
+  /// B-spline surface: the best point's patch parameters, clamped into the cell.
   /// The foot of a point whose best cell lost to a neighbour is usually just
   /// across their common edge, where this start lands.
   bool StartFromBest(std::int64_t cell, double* start) const {
@@ -167,8 +167,11 @@ struct PointSearch {
     const CellOrigin& from = store.origin(bestCell);
     const CellOrigin& to = store.origin(cell);
     if (from.patch != to.patch || !from.sharedParameters) return false;
+    // Surfaces only: on curves, where distinct minima are common (points
+    // near the evolute), a start at the cell's end was measured slower than
+    // the nearest control point's.
     const int pd = store.solver(cell).cell().shape.paramDim();
-    if (pd != store.solver(bestCell).cell().shape.paramDim()) return false;
+    if (pd != 2 || store.solver(bestCell).cell().shape.paramDim() != 2) return false;
     for (int i = 0; i < pd; ++i) {
       const double u = from.paramLo[i] + from.paramScale[i] * bestResult.ref[i];
       start[i] = std::clamp((u - to.paramLo[i]) / to.paramScale[i], 0.0, 1.0);
