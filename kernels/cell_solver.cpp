@@ -8,6 +8,7 @@
 #include "kernels/affine_simplex.h"
 #include "kernels/affine_simplex_lanes.h"
 #include "kernels/cell_bounds.h"
+#include "kernels/cramer.h"
 #include "kernels/face_certificate.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
@@ -285,14 +286,9 @@ bool CellSolver::CornerBarycentric(const double* point, double* lambda) const {
     w[k] = point[k] - v[0][k];
   }
   // Cramer's rule; a flat corner tetrahedron has no barycentric coordinates.
-  auto det3 = [](const double* a, const double* b, const double* c) {
-    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
-  };
-  const double det = det3(e[0], e[1], e[2]);
+  const double det = Determinant3(e[0], e[1], e[2]);
   if (!(std::fabs(det) > 0)) return false;
-  lambda[1] = det3(w, e[1], e[2]) / det;
-  lambda[2] = det3(e[0], w, e[2]) / det;
-  lambda[3] = det3(e[0], e[1], w) / det;
+  CramerSolve3(e[0], e[1], e[2], det, w, lambda + 1);
   lambda[0] = 1 - lambda[1] - lambda[2] - lambda[3];
   return std::isfinite(lambda[0]) && std::isfinite(lambda[1]) && std::isfinite(lambda[2]) && std::isfinite(lambda[3]);
 }

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "kernels/active_set.h"
+#include "kernels/cramer.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::kernels {
@@ -171,15 +172,10 @@ bool FullRankStep(const MapJet& jet, const double* r, int pd, double size, doubl
   for (int i = 0; i < 3; ++i) {
     for (int k = 0; k < 3; ++k) c[i][k] = jet.d1[k][i];
   }
-  auto det3 = [](const double* a, const double* b, const double* e) {
-    return a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0]) + a[2] * (b[0] * e[1] - b[1] * e[0]);
-  };
-  const double det = det3(c[0], c[1], c[2]);
+  const double det = Determinant3(c[0], c[1], c[2]);
   if (!(std::abs(det) > kSingularTolerance * size * size * size)) return false;
   const double minusR[3] = {-r[0], -r[1], -r[2]};
-  step[0] = det3(minusR, c[1], c[2]) / det;
-  step[1] = det3(c[0], minusR, c[2]) / det;
-  step[2] = det3(c[0], c[1], minusR) / det;
+  CramerSolve3(c[0], c[1], c[2], det, minusR, step);
   return std::isfinite(step[0]) && std::isfinite(step[1]) && std::isfinite(step[2]);
 }
 
