@@ -21,6 +21,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// never allocates once warm.
 struct BucketScratch {
   std::vector<CellCandidate> candidates;
+  // The candidates each point of the bucket searches (those the lane solve
+  // has not covered), with their boxes copied once per bucket into
+  // contiguous arrays (lo then hi, per axis): every point reads them, and
+  // the solvers that hold them are large and scattered.
+  std::vector<int> searched;
+  std::vector<double> searchedBox[6];
   std::vector<int> stack;
   std::vector<std::pair<double, int>> order;  // (point's lower bound^2, candidate)
   std::vector<std::pair<double, int>> insideOrder;  // (-inside score, candidate or BVH item)
@@ -45,13 +51,33 @@ double CellBoxDistance2(const kernels::CellSolver& solver, const double* p, int 
   return d2;
 }
 
-/// Squared distance from a point to the bounds of a subdivision's cells.
-double SubdivisionBoxDistance2(const CellStore& store, std::int64_t subdivision, const double* p, int dim) {
-  const double* lo = store.subdivisionBoxLo(subdivision);
-  const double* hi = store.subdivisionBoxHi(subdivision);
+/// True for a candidate that SolveAffineSimplexLanes already solved.
+bool SolvedAsLanes(const CellStore& store, std::int64_t subdivision) {
+  return !store.isRegion(subdivision) && store.solver(store.subdivisionCell(subdivision)).isAffineSimplex();
+}
+
+/// Fills scratch.searched and scratch.searchedBox from the bucket's candidates.
+void GatherSearchedCandidates(const CellStore& store, bool lanesSolved, BucketScratch& scratch) {
+  scratch.searched.clear();
+  for (int c = 0; c < static_cast<int>(scratch.candidates.size()); ++c) {
+    if (!(lanesSolved && SolvedAsLanes(store, scratch.candidates[c].cell))) scratch.searched.push_back(c);
+  }
+  const std::size_t n = scratch.searched.size();
+  for (std::vector<double>& axis : scratch.searchedBox) axis.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::int64_t s = scratch.candidates[scratch.searched[j]].cell;
+    for (int k = 0; k < store.dimension(); ++k) {
+      scratch.searchedBox[k][j] = store.subdivisionBoxLo(s)[k];
+      scratch.searchedBox[3 + k][j] = store.subdivisionBoxHi(s)[k];
+    }
+  }
+}
+
+/// Squared distance from a point to the box of searched candidate j.
+double SearchedBoxDistance2(const BucketScratch& scratch, std::size_t j, const double* p, int dim) {
   double d2 = 0.0;
   for (int k = 0; k < dim; ++k) {
-    const double d = std::max({lo[k] - p[k], 0.0, p[k] - hi[k]});
+    const double d = std::max({scratch.searchedBox[k][j] - p[k], 0.0, p[k] - scratch.searchedBox[3 + k][j]});
     d2 += d * d;
   }
   return d2;
@@ -263,20 +289,15 @@ struct PointSearch {
 /// Algorithm 4 over the bucket's candidate list, in the order of this
 /// point's own lower bound (popped lazily from a heap: the search usually
 /// stops after the first few).
-/// True for a candidate that SolveAffineSimplexLanes already solved.
-bool SolvedAsLanes(const CellStore& store, std::int64_t subdivision) {
-  return !store.isRegion(subdivision) && store.solver(store.subdivisionCell(subdivision)).isAffineSimplex();
-}
-
-void SearchCandidates(PointSearch& search, bool lanesSolved) {
+void SearchCandidates(PointSearch& search) {
   const CellStore& store = search.store;
   const int dim = store.dimension();
   std::vector<std::pair<double, int>>& heap = search.scratch.order;
   heap.clear();
   const std::vector<CellCandidate>& candidates = search.scratch.candidates;
-  for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
-    if (lanesSolved && SolvedAsLanes(store, candidates[c].cell)) continue;
-    heap.emplace_back(SubdivisionBoxDistance2(store, candidates[c].cell, search.p, dim), c);
+  const std::vector<int>& searched = search.scratch.searched;
+  for (std::size_t j = 0; j < searched.size(); ++j) {
+    heap.emplace_back(SearchedBoxDistance2(search.scratch, j, search.p, dim), searched[j]);
   }
   if (store.hasVolumeCells()) {
     search.TryInsideNearWarmCell();
@@ -539,6 +560,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& poin
           const bool lanesSolved =
               useBucketList &&
               SolveAffineSimplexLanes(store, pointNew2Old.data() + first, last - first, points, maxDistance, scratch);
+          if (useBucketList) GatherSearchedCandidates(store, lanesSolved, scratch);
           std::int64_t warmCell = -1;
           double warmRef[3] = {0, 0, 0};
           for (std::int64_t s = first; s < last; ++s) {
@@ -553,7 +575,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& poin
             PointSearch search(store, p, scratch, warmCell, warmRef, maxDistance);
             if (useBucketList) {
               if (lanesSolved) search.Seed(scratch.laneBestCell[s - first], scratch.laneBest[s - first]);
-              SearchCandidates(search, lanesSolved);
+              SearchCandidates(search);
             } else {
               SearchBvh(bvh, search);
             }

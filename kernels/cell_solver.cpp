@@ -55,6 +55,14 @@ bool SubdomainContains(const CellShape& shape, double* slot, const double* ref) 
   for (int f = 0; f < shape.numFactors(); ++f) {
     const SimplexFactor& fac = shape.factor(f);
     const int d = fac.dim;
+    if (d == 1) {
+      // An interval: the same quotient the padded factorization below
+      // computes, without setting it up (line, quad and hex cells).
+      const double v0 = Vertex(slot, f, 0)[0];
+      const double mu = (ref[fac.offset] - v0) / (Vertex(slot, f, 1)[0] - v0);
+      if (mu < -kInsideTolerance || 1.0 - mu < -kInsideTolerance) return false;
+      continue;
+    }
     Eigen::Matrix3d edges = Eigen::Matrix3d::Identity();
     Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
     const double* v0 = Vertex(slot, f, 0);

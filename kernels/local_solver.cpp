@@ -115,6 +115,24 @@ ActiveSet ActiveSetAt(const CellShape& shape, const double* ref) {
   return active;
 }
 
+/// |T^T grad| for the face basis T of the whole domain (no constraint
+/// enforced), without building T: per factor, the norm of the barycentric
+/// gradient (0, g_1, .., g_d) projected onto the zero-sum plane that the
+/// orthonormal basis spans, |G|^2 - (sum G)^2 / (d + 1).
+double InteriorReducedGradientNorm(const CellShape& shape, const double* grad) {
+  double norm2 = 0.0;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      sum += grad[fac.offset + i];
+      sum2 += grad[fac.offset + i] * grad[fac.offset + i];
+    }
+    norm2 += std::max(0.0, sum2 - sum * sum / (fac.dim + 1));
+  }
+  return std::sqrt(norm2);
+}
+
 /// Newton step -H^-1 g of f / 2 with H = J^T J + sum_k r_k d2x_k, by an
 /// LDL^T factorization of the pd x pd Hessian. False unless H is positive
 /// definite and the step is finite and descends.
@@ -285,15 +303,9 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     const double rError = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
     const double fNoise = 2.0 * std::sqrt(f) * rError + rError * rError;
 
-    FaceBasis face;
-    BuildFaceBasis(shape, active, &face);
-    const int m = face.columns;
-    const Matrix T = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&face.t[0][0]);
     const Vector g = Eigen::Map<const Vector>(grad);
-    const Vector gReduced = T.transpose() * g;
-
-    bool stationary = m == 0 || gReduced.norm() <= residualScale;
-    if (!stationary && noneEnforced && releasedFactor < 0 && (useFullRank || order == JetOrder::Second)) {
+    if (noneEnforced && releasedFactor < 0 && (useFullRank || order == JetOrder::Second) &&
+        InteriorReducedGradientNorm(shape, grad) > residualScale) {
       // The common case, in the interior: the step -J^-1 r of a volume cell
       // (7.3.2.1), or the Newton step of the full Hessian (the same step as
       // the reduced one below, whose basis is then square), without the
@@ -313,6 +325,12 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
         }
       }
     }
+    FaceBasis face;
+    BuildFaceBasis(shape, active, &face);
+    const int m = face.columns;
+    const Matrix T = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&face.t[0][0]);
+    const Vector gReduced = T.transpose() * g;
+    bool stationary = m == 0 || gReduced.norm() <= residualScale;
     Vector step = Vector::Zero();
     if (!stationary) {
       Matrix jac = Matrix::Zero();  // rows: ambient coordinates, columns: parameters
