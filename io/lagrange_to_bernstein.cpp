@@ -203,6 +203,23 @@ LagrangeToBernstein::LagrangeToBernstein(CellType type, int degree, const std::v
   }
   matrix_.resize(result.size());
   for (std::size_t i = 0; i < result.size(); ++i) matrix_[i] = static_cast<double>(result[i]);
+  // A vertex's Bernstein coefficient is its nodal value; the solve leaves
+  // that row a unit vector up to long double rounding.
+  constexpr Real kUnitTolerance = 1e-12;
+  copiedNode_.assign(m, -1);
+  for (int i = 0; i < m; ++i) {
+    int one = -1;
+    bool unit = true;
+    for (int j = 0; j < n && unit; ++j) {
+      const Real c = result[static_cast<std::size_t>(i) * n + j];
+      if (std::abs(c - 1) <= kUnitTolerance && one < 0) {
+        one = j;
+      } else {
+        unit = std::abs(c) <= kUnitTolerance;
+      }
+    }
+    if (unit) copiedNode_[i] = one;
+  }
 }
 
 void LagrangeToBernstein::Apply(const double* nodes, int dim, double* control) const {
@@ -211,6 +228,10 @@ void LagrangeToBernstein::Apply(const double* nodes, int dim, double* control) c
   // cancellation between large alternating coefficients at the scale of the
   // element, not of its distance from the origin.
   for (int i = 0; i < numControl_; ++i) {
+    if (copiedNode_[i] >= 0) {
+      std::copy(nodes + 3 * copiedNode_[i], nodes + 3 * copiedNode_[i] + dim, control + i * dim);
+      continue;
+    }
     const double* row = matrix_.data() + static_cast<std::size_t>(i) * numNodes_;
     double sum[3] = {0, 0, 0};
     for (int j = 1; j < numNodes_; ++j) {

@@ -48,13 +48,17 @@ class LagrangeToBernstein {
 
   /// Control points from nodal positions: `nodes` holds numNodes() points of
   /// 3 coordinates each; `control` receives numControlPoints() points of the
-  /// first `dim` (1..3) coordinates each.
+  /// first `dim` (1..3) coordinates each. A control point that is a node
+  /// (the cell's vertices) is that node's position exactly, so cells that
+  /// share vertices share their corner control points bit for bit.
   void Apply(const double* nodes, int dim, double* control) const;
 
  private:
   int numNodes_ = 0;
   int numControl_ = 0;
   std::vector<double> matrix_;  ///< numControl_ x numNodes_, row-major.
+  /// Per control point: the node it equals (its row is a unit vector), or -1.
+  std::vector<int> copiedNode_;
 };
 
 }  // namespace invmap::io

@@ -24,6 +24,7 @@
 #include <tuple>
 #include <vector>
 
+#include "engine/cell_store.h"
 #include "invmap/invmap.h"
 #include "io/gmsh_elements.h"
 #include "io/input_error.h"
@@ -599,6 +600,37 @@ TEST(LagrangeToBernstein, CompleteLinearElementsAreTheIdentityOnVertices) {
   const int quadOrder[4] = {0, 1, 3, 2};
   for (int i = 0; i < 4; ++i) {
     for (int j = 0; j < 4; ++j) EXPECT_NEAR(quad.coefficient(i, j), j == quadOrder[i] ? 1.0 : 0.0, 1e-15);
+  }
+}
+
+TEST(LagrangeToBernstein, VertexControlPointsAreTheVertexNodesExactly) {
+  // Cells that share a vertex must agree on it bit for bit (the tetrahedral
+  // walk pairs faces by their exact corners): coordinates of both signs and
+  // of different magnitudes, where arithmetic on them would round.
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> coordinate(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-4, 2);
+  for (const GmshElementType& type : GmshElementTypes()) {
+    SCOPED_TRACE(type.name);
+    const std::vector<Vec3> refNodes = GmshReferenceNodes(type);
+    const LagrangeToBernstein converter(type.cell, type.order, refNodes, GmshIncompleteMonomials(type));
+    std::vector<double> nodes;
+    for (std::size_t j = 0; j < refNodes.size(); ++j) {
+      for (int k = 0; k < 3; ++k) nodes.push_back(std::ldexp(coordinate(rng), exponent(rng)));
+    }
+    std::vector<double> control(3 * static_cast<std::size_t>(converter.numControlPoints()));
+    converter.Apply(nodes.data(), 3, control.data());
+    const std::vector<Vec3> lattice = BernsteinLattice(type.cell, type.order);
+    int vertices = 0;
+    for (std::size_t i = 0; i < lattice.size(); ++i) {
+      if (!std::all_of(lattice[i].begin(), lattice[i].end(), [](double x) { return x == 0.0 || x == 1.0; })) continue;
+      const auto node = std::find(refNodes.begin(), refNodes.end(), lattice[i]);
+      ASSERT_NE(node, refNodes.end());
+      const std::size_t j = static_cast<std::size_t>(node - refNodes.begin());
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(control[3 * i + k], nodes[3 * j + k]) << "control point " << i;
+      ++vertices;
+    }
+    EXPECT_GE(vertices, ParamDim(type.cell) + 1);
   }
 }
 
@@ -1235,6 +1267,18 @@ TEST_P(GmshBallTest, CurvedTetsInvertToThemselves) {
   }
   EXPECT_LE(nodeError, 1e-12);
   EXPECT_LE(sphereError, param.sphereError);
+
+  // Neighbouring tetrahedra share their corner control points exactly, so
+  // the walk's face adjacency pairs every face inside the ball: only the
+  // faces on the skin, one per skin triangle, stay unpaired.
+  engine::CellStore store;
+  ASSERT_EQ(store.Build(g, 0), "");
+  std::int64_t unpaired = 0;
+  for (std::int64_t c = 0; c < store.size(); ++c) {
+    if (!store.solver(c).isTetrahedron()) continue;
+    for (int face = 0; face < 4; ++face) unpaired += store.tetAdjacency().Neighbor(c, face) < 0 ? 1 : 0;
+  }
+  EXPECT_EQ(unpaired, static_cast<std::int64_t>(skin.cellTypes.size()));
 
   // Points mapped from random cells and reference points come back to a cell
   // that maps its reported parameters onto them, at distance 0.
