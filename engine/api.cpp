@@ -11,6 +11,7 @@
 #include "engine/check.h"
 #include "engine/cell_store.h"
 #include "engine/invert_batch.h"
+#include "engine/simplex_items.h"
 #include "invmap/invmap.h"
 
 namespace invmap {
@@ -18,6 +19,7 @@ namespace invmap {
 struct Manifold::Impl {
   engine::CellStore store;
   engine::Bvh bvh;
+  engine::SimplexItems simplices;
 };
 
 namespace {
@@ -104,6 +106,7 @@ BuildResult Manifold::Build(const Geometry& geometry) {
       }
     }
     impl->bvh = engine::BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
+    impl->simplices.Build(impl->store, impl->bvh);
     result.manifold.impl_ = std::move(impl);
   } catch (const std::bad_alloc&) {
     result.error = "out of memory while building the manifold";
@@ -138,7 +141,7 @@ ManifoldInfo Manifold::Info() const {
     info.boundsLo[k] = info.cells ? bounds.lo[k] : 0.0;
     info.boundsHi[k] = info.cells ? bounds.hi[k] : 0.0;
   }
-  info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + sizeof(Impl);
+  info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + impl_->simplices.MemoryBytes() + sizeof(Impl);
   return info;
 }
 
@@ -210,7 +213,7 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
     results->closest.assign(3 * n, 0.0);
     results->distance.assign(n, 0.0);
     results->iterations.assign(n, 0);
-    engine::InvertBatch(impl_->store, impl_->bvh, query, options, results);
+    engine::InvertBatch(impl_->store, impl_->bvh, impl_->simplices, query, options, results);
   } catch (const std::invalid_argument& e) {
     SetMessage(message, e.what());
     return Error::InvalidArgument;

@@ -9,6 +9,7 @@
 #include "engine/nearest_cells.h"
 #include "engine/parallel.h"
 #include "engine/spatial_sort.h"
+#include "kernels/affine_simplex.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::engine {
@@ -208,6 +209,28 @@ struct PointSearch {
     const kernels::CellSolveResult r = solver.Solve(p, initial, &scratch.workspace, Bound2());
     iterations += r.iterations;
     if (r.status == kernels::PointStatus::Farther) return;
+    Consider(cell, r);
+  }
+
+  /// Item `i` of the BVH, an affine simplex, in closed form from the
+  /// vertices `simplices` keeps in leaf order: the same arithmetic and
+  /// decisions as its solver's (CellSolver::Solve), without reading it.
+  void SolveSimplexItem(const SimplexItems& simplices, int i) {
+    const int pd = simplices.paramDim(i);
+    const int dim = store.dimension();
+    const double* vertices[4];
+    for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
+    kernels::CellSolveResult r;
+    bool onBoundary = false;
+    r.distance = std::sqrt(kernels::ClosestPointOnSimplex(pd, dim, vertices, p, r.ref, r.closest, &onBoundary));
+    if (r.distance * r.distance >= Bound2()) return;
+    r.status = onBoundary ? kernels::PointStatus::ProjectedToBoundary : kernels::PointStatus::Converged;
+    r.iterations = 0;
+    Consider(simplices.cell(i), r);
+  }
+
+  /// Keeps a cell's answer that beats the best so far.
+  void Consider(std::int64_t cell, const kernels::CellSolveResult& r) {
     if (bestCell < 0 || r.distance < best) {
       best = r.distance;
       bestCell = cell;
@@ -368,7 +391,7 @@ void SearchCandidates(PointSearch& search) {
 
 /// Algorithm 4 with the candidates generated lazily: a traversal of the BVH
 /// cut at the best distance so far.
-void SearchBvh(const Bvh& bvh, PointSearch& search) {
+void SearchBvh(const Bvh& bvh, const SimplexItems& simplices, PointSearch& search) {
   const std::vector<BvhNode>& nodes = bvh.Nodes();
   if (nodes.empty()) return;
   const int dim = search.store.dimension();
@@ -433,6 +456,11 @@ void SearchBvh(const Bvh& bvh, PointSearch& search) {
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
         if (BoxDistance2(itemBoxes[i], search.p, dim) > search.best * search.best) continue;
+        const std::int64_t simplexCell = simplices.cell(i);
+        if (simplexCell >= 0) {
+          if (simplexCell != seeded) search.SolveSimplexItem(simplices, i);
+          continue;
+        }
         if (search.IsCell(items[i], seeded)) continue;
         search.Solve(items[i]);
       }
@@ -561,8 +589,8 @@ void CopyResult(const Results& source, std::int64_t from, std::int64_t to, Resul
 /// Inverts `points` (a run of the Morton order that starts a bucket), in
 /// parallel over its buckets of `bucketSize` points; answer s of `sorted` is
 /// that of point s.
-void InvertBuckets(const CellStore& store, const Bvh& bvh, const QueryPoints& points, int bucketSize,
-                   const InversionOptions& options, Results* sorted) {
+void InvertBuckets(const CellStore& store, const Bvh& bvh, const SimplexItems& simplices, const QueryPoints& points,
+                   int bucketSize, const InversionOptions& options, Results* sorted) {
   const std::int64_t n = points.count;
   const int dim = store.dimension();
   const double maxDistance = options.maxDistance;
@@ -626,7 +654,7 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const QueryPoints& po
                 if (lanesSolved) search.Seed(scratch.laneBestCell[s - first], scratch.laneBest[s - first]);
                 SearchCandidates(search);
               } else {
-                SearchBvh(bvh, search);
+                SearchBvh(bvh, simplices, search);
               }
             }
             WriteFound(store, search, s, &warmCell, warmRef, sorted);
@@ -638,8 +666,8 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const QueryPoints& po
 
 }  // namespace
 
-void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& points, const InversionOptions& options,
-                 Results* results) {
+void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& simplices, const QueryPoints& points,
+                 const InversionOptions& options, Results* results) {
   const std::int64_t n = points.count;
   const int dim = store.dimension();
   if (n == 0) return;
@@ -690,7 +718,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& poin
         },
         options.threads);
     ResizeResults(count, &sorted);
-    InvertBuckets(store, bvh, chunkPoints, bucketSize, options, &sorted);
+    InvertBuckets(store, bvh, simplices, chunkPoints, bucketSize, options, &sorted);
     ForEachBlock(
         ExecutionPolicy::Par, count, 4096,
         [&](std::int64_t begin, std::int64_t end) {

@@ -6,6 +6,7 @@
 
 #include "engine/bvh_build.h"
 #include "engine/cell_store.h"
+#include "engine/simplex_items.h"
 #include "invmap/invmap.h"
 
 namespace invmap::engine {
@@ -17,11 +18,12 @@ struct QueryPoints {
 };
 
 /// Inverts every point of `points` onto the cells of `store` (whose boxes the
-/// `bvh` indexes) and writes the results at the points' input indices.
+/// `bvh` indexes; `simplices` built from both) and writes the results at the
+/// points' input indices.
 /// Results are identical for any thread count: the buckets are fixed runs of
 /// the Morton order, and each point's answer depends only on its bucket.
 /// Precondition: `results` is sized to points.count.
-void InvertBatch(const CellStore& store, const Bvh& bvh, const QueryPoints& points, const InversionOptions& options,
-                 Results* results);
+void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& simplices, const QueryPoints& points,
+                 const InversionOptions& options, Results* results);
 
 }  // namespace invmap::engine

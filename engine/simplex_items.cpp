@@ -1,0 +1,42 @@
+#include "engine/simplex_items.h"
+
+#include <algorithm>
+
+namespace invmap::engine {
+
+void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
+  cells_.clear();
+  paramDims_.clear();
+  vertices_.clear();
+  const std::vector<int>& items = bvh.Items();
+  const auto simplexCell = [&](int item) -> std::int64_t {
+    if (store.isRegion(item)) return -1;
+    const std::int64_t cell = store.subdivisionCell(item);
+    return store.solver(cell).isAffineSimplex() ? cell : -1;
+  };
+  int maxVertices = 0;
+  for (const int item : items) {
+    const std::int64_t cell = simplexCell(item);
+    if (cell >= 0) maxVertices = std::max(maxVertices, store.solver(cell).cell().shape.paramDim() + 1);
+  }
+  if (maxVertices == 0) return;
+  const int dim = store.dimension();
+  stride_ = maxVertices * dim;
+  cells_.resize(items.size());
+  paramDims_.assign(items.size(), 0);
+  vertices_.assign(items.size() * static_cast<std::size_t>(stride_), 0.0);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    cells_[i] = simplexCell(items[i]);
+    if (cells_[i] < 0) continue;
+    const kernels::CellSolver& solver = store.solver(cells_[i]);
+    paramDims_[i] = static_cast<std::int8_t>(solver.cell().shape.paramDim());
+    double* out = vertices_.data() + i * stride_;
+    for (int v = 0; v <= paramDims_[i]; ++v) std::copy(solver.CornerPoint(v), solver.CornerPoint(v) + dim, out + v * dim);
+  }
+}
+
+std::size_t SimplexItems::MemoryBytes() const {
+  return cells_.capacity() * sizeof(std::int64_t) + paramDims_.capacity() + vertices_.capacity() * sizeof(double);
+}
+
+}  // namespace invmap::engine

@@ -1,0 +1,41 @@
+// The affine segments, triangles and tetrahedra among a BVH's items, with
+// their vertices copied in the BVH's leaf order: the cells of a leaf lie
+// side by side, so the search's closed-form solves (7.3.2.2) read one array
+// in order instead of each cell's solver and its scattered control points.
+// On a triangle mesh of a million cells this is most of the search's memory
+// traffic.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/bvh_build.h"
+#include "engine/cell_store.h"
+
+namespace invmap::engine {
+
+class SimplexItems {
+ public:
+  /// Copies the vertices of every BVH item of `bvh` (built over the
+  /// subdivisions of `store`) that is an affine simplex cell; nothing when
+  /// there is none.
+  void Build(const CellStore& store, const Bvh& bvh);
+
+  bool empty() const { return cells_.empty(); }
+  /// The cell of item `i` (BVH leaf order) when it is an affine simplex, else -1.
+  std::int64_t cell(int i) const { return cells_.empty() ? -1 : cells_[i]; }
+  /// Parameter dimension (1, 2 or 3) of item `i`, an affine simplex.
+  int paramDim(int i) const { return paramDims_[i]; }
+  /// The vertices of item `i`, an affine simplex: paramDim(i) + 1 points of
+  /// the ambient dimension, in the order of its reference vertices.
+  const double* vertices(int i) const { return vertices_.data() + static_cast<std::size_t>(i) * stride_; }
+  std::size_t MemoryBytes() const;
+
+ private:
+  std::vector<std::int64_t> cells_;
+  std::vector<std::int8_t> paramDims_;
+  std::vector<double> vertices_;  ///< stride_ doubles per item
+  int stride_ = 0;
+};
+
+}  // namespace invmap::engine
