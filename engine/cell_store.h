@@ -67,6 +67,11 @@ class CellStore {
   std::int64_t subdivisionCell(std::int64_t s) const { return subdivisions_[s]; }
   /// The region of a subdivision that is a region.
   const AffineRegion& subdivisionRegion(std::int64_t s) const { return regions_[-1 - subdivisions_[s]]; }
+  /// The cell of subdivision `s` when it is an affine segment, triangle or
+  /// tetrahedron (solved in closed form), else -1.
+  std::int64_t affineSimplexCell(std::int64_t s) const {
+    return !isRegion(s) && solvers_[subdivisions_[s]].isAffineSimplex() ? subdivisions_[s] : -1;
+  }
   /// True when `cell` belongs to an affine region (it is then searched only
   /// as part of its region).
   bool inRegion(std::int64_t cell) const { return regionOfCell_[cell] >= 0; }

@@ -42,19 +42,29 @@ struct BucketScratch {
   std::vector<kernels::CellSolveResult> laneBest;
 };
 
-/// Squared distance from a point to a cell's control-point box.
-double CellBoxDistance2(const kernels::CellSolver& solver, const double* p, int dim) {
+/// Distance from x to the interval [lo, hi] along one axis.
+double AxisGap(double lo, double x, double hi) { return std::max({lo - x, 0.0, x - hi}); }
+
+/// Squared distance from a point to the box [lo, hi].
+double BoxDistance2(const double* lo, const double* hi, const double* p, int dim) {
   double d2 = 0.0;
   for (int k = 0; k < dim; ++k) {
-    const double d = std::max({solver.boxLo()[k] - p[k], 0.0, p[k] - solver.boxHi()[k]});
+    const double d = AxisGap(lo[k], p[k], hi[k]);
     d2 += d * d;
   }
   return d2;
 }
 
+double BoxDistance2(const BvhBox& box, const double* p, int dim) { return BoxDistance2(box.lo, box.hi, p, dim); }
+
+/// Squared distance from a point to a cell's control-point box.
+double CellBoxDistance2(const kernels::CellSolver& solver, const double* p, int dim) {
+  return BoxDistance2(solver.boxLo(), solver.boxHi(), p, dim);
+}
+
 /// True for a candidate that SolveAffineSimplexLanes already solved.
 bool SolvedAsLanes(const CellStore& store, std::int64_t subdivision) {
-  return !store.isRegion(subdivision) && store.solver(store.subdivisionCell(subdivision)).isAffineSimplex();
+  return store.affineSimplexCell(subdivision) >= 0;
 }
 
 /// Fills scratch.searched and scratch.searchedBox from the bucket's candidates.
@@ -78,7 +88,7 @@ void GatherSearchedCandidates(const CellStore& store, bool lanesSolved, BucketSc
 double SearchedBoxDistance2(const BucketScratch& scratch, std::size_t j, const double* p, int dim) {
   double d2 = 0.0;
   for (int k = 0; k < dim; ++k) {
-    const double d = std::max({scratch.searchedBox[k][j] - p[k], 0.0, p[k] - scratch.searchedBox[3 + k][j]});
+    const double d = AxisGap(scratch.searchedBox[k][j], p[k], scratch.searchedBox[3 + k][j]);
     d2 += d * d;
   }
   return d2;
@@ -96,15 +106,6 @@ void WriteNotFound(Status status, std::int64_t i, Results* results) {
   results->iterations[i] = 0;
 }
 
-/// Squared distance from a point to a box.
-double BoxDistance2(const BvhBox& box, const double* p, int dim) {
-  double d2 = 0.0;
-  for (int k = 0; k < dim; ++k) {
-    const double d = std::max({box.lo[k] - p[k], 0.0, p[k] - box.hi[k]});
-    d2 += d * d;
-  }
-  return d2;
-}
 
 /// Candidates of the bucket's list beyond this many are better found per
 /// point: far from the geometry, algorithm 3's box upper bounds admit most of
@@ -127,8 +128,8 @@ std::int64_t DescendToVolumeCell(const Bvh& bvh, const CellStore& store, const d
   int index = 0;
   while (nodes[index].count == 0) {
     const int first = nodes[index].first;
-    index = BoxDistance2(bvh.NodeBounds(first), p, dim) <= BoxDistance2(bvh.NodeBounds(first + 1), p, dim) ? first
-                                                                                                          : first + 1;
+    const double near2 = BoxDistance2(bvh.NodeBounds(first), p, dim);
+    index = near2 <= BoxDistance2(bvh.NodeBounds(first + 1), p, dim) ? first : first + 1;
   }
   const BvhNode& leaf = nodes[index];
   int nearest = leaf.first;
@@ -213,19 +214,17 @@ struct PointSearch {
   }
 
   /// Item `i` of the BVH, an affine simplex, in closed form from the
-  /// vertices `simplices` keeps in leaf order: the same arithmetic and
-  /// decisions as its solver's (CellSolver::Solve), without reading it.
+  /// vertices `simplices` keeps in leaf order: CellSolver::Solve's answer
+  /// for the cell without reading it. (Solve's box test is left out, the
+  /// traversal has just made it: at an exact tie with the box either may win.)
   void SolveSimplexItem(const SimplexItems& simplices, int i) {
     const int pd = simplices.paramDim(i);
     const int dim = store.dimension();
     const double* vertices[4];
     for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
     kernels::CellSolveResult r;
-    bool onBoundary = false;
-    r.distance = std::sqrt(kernels::ClosestPointOnSimplex(pd, dim, vertices, p, r.ref, r.closest, &onBoundary));
+    kernels::CellSolver::SolveAffineSimplex(pd, dim, vertices, p, &r);
     if (r.distance * r.distance >= Bound2()) return;
-    r.status = onBoundary ? kernels::PointStatus::ProjectedToBoundary : kernels::PointStatus::Converged;
-    r.iterations = 0;
     Consider(simplices.cell(i), r);
   }
 
@@ -279,7 +278,6 @@ struct PointSearch {
   /// skip them).
   void TryInsideByWalk(const Bvh& bvh) {
     tried.clear();
-    if (!store.hasVolumeCells()) return;
     const std::int64_t start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
     if (start < 0 || store.inRegion(start)) return;
     const kernels::CellSolver& solver = store.solver(start);
@@ -532,8 +530,8 @@ bool SolveAffineSimplexLanes(const CellStore& store, const QueryPoints& points, 
   return true;
 }
 
-/// Writes one point's answer at its input index and keeps it as the next
-/// point's warm start.
+/// Writes one point's answer at position `index` of `results` (its place in
+/// the chunk's Morton order) and keeps it as the next point's warm start.
 void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t index, std::int64_t* warmCell,
                 double* warmRef, Results* results) {
   if (search.bestCell < 0) {
@@ -632,7 +630,8 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const SimplexItems& s
             useBucketList = NearestCells(bvh, blo, bhi, &scratch.candidates, &scratch.stack, maxDistance,
                                          4 * kMaxBucketCandidates) &&
                             scratch.candidates.size() <= kMaxBucketCandidates;
-            lanesSolved = useBucketList && SolveAffineSimplexLanes(store, points, first, last - first, maxDistance, scratch);
+            lanesSolved = useBucketList &&
+                          SolveAffineSimplexLanes(store, points, first, last - first, maxDistance, scratch);
             if (useBucketList) GatherSearchedCandidates(store, lanesSolved, scratch);
           };
           if (!store.hasVolumeCells()) prepare();
@@ -702,7 +701,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& sim
   std::vector<double> sortedCoord[3];
   for (std::int64_t chunkFirst = 0; chunkFirst < n; chunkFirst += chunk) {
     const std::int64_t count = std::min(chunk, n - chunkFirst);
-    const std::int64_t* old = pointNew2Old.data() + chunkFirst;
+    const std::int64_t* chunkNew2Old = pointNew2Old.data() + chunkFirst;
     QueryPoints chunkPoints;
     chunkPoints.count = count;
     for (int k = 0; k < dim; ++k) {
@@ -713,7 +712,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& sim
         ExecutionPolicy::Par, count, 4096,
         [&](std::int64_t begin, std::int64_t end) {
           for (std::int64_t s = begin; s < end; ++s) {
-            for (int k = 0; k < dim; ++k) sortedCoord[k][s] = points.coord[k][old[s]];
+            for (int k = 0; k < dim; ++k) sortedCoord[k][s] = points.coord[k][chunkNew2Old[s]];
           }
         },
         options.threads);
@@ -722,7 +721,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& sim
     ForEachBlock(
         ExecutionPolicy::Par, count, 4096,
         [&](std::int64_t begin, std::int64_t end) {
-          for (std::int64_t s = begin; s < end; ++s) CopyResult(sorted, s, old[s], results);
+          for (std::int64_t s = begin; s < end; ++s) CopyResult(sorted, s, chunkNew2Old[s], results);
         },
         options.threads);
   }

@@ -9,14 +9,9 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
   paramDims_.clear();
   vertices_.clear();
   const std::vector<int>& items = bvh.Items();
-  const auto simplexCell = [&](int item) -> std::int64_t {
-    if (store.isRegion(item)) return -1;
-    const std::int64_t cell = store.subdivisionCell(item);
-    return store.solver(cell).isAffineSimplex() ? cell : -1;
-  };
   int maxVertices = 0;
   for (const int item : items) {
-    const std::int64_t cell = simplexCell(item);
+    const std::int64_t cell = store.affineSimplexCell(item);
     if (cell >= 0) maxVertices = std::max(maxVertices, store.solver(cell).cell().shape.paramDim() + 1);
   }
   if (maxVertices == 0) return;
@@ -26,12 +21,14 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
   paramDims_.assign(items.size(), 0);
   vertices_.assign(items.size() * static_cast<std::size_t>(stride_), 0.0);
   for (std::size_t i = 0; i < items.size(); ++i) {
-    cells_[i] = simplexCell(items[i]);
+    cells_[i] = store.affineSimplexCell(items[i]);
     if (cells_[i] < 0) continue;
     const kernels::CellSolver& solver = store.solver(cells_[i]);
     paramDims_[i] = static_cast<std::int8_t>(solver.cell().shape.paramDim());
     double* out = vertices_.data() + i * stride_;
-    for (int v = 0; v <= paramDims_[i]; ++v) std::copy(solver.CornerPoint(v), solver.CornerPoint(v) + dim, out + v * dim);
+    for (int v = 0; v <= paramDims_[i]; ++v) {
+      std::copy(solver.CornerPoint(v), solver.CornerPoint(v) + dim, out + v * dim);
+    }
   }
 }
 

@@ -14,6 +14,10 @@
 
 namespace invmap::engine {
 
+/// Item-indexed (BVH leaf order) vertex copies; every item gets a slot of
+/// the largest simplex's size once any item is a simplex, so a mixed geometry
+/// pays about 100 bytes for each of its curved cells too. Immutable after
+/// Build; safe to read from many threads.
 class SimplexItems {
  public:
   /// Copies the vertices of every BVH item of `bvh` (built over the
@@ -21,6 +25,7 @@ class SimplexItems {
   /// there is none.
   void Build(const CellStore& store, const Bvh& bvh);
 
+  /// True when no item is an affine simplex.
   bool empty() const { return cells_.empty(); }
   /// The cell of item `i` (BVH leaf order) when it is an affine simplex, else -1.
   std::int64_t cell(int i) const { return cells_.empty() ? -1 : cells_[i]; }
@@ -29,6 +34,7 @@ class SimplexItems {
   /// The vertices of item `i`, an affine simplex: paramDim(i) + 1 points of
   /// the ambient dimension, in the order of its reference vertices.
   const double* vertices(int i) const { return vertices_.data() + static_cast<std::size_t>(i) * stride_; }
+  /// Heap memory of the copies, in bytes.
   std::size_t MemoryBytes() const;
 
  private:

@@ -276,9 +276,13 @@ void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result
   for (int v = 0; v <= cell_.shape.paramDim(); ++v) {
     vertices[v] = cell_.points + static_cast<size_t>(vertexControl_[v]) * cell_.ambientDim;
   }
+  SolveAffineSimplex(cell_.shape.paramDim(), cell_.ambientDim, vertices, point, result);
+}
+
+void CellSolver::SolveAffineSimplex(int paramDim, int ambientDim, const double* const* v, const double* point,
+                                    CellSolveResult* result) {
   bool onBoundary = false;
-  const double d2 = ClosestPointOnSimplex(cell_.shape.paramDim(), cell_.ambientDim, vertices, point, result->ref,
-                                          result->closest, &onBoundary);
+  const double d2 = ClosestPointOnSimplex(paramDim, ambientDim, v, point, result->ref, result->closest, &onBoundary);
   result->distance = std::sqrt(d2);
   result->iterations = 0;
   result->status = onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;

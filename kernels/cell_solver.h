@@ -119,6 +119,12 @@ class CellSolver {
   /// True for affine segments, triangles and tetrahedra, solved in closed form.
   bool isAffineSimplex() const { return vertexControl_[0] >= 0; }
 
+  /// The closed-form answer (7.3.2.2) on the affine segment, triangle or
+  /// tetrahedron with vertices v[0..paramDim], as Solve gives it for such a
+  /// cell without a bound: for callers that keep the vertices elsewhere.
+  static void SolveAffineSimplex(int paramDim, int ambientDim, const double* const* v, const double* point,
+                                 CellSolveResult* result);
+
   /// Lower bound of the squared distance from `point` to the cell: the
   /// smallest Bernstein coefficient ratio of the squared distance (exact for
   /// constant distance, tighter than the box), the box distance for affine cells.

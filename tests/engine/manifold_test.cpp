@@ -70,6 +70,52 @@ TEST(ManifoldTest, ThreadCountDoesNotChangeAnyBit) {
   EXPECT_EQ(CompareBitwise(byThreads[2], again), "") << "a repeated call";
 }
 
+TEST(ManifoldTest, ChunksOfTheMortonOrderChangeNoAnswer) {
+  // More points than one chunk of Morton-ordered answers (65,536), a bucket
+  // size that does not divide it, and invalid points among them: every
+  // answer must land at its own index, whatever the thread count.
+  const Geometry g = MixedGeometry3();
+  const Manifold m = BuildOk(g);
+  QuerySet q = MixedQueries(GeometryCells(g), GeometrySize(g), 28000, 1102);
+  ASSERT_GT(q.size(), 2u * 65536u);
+  const double bad[3] = {kNaN, 0.5, kInf};
+  for (int i = 0; i < 5; ++i) q.Add(bad, "invalid");
+  std::swap_ranges(q.points.end() - 15, q.points.end(), q.points.begin() + 3 * 70000);
+  std::swap_ranges(q.kinds.end() - 5, q.kinds.end(), q.kinds.begin() + 70000);
+  InversionOptions o;
+  o.bucketSize = 7;
+  Results byThreads[2];
+  for (int i = 0; i < 2; ++i) {
+    o.threads = i + 1;
+    std::string error;
+    byThreads[i] = InvertQueries(m, q, o, &error);
+    ASSERT_TRUE(error.empty()) << error;
+  }
+  EXPECT_EQ(CompareBitwise(byThreads[0], byThreads[1]), "") << "threads 1 vs 2";
+  // Every answer is its own point's: the closest point lies at the reported
+  // distance from it (another point's answer would not).
+  const double tol = 1e-9 * GeometrySize(g);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    if (byThreads[0].status[i] != Status::Found) continue;
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k) d2 += std::pow(byThreads[0].closest[3 * i + k] - q.point(i)[k], 2);
+    ASSERT_NEAR(std::sqrt(d2), byThreads[0].distance[i], tol) << "point " << i;
+  }
+  // A sample against one-point batches (no chunks, no buckets to share).
+  for (std::size_t i = 0; i < q.size(); i += 173) {
+    QuerySet one;
+    one.Add(q.point(i), q.kinds[i]);
+    std::string error;
+    const Results alone = InvertQueries(m, one, {}, &error);
+    ASSERT_TRUE(error.empty()) << error;
+    ASSERT_EQ(byThreads[0].status[i], alone.status[0]) << "point " << i;
+    if (alone.status[0] == Status::Found) {
+      EXPECT_NEAR(byThreads[0].distance[i], alone.distance[0], tol) << "point " << i;
+    }
+  }
+  EXPECT_EQ(byThreads[0].status[70000], Status::Invalid);
+}
+
 /// A quadratic triangle (2D) or tet whose control point on the edge between
 /// reference vertices (1, 0, ..) and (0, 1, ..) is pushed out to (0.7, 0.7):
 /// the closest points of the queries around it lie on the curved face
