@@ -106,11 +106,13 @@ void WriteNotFound(Status status, std::int64_t i, Results* results) {
   results->iterations[i] = 0;
 }
 
-
 /// Candidates of the bucket's list beyond this many are better found per
 /// point: far from the geometry, algorithm 3's box upper bounds admit most of
 /// the cells, and a best-first traversal that tightens with each solved cell
-/// visits far fewer.
+/// visits far fewer. The list's traversal gives up once it has collected
+/// twice this many (cells it collects early may still be trimmed): on the
+/// surface workloads most lists are given up, and four times as many
+/// collected first cost 3 to 7% of the time.
 constexpr std::size_t kMaxBucketCandidates = 24;
 
 /// Steps of the walk through a tetrahedral mesh before the BVH takes over.
@@ -628,7 +630,7 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const SimplexItems& s
           const auto prepare = [&] {
             prepared = true;
             useBucketList = NearestCells(bvh, blo, bhi, &scratch.candidates, &scratch.stack, maxDistance,
-                                         4 * kMaxBucketCandidates) &&
+                                         2 * kMaxBucketCandidates) &&
                             scratch.candidates.size() <= kMaxBucketCandidates;
             lanesSolved = useBucketList &&
                           SolveAffineSimplexLanes(store, points, first, last - first, maxDistance, scratch);
