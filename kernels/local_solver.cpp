@@ -212,8 +212,11 @@ enum class StepOutcome { Moved, Blocked, Negligible, Rejected, Final };
 /// a decrease is in the quadratic convergence region: it is taken unchecked,
 /// and the outcome is Final. (A long step promising so little means a nearly
 /// singular Hessian, where the model cannot be trusted.)
+/// Trial points are evaluated to `trialOrder` into *trialJet, so after Moved
+/// it holds the map at the new `ref` for the next iteration.
 StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& active, double f, double fNoise,
-                       const Vector& g, const Vector& step, bool newton, double* ref) {
+                       const Vector& g, const Vector& step, bool newton, JetOrder trialOrder, MapJet* trialJet,
+                       double* ref) {
   const CellShape& shape = cell.shape;
   const int pd = shape.paramDim();
   int blockFactor = -1, blockIndex = -1;
@@ -231,11 +234,13 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
     return StepOutcome::Final;
   }
   double alpha = feasible;
-  double trial[3], closest[3];
+  double trial[3];
   for (int halving = 0; halving < 60; ++halving) {
     if (alpha * step.norm() <= kStepTolerance || -alpha * slope <= fNoise) return StepOutcome::Negligible;
     for (int i = 0; i < pd; ++i) trial[i] = ref[i] + alpha * step[i];
-    const double fTrial = SquaredDistanceAt(cell, point, trial, closest);
+    EvaluateMap(cell, trial, trialOrder, trialJet);
+    double fTrial = 0.0;
+    for (int k = 0; k < cell.ambientDim; ++k) fTrial += (trialJet->x[k] - point[k]) * (trialJet->x[k] - point[k]);
     if (fTrial <= f + 1e-4 * alpha * slope && fTrial < f) {
       std::copy(trial, trial + pd, ref);
       if (blockFactor >= 0 && alpha == feasible) {
@@ -271,7 +276,14 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   int releases = 0;
   bool fullRankAllowed = true;
   int releasedFactor = -1, releasedIndex = -1;  // the constraint released last
-  MapJet jet;
+  // The map at `ref` (to atRefOrder, when atRefValid) and a buffer for the
+  // line search's trial points: an accepted trial's evaluation serves the
+  // next iteration, so a step costs one evaluation of the map, not two.
+  MapJet jets[2];
+  MapJet* atRef = &jets[0];
+  MapJet* trialJet = &jets[1];
+  bool atRefValid = false;
+  JetOrder atRefOrder = JetOrder::Value;
   for (int iter = 0; iter < options.maxIterations; ++iter) {
     result.iterations = iter + 1;
     // 7.3.2.1 only while no constraint has been met: a point that drove the
@@ -280,7 +292,13 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     const bool noneEnforced = active.enforced[0] == 0 && active.enforced[1] == 0 && active.enforced[2] == 0;
     fullRankAllowed = fullRankAllowed && noneEnforced;
     const bool useFullRank = fullRank && fullRankAllowed;
-    EvaluateMap(cell, ref, useFullRank ? JetOrder::First : order, &jet);
+    const JetOrder need = useFullRank ? JetOrder::First : order;
+    if (!atRefValid || atRefOrder < need) {
+      EvaluateMap(cell, ref, need, atRef);
+      atRefValid = true;
+      atRefOrder = need;
+    }
+    const MapJet& jet = *atRef;
     double r[3] = {0, 0, 0};
     double f = 0.0;
     for (int k = 0; k < ad; ++k) {
@@ -313,13 +331,19 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       double step[3];
       if (useFullRank ? FullRankStep(jet, r, pd, size, step) : InteriorNewtonStep(jet, r, grad, pd, ad, step)) {
         const StepOutcome outcome =
-            LineSearch(cell, point, active, f, fNoise, g, Eigen::Map<const Vector>(step), true, ref);
-        if (outcome == StepOutcome::Moved) continue;
+            LineSearch(cell, point, active, f, fNoise, g, Eigen::Map<const Vector>(step), true, need, trialJet, ref);
+        if (outcome == StepOutcome::Moved) {
+          std::swap(atRef, trialJet);
+          atRefOrder = need;
+          continue;
+        }
         if (outcome == StepOutcome::Blocked) {
           SnapToFace(shape, active, ref);
+          atRefValid = false;
           continue;
         }
         if (outcome == StepOutcome::Final) {
+          atRefValid = false;
           result.converged = true;
           break;
         }
@@ -397,9 +421,16 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       const Vector candidates[2] = {step, T * descent};
       bool moved = false, final = false;
       for (int c = 0; c < 2 && !moved && !final; ++c) {
-        const StepOutcome outcome = LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, ref);
+        const StepOutcome outcome =
+            LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, need, trialJet, ref);
         if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
-        if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
+        if (outcome == StepOutcome::Moved) {
+          std::swap(atRef, trialJet);
+          atRefOrder = need;
+        } else {
+          if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
+          atRefValid = false;
+        }
         final = outcome == StepOutcome::Final;
         moved = !final;
       }
@@ -436,7 +467,15 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   }
 
   std::copy(ref, ref + pd, result.ref);
-  result.squaredDistance = SquaredDistanceAt(cell, point, ref, result.closest);
+  if (atRefValid) {
+    result.squaredDistance = 0.0;
+    for (int k = 0; k < ad; ++k) {
+      result.closest[k] = atRef->x[k];
+      result.squaredDistance += (atRef->x[k] - point[k]) * (atRef->x[k] - point[k]);
+    }
+  } else {
+    result.squaredDistance = SquaredDistanceAt(cell, point, ref, result.closest);
+  }
   result.onBoundary = active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0;
   return result;
 }
