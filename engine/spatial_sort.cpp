@@ -40,6 +40,66 @@ struct KeyIndex {
   std::int64_t index;  ///< Index of the point in the input arrays.
 };
 
+/// Points per block of the radix sort's count and scatter passes.
+constexpr std::int64_t kRadixBlock = 65536;
+constexpr int kDigitBits = 8;
+constexpr int kDigits = 1 << kDigitBits;
+
+/// Sorts `order` by key, stably, so that equal keys keep their input order
+/// (the permutation the (key, index) comparison defines): a least
+/// significant digit radix sort, 8 bits a pass, passes where every key has
+/// the same digit skipped. Each pass counts digits per block of points,
+/// turns the counts into offsets in (digit, block) order and moves every
+/// block's points to their places in parallel; the blocks are fixed, so the
+/// result is the same for any thread count.
+void RadixSortByKey(ExecutionPolicy policy, std::vector<KeyIndex>* order, int maxThreads) {
+  const std::int64_t count = static_cast<std::int64_t>(order->size());
+  const std::int64_t numBlocks = (count + kRadixBlock - 1) / kRadixBlock;
+  std::vector<KeyIndex> buffer(order->size());
+  std::vector<std::int64_t> offsets(static_cast<std::size_t>(numBlocks) * kDigits);
+  KeyIndex* from = order->data();
+  KeyIndex* to = buffer.data();
+  for (int shift = 0; shift < 64; shift += kDigitBits) {
+    const auto digit = [shift](const KeyIndex& k) { return static_cast<int>((k.key >> shift) & (kDigits - 1)); };
+    ForEachBlock(
+        policy, numBlocks, 1,
+        [&](std::int64_t firstBlock, std::int64_t endBlock) {
+          for (std::int64_t b = firstBlock; b < endBlock; ++b) {
+            std::int64_t* row = offsets.data() + b * kDigits;
+            std::fill(row, row + kDigits, 0);
+            for (std::int64_t i = b * kRadixBlock; i < std::min(count, (b + 1) * kRadixBlock); ++i) ++row[digit(from[i])];
+          }
+        },
+        maxThreads);
+    std::int64_t next = 0;
+    bool oneDigit = false;
+    for (int d = 0; d < kDigits && !oneDigit; ++d) {
+      std::int64_t total = 0;
+      for (std::int64_t b = 0; b < numBlocks; ++b) total += offsets[b * kDigits + d];
+      oneDigit = total == count;
+      for (std::int64_t b = 0; b < numBlocks; ++b) {
+        const std::int64_t c = offsets[b * kDigits + d];
+        offsets[b * kDigits + d] = next;
+        next += c;
+      }
+    }
+    if (oneDigit) continue;  // every key has this digit: the order stands
+    ForEachBlock(
+        policy, numBlocks, 1,
+        [&](std::int64_t firstBlock, std::int64_t endBlock) {
+          for (std::int64_t b = firstBlock; b < endBlock; ++b) {
+            std::int64_t* row = offsets.data() + b * kDigits;
+            for (std::int64_t i = b * kRadixBlock; i < std::min(count, (b + 1) * kRadixBlock); ++i) {
+              to[row[digit(from[i])]++] = from[i];
+            }
+          }
+        },
+        maxThreads);
+    std::swap(from, to);
+  }
+  if (from != order->data()) std::copy(from, from + count, order->data());
+}
+
 }  // namespace
 
 MortonGrid MakeMortonGrid(const double lo[3], const double hi[3]) {
@@ -78,12 +138,7 @@ void SpatialSort(ExecutionPolicy policy, const double* x, const double* y, const
         }
       },
       maxThreads);
-  Sort(
-      policy, order.begin(), order.end(),
-      [](const KeyIndex& a, const KeyIndex& b) {
-        return a.key < b.key || (a.key == b.key && a.index < b.index);
-      },
-      maxThreads);
+  RadixSortByKey(policy, &order, maxThreads);
 
   pointNew2Old->resize(static_cast<std::size_t>(count));
   if (keysNew != nullptr) keysNew->resize(static_cast<std::size_t>(count));
