@@ -52,7 +52,7 @@ std::uint64_t MortonKey(const MortonGrid& grid, double x, double y, double z);
 /// @param keysNew    Optional: resized to `count` and filled with the sorted keys,
 ///                   keysNew[i] = key of point pointNew2Old[i]; null to skip.
 /// @param maxThreads Par only: upper limit on threads; 0 = caller's task arena.
-/// Memory: a temporary array of 16 bytes per point.
+/// Memory: two temporary arrays of 16 bytes per point (the radix sort's).
 void SpatialSort(ExecutionPolicy policy, const double* x, const double* y, const double* z,
                  std::int64_t count, const double lo[3], const double hi[3],
                  std::vector<std::int64_t>* pointNew2Old, std::vector<std::uint64_t>* keysNew,
