@@ -1,6 +1,7 @@
 #include "engine/invert_batch.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -558,6 +559,47 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
   std::copy(r.ref, r.ref + 3, warmRef);
 }
 
+/// The box of the finite points of `points` (lo = hi = 0 when there is
+/// none), reduced over blocks in parallel: min and max are exact, so the box
+/// does not depend on the threads.
+void FinitePointBounds(const QueryPoints& points, int dim, int threads, double* lo, double* hi) {
+  constexpr std::int64_t kBlock = 1 << 16;
+  const std::int64_t numBlocks = (points.count + kBlock - 1) / kBlock;
+  // Per block: lo[3], hi[3], and whether it holds a finite point.
+  std::vector<std::array<double, 7>> blocks(static_cast<std::size_t>(numBlocks));
+  ForEachBlock(
+      ExecutionPolicy::Par, numBlocks, 1,
+      [&](std::int64_t firstBlock, std::int64_t endBlock) {
+        for (std::int64_t b = firstBlock; b < endBlock; ++b) {
+          std::array<double, 7>& box = blocks[b];
+          box.fill(0.0);
+          bool any = false;
+          for (std::int64_t i = b * kBlock; i < std::min(points.count, (b + 1) * kBlock); ++i) {
+            bool finite = true;
+            for (int k = 0; k < dim; ++k) finite = finite && std::isfinite(points.coord[k][i]);
+            if (!finite) continue;
+            for (int k = 0; k < dim; ++k) {
+              const double x = points.coord[k][i];
+              box[k] = any ? std::min(box[k], x) : x;
+              box[3 + k] = any ? std::max(box[3 + k], x) : x;
+            }
+            any = true;
+          }
+          box[6] = any ? 1.0 : 0.0;
+        }
+      },
+      threads);
+  bool any = false;
+  for (const std::array<double, 7>& box : blocks) {
+    if (box[6] == 0.0) continue;
+    for (int k = 0; k < dim; ++k) {
+      lo[k] = any ? std::min(lo[k], box[k]) : box[k];
+      hi[k] = any ? std::max(hi[k], box[3 + k]) : box[3 + k];
+    }
+    any = true;
+  }
+}
+
 /// Points a chunk of buckets holds (see InvertBatch).
 constexpr std::int64_t kSortedChunk = 1 << 16;
 
@@ -675,18 +717,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& sim
 
   // Morton order over the box of the finite points.
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  bool any = false;
-  for (std::int64_t i = 0; i < n; ++i) {
-    bool finite = true;
-    for (int k = 0; k < dim; ++k) finite = finite && std::isfinite(points.coord[k][i]);
-    if (!finite) continue;
-    for (int k = 0; k < dim; ++k) {
-      const double x = points.coord[k][i];
-      lo[k] = any ? std::min(lo[k], x) : x;
-      hi[k] = any ? std::max(hi[k], x) : x;
-    }
-    any = true;
-  }
+  FinitePointBounds(points, dim, options.threads, lo, hi);
   std::vector<std::int64_t> pointNew2Old;
   SpatialSort(ExecutionPolicy::Par, points.coord[0], points.coord[1], dim == 3 ? points.coord[2] : nullptr, n, lo, hi,
               &pointNew2Old, nullptr, options.threads);

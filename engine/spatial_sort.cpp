@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace invmap::engine {
 namespace {
@@ -52,13 +53,13 @@ constexpr int kDigits = 1 << kDigitBits;
 /// turns the counts into offsets in (digit, block) order and moves every
 /// block's points to their places in parallel; the blocks are fixed, so the
 /// result is the same for any thread count.
-void RadixSortByKey(ExecutionPolicy policy, std::vector<KeyIndex>* order, int maxThreads) {
-  const std::int64_t count = static_cast<std::int64_t>(order->size());
+void RadixSortByKey(ExecutionPolicy policy, KeyIndex* order, std::int64_t count, int maxThreads) {
   const std::int64_t numBlocks = (count + kRadixBlock - 1) / kRadixBlock;
-  std::vector<KeyIndex> buffer(order->size());
+  // Not zero-filled: the first pass writes it, in parallel.
+  const std::unique_ptr<KeyIndex[]> buffer(new KeyIndex[static_cast<std::size_t>(count)]);
   std::vector<std::int64_t> offsets(static_cast<std::size_t>(numBlocks) * kDigits);
-  KeyIndex* from = order->data();
-  KeyIndex* to = buffer.data();
+  KeyIndex* from = order;
+  KeyIndex* to = buffer.get();
   for (int shift = 0; shift < 64; shift += kDigitBits) {
     const auto digit = [shift](const KeyIndex& k) { return static_cast<int>((k.key >> shift) & (kDigits - 1)); };
     ForEachBlock(
@@ -97,7 +98,7 @@ void RadixSortByKey(ExecutionPolicy policy, std::vector<KeyIndex>* order, int ma
         maxThreads);
     std::swap(from, to);
   }
-  if (from != order->data()) std::copy(from, from + count, order->data());
+  if (from != order) std::copy(from, from + count, order);
 }
 
 }  // namespace
@@ -129,7 +130,8 @@ void SpatialSort(ExecutionPolicy policy, const double* x, const double* y, const
                  int maxThreads) {
   count = std::max<std::int64_t>(count, 0);
   const MortonGrid grid = MakeMortonGrid(lo, hi);
-  std::vector<KeyIndex> order(static_cast<std::size_t>(count));
+  // Not zero-filled: the key loop writes every entry, in parallel.
+  const std::unique_ptr<KeyIndex[]> order(new KeyIndex[static_cast<std::size_t>(count)]);
   ForEachBlock(
       policy, count, kKeyGrain,
       [&](std::int64_t begin, std::int64_t end) {
@@ -138,7 +140,7 @@ void SpatialSort(ExecutionPolicy policy, const double* x, const double* y, const
         }
       },
       maxThreads);
-  RadixSortByKey(policy, &order, maxThreads);
+  RadixSortByKey(policy, order.get(), count, maxThreads);
 
   pointNew2Old->resize(static_cast<std::size_t>(count));
   if (keysNew != nullptr) keysNew->resize(static_cast<std::size_t>(count));
