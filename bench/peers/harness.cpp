@@ -24,6 +24,20 @@ void Invert(const Manifold& manifold, const PointSet& set, std::int64_t count, i
   }
 }
 
+/// Sizes every array of `results` for `count` points, so that a timed
+/// Invert into it does not allocate and first-touch its output: the peers'
+/// answer arrays are also allocated before their clocks start.
+void PresizeResults(std::int64_t count, Results* results) {
+  const std::size_t n = static_cast<std::size_t>(count);
+  results->status.assign(n, Status::Invalid);
+  results->patch.assign(n, -1);
+  results->cell.assign(n, -1);
+  results->params.assign(3 * n, 0.0);
+  results->closest.assign(3 * n, 0.0);
+  results->distance.assign(n, 0.0);
+  results->iterations.assign(n, 0);
+}
+
 /// True when two runs of a peer gave the same answer for a point (bit for bit:
 /// a peer whose threads share state would show here).
 bool SameAnswer(const PeerAnswer& a, const PeerAnswer& b) {
@@ -95,10 +109,12 @@ InvmapRun RunInvmap(const Manifold& manifold, const PointSet& set, std::int64_t 
   const std::int64_t floorCount = std::min<std::int64_t>(maxCount, 100000);
   run.count = std::clamp<std::int64_t>(static_cast<std::int64_t>(rate * budgetSeconds), floorCount, maxCount);
 
+  PresizeResults(run.count, &run.results);
   t0 = Now();
   Invert(manifold, set, run.count, 1, &run.results);
   run.seconds1 = Now() - t0;
   Results all;
+  PresizeResults(run.count, &all);
   t0 = Now();
   Invert(manifold, set, run.count, allThreads, &all);
   run.secondsAll = Now() - t0;
