@@ -213,15 +213,6 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
     engine::QueryPoints query;
     query.count = static_cast<std::int64_t>(points.count);
     for (int k = 0; k < dim; ++k) query.coord[k] = soa.get() + k * points.count;
-    // Sized only: InvertBatch writes every field of every point.
-    const std::size_t n = points.count;
-    results->status.resize(n);
-    results->patch.resize(n);
-    results->cell.resize(n);
-    results->params.resize(3 * n);
-    results->closest.resize(3 * n);
-    results->distance.resize(n);
-    results->iterations.resize(n);
     engine::InvertBatch(impl_->store, impl_->bvh, impl_->simplices, query, options, results);
   } catch (const std::invalid_argument& e) {
     SetMessage(message, e.what());

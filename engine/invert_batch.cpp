@@ -713,6 +713,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& sim
                  const InversionOptions& options, Results* results) {
   const std::int64_t n = points.count;
   const int dim = store.dimension();
+  ResizeResults(n, results);
   if (n == 0) return;
 
   // Morton order over the box of the finite points.

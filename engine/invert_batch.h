@@ -22,7 +22,8 @@ struct QueryPoints {
 /// points' input indices.
 /// Results are identical for any thread count: the buckets are fixed runs of
 /// the Morton order, and each point's answer depends only on its bucket.
-/// Precondition: `results` is sized to points.count.
+/// `results` is resized to points.count (sized only: every field of every
+/// point is written).
 void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& simplices, const QueryPoints& points,
                  const InversionOptions& options, Results* results);
 
