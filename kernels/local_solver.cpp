@@ -133,21 +133,13 @@ double InteriorReducedGradientNorm(const CellShape& shape, const double* grad) {
   return std::sqrt(norm2);
 }
 
-/// Newton step -H^-1 g of f / 2 with H = J^T J + sum_k r_k d2x_k, by an
-/// LDL^T factorization of the pd x pd Hessian. False unless H is positive
-/// definite and the step is finite and descends.
-bool InteriorNewtonStep(const MapJet& jet, const double* r, const double* grad, int pd, int ad, double* step) {
-  double h[3][3];
-  for (int i = 0; i < pd; ++i) {
-    for (int j = 0; j <= i; ++j) {
-      double v = 0.0;
-      for (int k = 0; k < ad; ++k) v += jet.d1[k][i] * jet.d1[k][j] + r[k] * jet.d2[k][i][j];
-      h[i][j] = h[j][i] = v;
-    }
-  }
-  // LDL^T in place: l[i][j] (j < i) below the diagonal, d[i] on it.
+/// x = -H^-1 g for the leading m x m block of the symmetric H, by an LDL^T
+/// factorization (x[m..2] = 0). False unless that block is positive
+/// definite and x is finite and descends (x . g < 0).
+bool NewtonStepOf(const double h[3][3], int m, const double* g, double* x) {
+  // LDL^T: l[i][j] (j < i) below the diagonal, d[i] on it.
   double l[3][3] = {}, d[3];
-  for (int i = 0; i < pd; ++i) {
+  for (int i = 0; i < m; ++i) {
     for (int j = 0; j < i; ++j) {
       double v = h[i][j];
       for (int k = 0; k < j; ++k) v -= l[i][k] * d[k] * l[j][k];
@@ -159,18 +151,32 @@ bool InteriorNewtonStep(const MapJet& jet, const double* r, const double* grad, 
     d[i] = v;
   }
   double y[3];
-  for (int i = 0; i < pd; ++i) {
-    y[i] = -grad[i];
+  for (int i = 0; i < m; ++i) {
+    y[i] = -g[i];
     for (int k = 0; k < i; ++k) y[i] -= l[i][k] * y[k];
   }
   double slope = 0.0;
-  for (int i = pd - 1; i >= 0; --i) {
-    step[i] = y[i] / d[i];
-    for (int k = i + 1; k < pd; ++k) step[i] -= l[k][i] * step[k];
-    slope += step[i] * grad[i];
+  for (int i = m - 1; i >= 0; --i) {
+    x[i] = y[i] / d[i];
+    for (int k = i + 1; k < m; ++k) x[i] -= l[k][i] * x[k];
+    slope += x[i] * g[i];
   }
-  for (int i = pd; i < 3; ++i) step[i] = 0.0;
+  for (int i = m; i < 3; ++i) x[i] = 0.0;
   return std::isfinite(slope) && slope < 0.0;
+}
+
+/// Newton step -H^-1 g of f / 2 with H = J^T J + sum_k r_k d2x_k (pd x pd).
+/// False unless H is positive definite and the step is finite and descends.
+bool InteriorNewtonStep(const MapJet& jet, const double* r, const double* grad, int pd, int ad, double* step) {
+  double h[3][3];
+  for (int i = 0; i < pd; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      double v = 0.0;
+      for (int k = 0; k < ad; ++k) v += jet.d1[k][i] * jet.d1[k][j] + r[k] * jet.d2[k][i][j];
+      h[i][j] = h[j][i] = v;
+    }
+  }
+  return NewtonStepOf(h, pd, grad, step);
 }
 
 /// The step -J^-1 r of a volume cell (pd = ambient dimension 2 or 3) by
@@ -386,15 +392,15 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
             }
           }
         }
-        Matrix hReduced = T.transpose() * hessian * T;
-        PadDiagonal(m, &hReduced);
-        Eigen::LLT<Matrix> llt(hReduced);
-        if (llt.info() == Eigen::Success) {
-          const Vector delta = llt.solve(-gReduced);
-          if (delta.allFinite() && delta.dot(gReduced) < 0.0) {
-            step = T * delta;
-            haveStep = true;
-          }
+        const Matrix hReduced = T.transpose() * hessian * T;
+        double h[3][3];
+        for (int i = 0; i < 3; ++i) {
+          for (int j = 0; j < 3; ++j) h[i][j] = hReduced(i, j);
+        }
+        Vector delta;
+        if (NewtonStepOf(h, m, gReduced.data(), delta.data())) {
+          step = T * delta;
+          haveStep = true;
         }
       }
       bool newton = haveStep;
