@@ -1,7 +1,6 @@
 #include "engine/invert_batch.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -10,7 +9,6 @@
 #include "engine/nearest_cells.h"
 #include "engine/parallel.h"
 #include "engine/spatial_sort.h"
-#include "kernels/affine_simplex.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::engine {
@@ -563,38 +561,37 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
 /// none), reduced over blocks in parallel: min and max are exact, so the box
 /// does not depend on the threads.
 void FinitePointBounds(const QueryPoints& points, int dim, int threads, double* lo, double* hi) {
+  struct BlockBox {
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    bool any = false;  ///< The block holds a finite point.
+  };
   constexpr std::int64_t kBlock = 1 << 16;
-  const std::int64_t numBlocks = (points.count + kBlock - 1) / kBlock;
-  // Per block: lo[3], hi[3], and whether it holds a finite point.
-  std::vector<std::array<double, 7>> blocks(static_cast<std::size_t>(numBlocks));
+  std::vector<BlockBox> blocks(static_cast<std::size_t>((points.count + kBlock - 1) / kBlock));
   ForEachBlock(
-      ExecutionPolicy::Par, numBlocks, 1,
+      ExecutionPolicy::Par, static_cast<std::int64_t>(blocks.size()), 1,
       [&](std::int64_t firstBlock, std::int64_t endBlock) {
         for (std::int64_t b = firstBlock; b < endBlock; ++b) {
-          std::array<double, 7>& box = blocks[b];
-          box.fill(0.0);
-          bool any = false;
+          BlockBox& box = blocks[b];
           for (std::int64_t i = b * kBlock; i < std::min(points.count, (b + 1) * kBlock); ++i) {
             bool finite = true;
             for (int k = 0; k < dim; ++k) finite = finite && std::isfinite(points.coord[k][i]);
             if (!finite) continue;
             for (int k = 0; k < dim; ++k) {
               const double x = points.coord[k][i];
-              box[k] = any ? std::min(box[k], x) : x;
-              box[3 + k] = any ? std::max(box[3 + k], x) : x;
+              box.lo[k] = box.any ? std::min(box.lo[k], x) : x;
+              box.hi[k] = box.any ? std::max(box.hi[k], x) : x;
             }
-            any = true;
+            box.any = true;
           }
-          box[6] = any ? 1.0 : 0.0;
         }
       },
       threads);
   bool any = false;
-  for (const std::array<double, 7>& box : blocks) {
-    if (box[6] == 0.0) continue;
+  for (const BlockBox& box : blocks) {
+    if (!box.any) continue;
     for (int k = 0; k < dim; ++k) {
-      lo[k] = any ? std::min(lo[k], box[k]) : box[k];
-      hi[k] = any ? std::max(hi[k], box[3 + k]) : box[3 + k];
+      lo[k] = any ? std::min(lo[k], box.lo[k]) : box.lo[k];
+      hi[k] = any ? std::max(hi[k], box.hi[k]) : box.hi[k];
     }
     any = true;
   }

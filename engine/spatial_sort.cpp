@@ -68,7 +68,9 @@ void RadixSortByKey(ExecutionPolicy policy, KeyIndex* order, std::int64_t count,
           for (std::int64_t b = firstBlock; b < endBlock; ++b) {
             std::int64_t* row = offsets.data() + b * kDigits;
             std::fill(row, row + kDigits, 0);
-            for (std::int64_t i = b * kRadixBlock; i < std::min(count, (b + 1) * kRadixBlock); ++i) ++row[digit(from[i])];
+            for (std::int64_t i = b * kRadixBlock; i < std::min(count, (b + 1) * kRadixBlock); ++i) {
+              ++row[digit(from[i])];
+            }
           }
         },
         maxThreads);

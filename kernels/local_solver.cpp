@@ -23,15 +23,10 @@ void PadDiagonal(int m, Matrix* a) {
   for (int c = m; c < 3; ++c) (*a)(c, c) = 1.0;
 }
 
-double SquaredDistanceAt(const CellView& cell, const double* point, const double* ref, double* closest) {
-  MapJet jet;
-  EvaluateMap(cell, ref, JetOrder::Value, &jet);
+/// |x - point|^2 for the mapped point x of `jet` (ambientDim coordinates).
+double SquaredDistance(const MapJet& jet, const double* point, int ambientDim) {
   double f = 0.0;
-  for (int k = 0; k < cell.ambientDim; ++k) {
-    closest[k] = jet.x[k];
-    const double r = jet.x[k] - point[k];
-    f += r * r;
-  }
+  for (int k = 0; k < ambientDim; ++k) f += (jet.x[k] - point[k]) * (jet.x[k] - point[k]);
   return f;
 }
 
@@ -245,8 +240,7 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
     if (alpha * step.norm() <= kStepTolerance || -alpha * slope <= fNoise) return StepOutcome::Negligible;
     for (int i = 0; i < pd; ++i) trial[i] = ref[i] + alpha * step[i];
     EvaluateMap(cell, trial, trialOrder, trialJet);
-    double fTrial = 0.0;
-    for (int k = 0; k < cell.ambientDim; ++k) fTrial += (trialJet->x[k] - point[k]) * (trialJet->x[k] - point[k]);
+    const double fTrial = SquaredDistance(*trialJet, point, cell.ambientDim);
     if (fTrial <= f + 1e-4 * alpha * slope && fTrial < f) {
       std::copy(trial, trial + pd, ref);
       if (blockFactor >= 0 && alpha == feasible) {
@@ -473,15 +467,9 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   }
 
   std::copy(ref, ref + pd, result.ref);
-  if (atRefValid) {
-    result.squaredDistance = 0.0;
-    for (int k = 0; k < ad; ++k) {
-      result.closest[k] = atRef->x[k];
-      result.squaredDistance += (atRef->x[k] - point[k]) * (atRef->x[k] - point[k]);
-    }
-  } else {
-    result.squaredDistance = SquaredDistanceAt(cell, point, ref, result.closest);
-  }
+  if (!atRefValid) EvaluateMap(cell, ref, JetOrder::Value, atRef);
+  std::copy(atRef->x, atRef->x + ad, result.closest);
+  result.squaredDistance = SquaredDistance(*atRef, point, ad);
   result.onBoundary = active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0;
   return result;
 }
