@@ -14,6 +14,7 @@
 #include "engine/invert_batch.h"
 #include "engine/parallel.h"
 #include "engine/simplex_items.h"
+#include "engine/wide_bvh.h"
 #include "invmap/invmap.h"
 
 namespace invmap {
@@ -21,6 +22,7 @@ namespace invmap {
 struct Manifold::Impl {
   engine::CellStore store;
   engine::Bvh bvh;
+  engine::WideBvh wideBvh;
   engine::SimplexItems simplices;
 };
 
@@ -114,6 +116,7 @@ BuildResult Manifold::Build(const Geometry& geometry) {
       }
     }
     impl->bvh = engine::BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
+    impl->wideBvh = engine::WideBvh(impl->bvh);
     impl->simplices.Build(impl->store, impl->bvh);
     result.manifold.impl_ = std::move(impl);
   } catch (const std::bad_alloc&) {
@@ -149,7 +152,8 @@ ManifoldInfo Manifold::Info() const {
     info.boundsLo[k] = info.cells ? bounds.lo[k] : 0.0;
     info.boundsHi[k] = info.cells ? bounds.hi[k] : 0.0;
   }
-  info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + impl_->simplices.MemoryBytes() + sizeof(Impl);
+  info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + impl_->wideBvh.MemoryBytes() +
+                     impl_->simplices.MemoryBytes() + sizeof(Impl);
   return info;
 }
 
@@ -213,7 +217,7 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
     engine::QueryPoints query;
     query.count = static_cast<std::int64_t>(points.count);
     for (int k = 0; k < dim; ++k) query.coord[k] = soa.get() + k * points.count;
-    engine::InvertBatch(impl_->store, impl_->bvh, impl_->simplices, query, options, results);
+    engine::InvertBatch(impl_->store, impl_->bvh, impl_->wideBvh, impl_->simplices, query, options, results);
   } catch (const std::invalid_argument& e) {
     SetMessage(message, e.what());
     return Error::InvalidArgument;

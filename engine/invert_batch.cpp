@@ -17,6 +17,14 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+/// A child of a wide node waiting on the search's stack: its lower bound,
+/// and the node (count 0) or the leaf's items it stands for.
+struct WideEntry {
+  double lowerBound2;
+  std::int32_t first;
+  std::int32_t count;
+};
+
 /// Scratch of one task, reused across its buckets so that the per-point path
 /// never allocates once warm.
 struct BucketScratch {
@@ -30,6 +38,7 @@ struct BucketScratch {
   std::vector<int> stack;
   std::vector<std::pair<double, int>> order;  // (point's lower bound^2, candidate)
   std::vector<std::pair<double, int>> insideOrder;  // (-inside score, candidate or BVH item)
+  std::vector<WideEntry> wideStack;
   std::vector<std::int64_t> triedCells;             // volume cells already tried for the point
   kernels::SolveWorkspace workspace;
   // The bucket's points as lanes (structure of arrays) and their best answer
@@ -390,7 +399,7 @@ void SearchCandidates(PointSearch& search) {
 
 /// Algorithm 4 with the candidates generated lazily: a traversal of the BVH
 /// cut at the best distance so far.
-void SearchBvh(const Bvh& bvh, const SimplexItems& simplices, PointSearch& search) {
+void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplices, PointSearch& search) {
   const std::vector<BvhNode>& nodes = bvh.Nodes();
   if (nodes.empty()) return;
   const int dim = search.store.dimension();
@@ -442,18 +451,20 @@ void SearchBvh(const Bvh& bvh, const SimplexItems& simplices, PointSearch& searc
     search.SolveCell(search.warmCell);
     seeded = search.warmCell;
   }
-  // Depth first, nearer child first; a node is skipped when its lower bound
-  // (recorded when it was pushed) no longer beats the best distance.
-  std::vector<std::pair<double, int>>& pending = search.scratch.order;
+  // Depth first over the wide tree, nearest child first; an entry is
+  // skipped when its lower bound (recorded when it was pushed) no longer
+  // beats the best distance.
+  const std::vector<WideNode>& wideNodes = wide.Nodes();
+  const WidePoint point = wide.Prepare(search.p);
+  std::vector<WideEntry>& pending = search.scratch.wideStack;
   pending.clear();
-  pending.emplace_back(BoxDistance2(bvh.NodeBounds(0), search.p, dim), 0);
+  pending.push_back({0.0, 0, 0});
   while (!pending.empty()) {
-    const auto [lowerBound2, index] = pending.back();
+    const WideEntry entry = pending.back();
     pending.pop_back();
-    if (lowerBound2 > search.best * search.best) continue;
-    const BvhNode& node = nodes[index];
-    if (node.count > 0) {
-      for (int i = node.first; i < node.first + node.count; ++i) {
+    if (entry.lowerBound2 > search.best * search.best) continue;
+    if (entry.count > 0) {
+      for (int i = entry.first; i < entry.first + entry.count; ++i) {
         if (BoxDistance2(itemBoxes[i], search.p, dim) > search.best * search.best) continue;
         const std::int64_t simplexCell = simplices.cell(i);
         if (simplexCell >= 0) {
@@ -465,13 +476,20 @@ void SearchBvh(const Bvh& bvh, const SimplexItems& simplices, PointSearch& searc
       }
       continue;
     }
-    const double near2 = BoxDistance2(bvh.NodeBounds(node.first), search.p, dim);
-    const double far2 = BoxDistance2(bvh.NodeBounds(node.first + 1), search.p, dim);
-    const bool firstNearer = near2 <= far2;
-    const std::pair<double, int> nearer(firstNearer ? near2 : far2, firstNearer ? node.first : node.first + 1);
-    const std::pair<double, int> farther(firstNearer ? far2 : near2, firstNearer ? node.first + 1 : node.first);
-    if (farther.first <= search.best * search.best) pending.push_back(farther);
-    if (nearer.first <= search.best * search.best) pending.push_back(nearer);
+    const WideNode& node = wideNodes[entry.first];
+    double distance2[4];
+    WideBvh::ChildDistances2(node, point, distance2);
+    // The children within the best distance, pushed farthest first.
+    WideEntry near[4];
+    int n = 0;
+    for (int c = 0; c < 4; ++c) {
+      if (!(distance2[c] <= search.best * search.best)) continue;
+      WideEntry child{distance2[c], node.first[c], node.count[c]};
+      int at = n++;
+      for (; at > 0 && near[at - 1].lowerBound2 < child.lowerBound2; --at) near[at] = near[at - 1];
+      near[at] = child;
+    }
+    pending.insert(pending.end(), near, near + n);
   }
 }
 
@@ -628,8 +646,8 @@ void CopyResult(const Results& source, std::int64_t from, std::int64_t to, Resul
 /// Inverts `points` (a run of the Morton order that starts a bucket), in
 /// parallel over its buckets of `bucketSize` points; answer s of `sorted` is
 /// that of point s.
-void InvertBuckets(const CellStore& store, const Bvh& bvh, const SimplexItems& simplices, const QueryPoints& points,
-                   int bucketSize, const InversionOptions& options, Results* sorted) {
+void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplices,
+                   const QueryPoints& points, int bucketSize, const InversionOptions& options, Results* sorted) {
   const std::int64_t n = points.count;
   const int dim = store.dimension();
   const double maxDistance = options.maxDistance;
@@ -694,7 +712,7 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const SimplexItems& s
                 if (lanesSolved) search.Seed(scratch.laneBestCell[s - first], scratch.laneBest[s - first]);
                 SearchCandidates(search);
               } else {
-                SearchBvh(bvh, simplices, search);
+                SearchBvh(bvh, wide, simplices, search);
               }
             }
             WriteFound(store, search, s, &warmCell, warmRef, sorted);
@@ -706,8 +724,8 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const SimplexItems& s
 
 }  // namespace
 
-void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& simplices, const QueryPoints& points,
-                 const InversionOptions& options, Results* results) {
+void InvertBatch(const CellStore& store, const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplices,
+                 const QueryPoints& points, const InversionOptions& options, Results* results) {
   const std::int64_t n = points.count;
   const int dim = store.dimension();
   ResizeResults(n, results);
@@ -748,7 +766,7 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& sim
         },
         options.threads);
     ResizeResults(count, &sorted);
-    InvertBuckets(store, bvh, simplices, chunkPoints, bucketSize, options, &sorted);
+    InvertBuckets(store, bvh, wide, simplices, chunkPoints, bucketSize, options, &sorted);
     ForEachBlock(
         ExecutionPolicy::Par, count, 4096,
         [&](std::int64_t begin, std::int64_t end) {

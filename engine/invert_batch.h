@@ -7,6 +7,7 @@
 #include "engine/bvh_build.h"
 #include "engine/cell_store.h"
 #include "engine/simplex_items.h"
+#include "engine/wide_bvh.h"
 #include "invmap/invmap.h"
 
 namespace invmap::engine {
@@ -18,13 +19,13 @@ struct QueryPoints {
 };
 
 /// Inverts every point of `points` onto the cells of `store` (whose boxes the
-/// `bvh` indexes; `simplices` built from both) and writes the results at the
+/// `bvh` indexes; `wide` and `simplices` built from it) and writes the results at the
 /// points' input indices.
 /// Results are identical for any thread count: the buckets are fixed runs of
 /// the Morton order, and each point's answer depends only on its bucket.
 /// `results` is resized to points.count (sized only: every field of every
 /// point is written).
-void InvertBatch(const CellStore& store, const Bvh& bvh, const SimplexItems& simplices, const QueryPoints& points,
-                 const InversionOptions& options, Results* results);
+void InvertBatch(const CellStore& store, const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplices,
+                 const QueryPoints& points, const InversionOptions& options, Results* results);
 
 }  // namespace invmap::engine
