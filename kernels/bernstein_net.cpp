@@ -310,6 +310,11 @@ bool HessianStencil::IsConvex(const double* f) const {
     }
   }
   if (paramDim_ == 1) return true;
+  if (IntervalHessianIsPositive(lo, hi)) return true;
+  return ScaledHessianIsPositive(lo, hi);
+}
+
+bool HessianStencil::IntervalHessianIsPositive(const double lo[3][3], const double hi[3][3]) const {
   Eigen::Matrix3d mid = Eigen::Matrix3d::Zero();
   double radius2 = 0.0;
   for (int a = 0; a < paramDim_; ++a) {
@@ -331,6 +336,30 @@ bool HessianStencil::IsConvex(const double* f) const {
     lambdaMin = eigen.eigenvalues()(0);
   }
   return lambdaMin > std::sqrt(radius2);
+}
+
+bool HessianStencil::ScaledHessianIsPositive(const double lo[3][3], const double hi[3][3]) const {
+  // H(u) = D^1/2 N D^1/2 with D the diagonal of H(u), so N has a unit
+  // diagonal and |N_ab| <= beta_ab = max |H_ab| / sqrt(min H_aa min H_bb).
+  // lambda_min(N) >= 1 - rho(|N - I|) >= 1 - rho(beta), so rho(beta) < 1
+  // proves every H(u) positive definite.
+  Eigen::Matrix3d beta = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < paramDim_; ++a) {
+    for (int b = a + 1; b < paramDim_; ++b) {
+      const double largest = std::max(std::abs(lo[a][b]), std::abs(hi[a][b]));
+      beta(a, b) = beta(b, a) = largest / std::sqrt(lo[a][a] * lo[b][b]);
+    }
+  }
+  double rho;
+  if (paramDim_ == 2) {
+    rho = beta(0, 1);
+  } else {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+    eigen.computeDirect(beta, Eigen::EigenvaluesOnly);
+    rho = eigen.eigenvalues()(2);
+  }
+  // The margin keeps the test away from the rounding of its own arithmetic.
+  return rho < 1.0 - 1e-12;
 }
 
 }  // namespace invmap::kernels

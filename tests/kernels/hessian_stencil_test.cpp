@@ -1,0 +1,121 @@
+// The convexity test of the cell search (HessianStencil::IsConvex in
+// kernels/bernstein_net.h): a net it accepts must have a positive definite
+// Hessian everywhere on the domain, checked by finite differences of an
+// evaluation written from the Bernstein definition; and the nets whose
+// diagonal second derivatives vary a lot along the cell, which the interval
+// test alone rejects, are accepted.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+#include <vector>
+
+#include "kernels/bernstein_net.h"
+#include "tests/support/tensor_net.h"
+
+namespace {
+
+using invmap::kernels::HessianStencil;
+using invmap::testing::ForGrid;
+using invmap::testing::Net;
+
+/// Net with coefficient (i, j, k) = a[i] + b[j] + c[k] + cross * (i / p)(j / q):
+/// the polynomial a(t_0) + b(t_1) + c(t_2) + cross t_0 t_1.
+Net SeparablePlusCross(int dims, const std::vector<double>* terms, double cross) {
+  Net net{dims, {0, 0, 0}, {}};
+  for (int d = 0; d < dims; ++d) net.deg[d] = static_cast<int>(terms[d].size()) - 1;
+  for (int k = 0; k < net.Size(2); ++k) {
+    for (int j = 0; j < net.Size(1); ++j) {
+      for (int i = 0; i < net.Size(0); ++i) {
+        double v = terms[0][i] + terms[1][j] + (dims > 2 ? terms[2][k] : 0.0);
+        v += cross * (static_cast<double>(i) / net.deg[0]) * (static_cast<double>(j) / net.deg[1]);
+        net.c.push_back(v);
+      }
+    }
+  }
+  return net;
+}
+
+/// Smallest eigenvalue of the Hessian at t by central differences.
+double SmallestHessianEigenvalue(const Net& net, const double* t, double h) {
+  const int dims = net.dims;
+  Eigen::MatrixXd hessian(dims, dims);
+  for (int a = 0; a < dims; ++a) {
+    for (int b = a; b < dims; ++b) {
+      double sum = 0.0;
+      for (const int sa : {-1, 1}) {
+        for (const int sb : {-1, 1}) {
+          double x[3] = {t[0], t[1], t[2]};
+          x[a] += sa * h;
+          x[b] += sb * h;
+          sum += sa * sb * net(x);
+        }
+      }
+      hessian(a, b) = hessian(b, a) = sum / (4 * h * h);
+    }
+  }
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(hessian).eigenvalues().minCoeff();
+}
+
+TEST(HessianStencil, VaryingDiagonalIsConvex) {
+  // a(t_0) with second derivative 0.12 .. 9.72 along the cell, b = t_1^2
+  // (second derivative 2) and a small mixed term: the intervals' midpoint
+  // matrix diag(4.92, 2) is within their radius 4.8 of singular, but scaled
+  // by the diagonal the mixed entry is far below one.
+  const std::vector<double> terms[2] = {{0.0, 0.0, 0.01, 0.1, 1.0}, {0.0, 0.0, 1.0}};
+  const Net net = SeparablePlusCross(2, terms, 0.1);
+  EXPECT_TRUE(HessianStencil::Get(net.Shape()).IsConvex(net.c.data()));
+  // A mixed term as large as the diagonal allows no proof (and the function
+  // is not convex where a'' is small: 0.12 * 2 < 1.5^2).
+  const Net saddle = SeparablePlusCross(2, terms, 1.5);
+  EXPECT_FALSE(HessianStencil::Get(saddle.Shape()).IsConvex(saddle.c.data()));
+}
+
+TEST(HessianStencil, ConcaveDirectionIsRejected) {
+  const std::vector<double> terms[3] = {{0.0, 0.0, 1.0}, {0.0, 0.5, 0.0}, {0.0, 0.0, 1.0}};
+  for (const int dims : {2, 3}) {
+    const Net net = SeparablePlusCross(dims, terms, 0.0);
+    EXPECT_FALSE(HessianStencil::Get(net.Shape()).IsConvex(net.c.data())) << dims << "D";
+  }
+}
+
+TEST(HessianStencil, AcceptedNetsAreConvexEverywhere) {
+  std::mt19937 rng(20261124);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int accepted = 0, rejected = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const int dims = trial % 3 == 0 ? 3 : 2;
+    std::uniform_int_distribution<int> degree(2, dims == 2 ? 6 : 3);
+    // Per direction a convex term whose curvature grows along the cell by a
+    // random factor, plus noise and a random mixed term: some nets pass
+    // either test, some only the scaled one, some neither.
+    std::vector<double> terms[3];
+    for (int d = 0; d < dims; ++d) {
+      const int p = degree(rng);
+      const double growth = 1.0 + 30.0 * unit(rng);
+      double slope = -unit(rng), value = 0.0, step = 0.05 + unit(rng);
+      for (int i = 0; i <= p; ++i) {
+        terms[d].push_back(value + 0.05 * (unit(rng) - 0.5));
+        value += slope;
+        slope += step;
+        step *= std::pow(growth, 1.0 / p);
+      }
+    }
+    const Net net = SeparablePlusCross(dims, terms, 8.0 * (unit(rng) - 0.5));
+    if (!HessianStencil::Get(net.Shape()).IsConvex(net.c.data())) {
+      ++rejected;
+      continue;
+    }
+    ++accepted;
+    const double h = 1e-3;
+    ForGrid(dims, dims == 2 ? 11 : 5, [&](const double* grid) {
+      double t[3] = {0, 0, 0};
+      for (int d = 0; d < dims; ++d) t[d] = h + (1 - 2 * h) * grid[d];
+      ASSERT_GT(SmallestHessianEigenvalue(net, t, h), -1e-5) << "trial " << trial;
+    });
+  }
+  EXPECT_GT(accepted, 100);
+  EXPECT_GT(rejected, 100);
+}
+
+}  // namespace
