@@ -249,6 +249,8 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   LocalSolveOptions options;
   options.affine = affine_;
   options.size = size_;
+  // The search below trusts the local answer only at a KKT point.
+  options.checkKkt = !affine_;
   LocalSolveResult best = LocalSolve(cell_, point, start, options);
   result.iterations = best.iterations;
 
@@ -451,7 +453,7 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
   const bool faceCertificate = HasFaceCertificate(netShape);
   // The certificate below is only sound at a true KKT point; a local solve
   // that stopped early (iteration cap, rounding) does not get it.
-  bool bestIsKkt = best->converged && IsKktPoint(cell_, point, best->ref, size_);
+  bool bestIsKkt = best->kkt;
   // The convexity certificate: q - f* WW convex on a subdomain holding the
   // KKT point x* means q >= f* WW there, so no point of it is closer.
   auto certifiedAround = [&](double* slot) {
@@ -517,11 +519,12 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
     if (fCenter < best->squaredDistance || seed) {
       LocalSolveOptions options;
       options.size = size_;
+      options.checkKkt = true;
       const LocalSolveResult local = LocalSolve(cell_, point, center, options);
       *iterations += local.iterations;
       if (local.squaredDistance < best->squaredDistance) {
         *best = local;
-        bestIsKkt = best->converged && IsKktPoint(cell_, point, best->ref, size_);
+        bestIsKkt = best->kkt;
       }
       if (pool[s][kLowerBound] >= pruneLevel() || certifiedAround(pool[s])) {
         pool.Free(s);

@@ -467,18 +467,18 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   }
 
   std::copy(ref, ref + pd, result.ref);
-  if (!atRefValid) EvaluateMap(cell, ref, JetOrder::Value, atRef);
+  const JetOrder finalOrder = options.checkKkt ? JetOrder::First : JetOrder::Value;
+  if (!atRefValid || atRefOrder < finalOrder) EvaluateMap(cell, ref, finalOrder, atRef);
+  result.kkt = options.checkKkt && result.converged && IsKktPoint(cell, *atRef, point, ref, size);
   std::copy(atRef->x, atRef->x + ad, result.closest);
   result.squaredDistance = SquaredDistance(*atRef, point, ad);
   result.onBoundary = active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0;
   return result;
 }
 
-bool IsKktPoint(const CellView& cell, const double* point, const double* ref, double size) {
+bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, const double* ref, double size) {
   const CellShape& shape = cell.shape;
   const int pd = shape.paramDim();
-  MapJet jet;
-  EvaluateMap(cell, ref, JetOrder::First, &jet);
   double grad[3] = {0, 0, 0}, r2 = 0.0, jac2 = 0.0;
   for (int k = 0; k < cell.ambientDim; ++k) {
     const double r = jet.x[k] - point[k];

@@ -14,6 +14,8 @@ struct LocalSolveResult {
   double squaredDistance = 0.0;
   bool onBoundary = false;  ///< Some constraint is enforced at the solution.
   bool converged = false;   ///< Stopped on the residual or step tolerance (not on the iteration cap).
+  /// Converged and IsKktPoint holds at ref (only computed with LocalSolveOptions::checkKkt).
+  bool kkt = false;
   int iterations = 0;
 };
 
@@ -30,6 +32,9 @@ struct LocalSolveOptions {
   /// (7.3.2.1) only wants the point itself, and a point outside the cell
   /// drives the full-rank step onto the boundary at once.
   bool stopAtBoundary = false;
+  /// Fill LocalSolveResult::kkt, from the map's derivatives at the solution
+  /// (the solve evaluates them there, instead of the value alone).
+  bool checkKkt = false;
 };
 
 /// Minimizes |x(u) - point|^2 over the reference domain starting at
@@ -47,6 +52,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
 /// at `ref`: the gradient projected on the face of the constraints active
 /// there is small, and no active constraint's release direction descends.
 /// The global search trusts a local solution only after this check.
-bool IsKktPoint(const CellView& cell, const double* point, const double* ref, double size);
+/// `jet`: the map at `ref`, evaluated to at least first order.
+bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, const double* ref, double size);
 
 }  // namespace invmap::kernels
