@@ -290,27 +290,25 @@ struct PointSearch {
     tried.clear();
     const std::int64_t start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
     if (start < 0 || store.inRegion(start)) return;
-    const kernels::CellSolver& solver = store.solver(start);
-    if (!solver.isFullRank()) return;
-    if (CellBoxDistance2(solver, p, store.dimension()) == 0.0) {
-      TryInsideCell(start);
-      tried.push_back(start);
-    }
+    if (!store.solver(start).isFullRank()) return;
     const TetAdjacency& adjacency = store.tetAdjacency();
     std::int64_t cell = start;
-    for (int step = 0; step < kMaxWalk && !inside && !adjacency.empty(); ++step) {
+    for (int step = 0;; ++step) {
+      // One corner barycentric evaluation per cell serves both the inside
+      // solve's start and the walk's direction.
       double lambda[4];
-      if (!store.solver(cell).CornerBarycentric(p, lambda)) return;
+      const bool haveLambda = store.solver(cell).CornerBarycentric(p, lambda);
+      if (CellBoxDistance2(store.solver(cell), p, store.dimension()) == 0.0) {
+        TryInsideCell(cell, haveLambda ? lambda : nullptr);
+        tried.push_back(cell);
+      }
+      if (inside || step == kMaxWalk || adjacency.empty() || !haveLambda) return;
       const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
       // Inside the straight tetrahedron of a cell that did not hold the
       // point: the walk has no direction left.
       if (lambda[exit] >= 0.0) return;
       cell = adjacency.Neighbor(cell, exit);
       if (cell < 0 || store.inRegion(cell) || IsTriedCell(cell)) return;
-      if (CellBoxDistance2(store.solver(cell), p, store.dimension()) == 0.0) {
-        TryInsideCell(cell);
-        tried.push_back(cell);
-      }
     }
   }
 
@@ -336,11 +334,12 @@ struct PointSearch {
     inside = true;
   }
 
-  void TryInsideCell(std::int64_t cell) {
+  /// `cornerLambda`: the cell's CornerBarycentric of the point, when known.
+  void TryInsideCell(std::int64_t cell, const double* cornerLambda = nullptr) {
     const kernels::CellSolver& solver = store.solver(cell);
     if (!solver.isFullRank()) return;
     kernels::CellSolveResult r;
-    if (solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r)) {
+    if (solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r, cornerLambda)) {
       iterations += r.iterations;
       best = r.distance;
       bestCell = cell;

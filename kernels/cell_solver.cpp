@@ -391,11 +391,13 @@ void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLa
   }
 }
 
-bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result) const {
+bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
+                             const double* cornerLambda) const {
   const int pd = cell_.shape.paramDim();
   double start[3];
   double lambda[4];
-  if (CornerBarycentric(point, lambda)) {
+  if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
+  if (cornerLambda || CornerBarycentric(point, lambda)) {
     // Beyond the control points' hull (with a margin far above the distance
     // tolerance): outside the cell, no solve needed.
     if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) {

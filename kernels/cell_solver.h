@@ -88,7 +88,10 @@ class CellSolver {
   /// true, with `result` filled, when it converges to a point of the cell
   /// within the distance tolerance of `point` (the point is inside: the
   /// answer is exact and global); false otherwise (result.iterations is set).
-  bool SolveInside(const double* point, const double* initialRef, CellSolveResult* result) const;
+  /// `cornerLambda` (4 values): CornerBarycentric(point) when the caller
+  /// has it, so it is not computed again.
+  bool SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
+                   const double* cornerLambda = nullptr) const;
 
   /// Solves every lane of `queries`; see QueryLane and ResultLane. Affine
   /// segments, triangles and tetrahedra solve all lanes at once in closed
