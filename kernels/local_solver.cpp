@@ -160,18 +160,45 @@ bool NewtonStepOf(const double h[3][3], int m, const double* g, double* x) {
   return std::isfinite(slope) && slope < 0.0;
 }
 
-/// Newton step -H^-1 g of f / 2 with H = J^T J + sum_k r_k d2x_k (pd x pd).
-/// False unless H is positive definite and the step is finite and descends.
-bool InteriorNewtonStep(const MapJet& jet, const double* r, const double* grad, int pd, int ad, double* step) {
-  double h[3][3];
-  for (int i = 0; i < pd; ++i) {
-    for (int j = 0; j <= i; ++j) {
+/// Newton step -H^-1 g of f / 2 with H = J^T J + sum_k r_k d2x_k, over the
+/// m parameters coords[0 .. m) (the others keep step 0). False unless that
+/// block of H is positive definite and the step is finite and descends.
+bool NewtonStepOver(const MapJet& jet, const double* r, const double* grad, const int* coords, int m, int ad,
+                    double* step) {
+  double h[3][3], g[3], x[3];
+  for (int a = 0; a < m; ++a) {
+    const int i = coords[a];
+    g[a] = grad[i];
+    for (int b = 0; b <= a; ++b) {
+      const int j = coords[b];
       double v = 0.0;
       for (int k = 0; k < ad; ++k) v += jet.d1[k][i] * jet.d1[k][j] + r[k] * jet.d2[k][i][j];
-      h[i][j] = h[j][i] = v;
+      h[a][b] = h[b][a] = v;
     }
   }
-  return NewtonStepOf(h, pd, grad, step);
+  if (!NewtonStepOf(h, m, g, x)) return false;
+  step[0] = step[1] = step[2] = 0.0;
+  for (int a = 0; a < m; ++a) step[coords[a]] = x[a];
+  return true;
+}
+
+/// Cells of line factors (lines, quads, hexes): the parameters whose factor
+/// has no enforced constraint, and the norm of the gradient reduced to them
+/// in BuildFaceBasis's orthonormal basis (each free factor's column is
+/// -e_i / sqrt(2)). Other cells: -1.
+int FreeLineParameters(const CellShape& shape, const ActiveSet& active, const double* grad, int* coords,
+                       double* reducedNorm) {
+  int m = 0;
+  double norm2 = 0.0;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    if (shape.factor(f).dim != 1) return -1;
+    if (active.enforced[f] != 0) continue;
+    const int i = shape.factor(f).offset;
+    coords[m++] = i;
+    norm2 += 0.5 * grad[i] * grad[i];
+  }
+  *reducedNorm = std::sqrt(norm2);
+  return m;
 }
 
 /// The step -J^-1 r of a volume cell (pd = ambient dimension 2 or 3) by
@@ -322,14 +349,24 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     const double fNoise = 2.0 * std::sqrt(f) * rError + rError * rError;
 
     const Vector g = Eigen::Map<const Vector>(grad);
-    if (noneEnforced && releasedFactor < 0 && (useFullRank || order == JetOrder::Second) &&
-        InteriorReducedGradientNorm(shape, grad) > residualScale) {
-      // The common case, in the interior: the step -J^-1 r of a volume cell
-      // (7.3.2.1), or the Newton step of the full Hessian (the same step as
-      // the reduced one below, whose basis is then square), without the
-      // fallbacks' set-up. Anything else falls through.
+    // The common cases without the fallbacks' set-up: in the interior, the
+    // step -J^-1 r of a volume cell (7.3.2.1) or the Newton step of the full
+    // Hessian; on a face of a cell of line factors, the Newton step over the
+    // free parameters. Both are the reduced step below (whose basis is then
+    // square, or picks the free parameters). Anything else falls through.
+    int freeCoords[3] = {0, 1, 2};
+    int freeCount = 0;
+    double reducedNorm = 0.0;
+    if (releasedFactor < 0 && noneEnforced && (useFullRank || order == JetOrder::Second)) {
+      freeCount = pd;
+      reducedNorm = InteriorReducedGradientNorm(shape, grad);
+    } else if (releasedFactor < 0 && !noneEnforced && order == JetOrder::Second) {
+      freeCount = std::max(0, FreeLineParameters(shape, active, grad, freeCoords, &reducedNorm));
+    }
+    if (freeCount > 0 && reducedNorm > residualScale) {
       double step[3];
-      if (useFullRank ? FullRankStep(jet, r, pd, size, step) : InteriorNewtonStep(jet, r, grad, pd, ad, step)) {
+      if (useFullRank ? FullRankStep(jet, r, pd, size, step)
+                      : NewtonStepOver(jet, r, grad, freeCoords, freeCount, ad, step)) {
         const StepOutcome outcome =
             LineSearch(cell, point, active, f, fNoise, g, Eigen::Map<const Vector>(step), true, need, trialJet, ref);
         if (outcome == StepOutcome::Moved) {
