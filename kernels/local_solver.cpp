@@ -381,6 +381,9 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
         }
         if (outcome == StepOutcome::Final) {
           atRefValid = false;
+          // On a face the enforced constraints' multipliers are still to be
+          // checked: the next iteration, stationary there, does that.
+          if (!noneEnforced) continue;
           result.converged = true;
           break;
         }
