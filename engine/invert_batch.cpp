@@ -234,7 +234,7 @@ struct PointSearch {
     for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
     kernels::CellSolveResult r;
     kernels::CellSolver::SolveAffineSimplex(pd, dim, vertices, p, &r);
-    if (r.distance * r.distance >= Bound2()) return;
+    if (bestCell >= 0 ? !(r.distance < best) : !(r.distance <= best)) return;
     Consider(simplices.cell(i), r);
   }
 
@@ -482,7 +482,10 @@ void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplice
     WideEntry near[4];
     int n = 0;
     for (int c = 0; c < 4; ++c) {
-      if (!(distance2[c] <= search.best * search.best)) continue;
+      // An unused slot is skipped outright: with no best distance yet (an
+      // infinite gap tolerance, or a squared distance that overflows) its
+      // infinite bound would pass the test.
+      if (node.count[c] < 0 || !(distance2[c] <= search.best * search.best)) continue;
       WideEntry child{distance2[c], node.first[c], node.count[c]};
       int at = n++;
       for (; at > 0 && near[at - 1].lowerBound2 < child.lowerBound2; --at) near[at] = near[at - 1];
@@ -579,7 +582,12 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
     results->params[3 * index + k] = k < pd ? origin.paramLo[k] + origin.paramScale[k] * r.ref[k] : kNaN;
     results->closest[3 * index + k] = k < dim ? r.closest[k] : 0.0;
   }
-  results->distance[index] = r.distance;
+  // Beyond about 1e154 the solvers' squared distances overflow: measure
+  // such an answer's distance from its closest point instead.
+  results->distance[index] =
+      std::isfinite(r.distance)
+          ? r.distance
+          : std::hypot(r.closest[0] - search.p[0], r.closest[1] - search.p[1], r.closest[2] - search.p[2]);
   results->iterations[index] = search.iterations;
   *warmCell = search.bestCell;
   std::copy(r.ref, r.ref + 3, warmRef);

@@ -10,10 +10,10 @@ namespace {
 
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 
-/// Offsets beyond this are clamped: a point that far from the geometry keeps
-/// a valid lower bound (clamping moves it toward every box) and no float
-/// overflows.
-constexpr double kLargestOffset = 1e30;
+/// Offsets beyond this (or beyond the geometry's own extent, when that is
+/// larger) are clamped: clamping moves such a point toward every box, which
+/// keeps the bound valid, and its float offset then cannot overflow.
+constexpr double kClampOffset = 1e30;
 
 /// Relative rounding allowance of the float gaps: a few float epsilons of the
 /// operands' magnitude, with a wide margin.
@@ -94,7 +94,8 @@ WideBvh::WideBvh(const Bvh& bvh) {
 WidePoint WideBvh::Prepare(const double* p) const {
   WidePoint point;
   for (int k = 0; k < 3; ++k) {
-    const double offset = std::clamp(p[k] - origin_[k], -kLargestOffset, kLargestOffset);
+    const double limit = std::max(kClampOffset, static_cast<double>(extent_));
+    const double offset = std::clamp(p[k] - origin_[k], -limit, limit);
     point.offset[k] = static_cast<float>(offset);
     // The float offset's own rounding, then that of the float differences
     // with the bounds (and of the double offset), all far below this.
@@ -111,7 +112,10 @@ void WideBvh::ChildDistances2(const WideNode& node, const WidePoint& point, doub
   for (int k = 0; k < 3; ++k) {
     for (int c = 0; c < 4; ++c) {
       const float outside = std::max(node.lo[k][c] - point.offset[k], point.offset[k] - node.hi[k][c]);
-      gap[k][c] = std::max(outside - point.slack[k], 0.0f);
+      // Written so that NaN gives 0: with bounds beyond the float range the
+      // slack is infinite, and a zero gap is still a valid bound.
+      const float shrunk = outside - point.slack[k];
+      gap[k][c] = shrunk > 0.0f ? shrunk : 0.0f;
     }
   }
   // Squares in double: a gap near the float range would overflow in float.

@@ -53,7 +53,9 @@ class WideBvh {
  private:
   std::vector<WideNode> nodes_;
   double origin_[3] = {0, 0, 0};
-  float extent_ = 0.0f;  ///< Largest |offset| of any bound: the scale of their rounding.
+  /// Largest |offset| of any bound: the scale of their rounding (+infinity
+  /// for coordinates beyond the float range, where every bound becomes 0).
+  float extent_ = 0.0f;
 };
 
 }  // namespace invmap::engine

@@ -231,13 +231,16 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   for (int k = 0; k < ad; ++k) {
     if (!std::isfinite(point[k])) return result;  // status InvalidInput
   }
-  if (bound2 < std::numeric_limits<double>::infinity() && SquaredDistanceLowerBound(point, ws) >= bound2) {
+  // An infinite bound is no bound: beyond about 1e154 the squared distance
+  // itself overflows to infinity, and such a point must still get its answer.
+  const bool bounded = bound2 < std::numeric_limits<double>::infinity();
+  if (bounded && SquaredDistanceLowerBound(point, ws) >= bound2) {
     result.status = PointStatus::Farther;
     return result;
   }
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplex(point, &result);
-    if (result.distance * result.distance >= bound2) result.status = PointStatus::Farther;
+    if (bounded && result.distance * result.distance >= bound2) result.status = PointStatus::Farther;
     return result;
   }
   double start[3];
@@ -263,7 +266,7 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   std::copy(best.ref, best.ref + pd, result.ref);
   std::copy(best.closest, best.closest + ad, result.closest);
   result.distance = std::sqrt(best.squaredDistance);
-  if (best.squaredDistance >= bound2) {
+  if (bounded && best.squaredDistance >= bound2) {
     result.status = PointStatus::Farther;
   } else if (!certified) {
     result.status = PointStatus::NotCertified;

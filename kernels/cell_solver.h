@@ -27,7 +27,8 @@ enum class PointStatus : std::uint8_t {
 struct CellSolveResult {
   double ref[3] = {0, 0, 0};      ///< Reference coordinates of the closest point (paramDim used).
   double closest[3] = {0, 0, 0};  ///< The closest point, the cell's map at `ref`.
-  double distance = 0.0;          ///< Euclidean distance from the query point.
+  double distance = 0.0;          ///< Euclidean distance from the query point (+infinity
+                                  ///< where its square overflows, beyond about 1e154).
   PointStatus status = PointStatus::InvalidInput;
   int iterations = 0;  ///< Newton iterations over all local solves of this query.
 };

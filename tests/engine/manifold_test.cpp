@@ -291,6 +291,86 @@ TEST(ManifoldTest, PointsViewLayoutsAndScalarsAgree) {
   }
 }
 
+/// A 2D polyline mesh patch from points and segments.
+Geometry Polyline(const std::vector<double>& xy, const std::vector<std::int64_t>& segments) {
+  Geometry g;
+  g.dimension = 2;
+  Patch p;
+  p.kind = Patch::Kind::Mesh;
+  p.cell = CellType::Line;
+  p.points = xy;
+  p.cells = segments;
+  g.patches.push_back(p);
+  return g;
+}
+
+/// Distance from (x, y) to the nearest segment, by brute force in long
+/// double (squares of coordinates beyond 1e154 stay finite).
+double NearestSegmentDistance(const std::vector<double>& xy, const std::vector<std::int64_t>& segments, double x,
+                              double y) {
+  long double best = std::numeric_limits<long double>::infinity();
+  for (std::size_t s = 0; s < segments.size(); s += 2) {
+    const long double ax = xy[2 * segments[s]], ay = xy[2 * segments[s] + 1];
+    const long double dx = xy[2 * segments[s + 1]] - ax, dy = xy[2 * segments[s + 1] + 1] - ay;
+    const long double t = std::clamp(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy), 0.0L, 1.0L);
+    const long double ex = ax + t * dx - x, ey = ay + t * dy - y;
+    best = std::min(best, std::sqrt(ex * ex + ey * ey));
+  }
+  return static_cast<double>(best);
+}
+
+TEST(ManifoldTest, PointsBeyondSquaredOverflowAreAnswered) {
+  // With no gap tolerance the search's squared distances overflow to
+  // infinity for points this far; it must still end, with the right answer.
+  std::vector<double> xy;
+  std::vector<std::int64_t> segments;
+  const int n = 200;
+  for (int i = 0; i < n; ++i) {
+    xy.insert(xy.end(), {std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n)});
+    segments.insert(segments.end(), {i, (i + 1) % n});
+  }
+  const Manifold m = BuildOk(Polyline(xy, segments));
+  const std::vector<double> q = {1e160, 5e159, -3e200, 1e10, 0.1, 0.2, 1e300, -1e300};
+  Results r;
+  ASSERT_EQ(m.Invert(PointsView::Interleaved(q.data(), 4, 2), {}, &r), Error::Ok);
+  for (int i = 0; i < 4; ++i) {
+    SCOPED_TRACE(::testing::Message() << "point " << i);
+    ASSERT_EQ(r.status[i], Status::Found);
+    const double expected = NearestSegmentDistance(xy, segments, q[2 * i], q[2 * i + 1]);
+    EXPECT_LE(std::abs(r.distance[i] - expected), 1e-9 * std::max(1.0, expected));
+  }
+}
+
+TEST(ManifoldTest, GeometryBeyondTheFloatRangeOfOffsetsIsSearchedExactly) {
+  // Four walls of segments near +-1e35 and +-7e34, and points between them:
+  // coordinates far beyond any fixed clamp of the search's float offsets.
+  std::vector<double> xy;
+  std::vector<std::int64_t> segments;
+  const auto segment = [&](double x0, double y0, double x1, double y1) {
+    const std::int64_t first = static_cast<std::int64_t>(xy.size() / 2);
+    xy.insert(xy.end(), {x0, y0, x1, y1});
+    segments.insert(segments.end(), {first, first + 1});
+  };
+  const double s = 1e35;
+  for (int j = 0; j < 30; ++j) {
+    const double t = (j - 15) * 1e32;
+    segment(s, t, s, t + 1e32);
+    segment(-s, t, -s, t + 1e32);
+    segment(t, 0.7 * s, t + 1e32, 0.7 * s);
+    segment(t, -0.7 * s, t + 1e32, -0.7 * s);
+  }
+  const Manifold m = BuildOk(Polyline(xy, segments));
+  const std::vector<double> q = {0.5 * s, 0.0, -0.5 * s, 0.3 * s, 0.5 * s, -0.3 * s, -0.4 * s, -0.2 * s, 0.1 * s, 0.1 * s};
+  Results r;
+  ASSERT_EQ(m.Invert(PointsView::Interleaved(q.data(), 5, 2), {}, &r), Error::Ok);
+  for (int i = 0; i < 5; ++i) {
+    SCOPED_TRACE(::testing::Message() << "point " << i);
+    ASSERT_EQ(r.status[i], Status::Found);
+    const double expected = NearestSegmentDistance(xy, segments, q[2 * i], q[2 * i + 1]);
+    EXPECT_LE(std::abs(r.distance[i] - expected), 1e-9 * expected);
+  }
+}
+
 TEST(ManifoldTest, EmptyBatch) {
   const Manifold m = BuildOk(MixedGeometry3());
   Results r;

@@ -32,13 +32,14 @@ std::vector<BvhBox> RandomBoxes(int n, double offset, double size, bool planar, 
   return boxes;
 }
 
-/// Squared distance from a point to a box, written independently of the library.
-double ExactDistance2(const BvhBox& b, const double* p) {
-  double sum = 0.0;
+/// Squared distance from a point to a box, written independently of the
+/// library, in long double: the squares of gaps beyond 1e154 stay finite.
+long double ExactDistance2(const BvhBox& b, const double* p) {
+  long double sum = 0.0L;
   for (int k = 0; k < 3; ++k) {
-    double gap = 0.0;
-    if (p[k] < b.lo[k]) gap = b.lo[k] - p[k];
-    if (p[k] > b.hi[k]) gap = p[k] - b.hi[k];
+    long double gap = 0.0L;
+    if (p[k] < b.lo[k]) gap = static_cast<long double>(b.lo[k]) - p[k];
+    if (p[k] > b.hi[k]) gap = static_cast<long double>(p[k]) - b.hi[k];
     sum += gap * gap;
   }
   return sum;
@@ -98,7 +99,7 @@ void ExpectLeavesMatchBinary(const Bvh& bvh, const WideBvh& wide) {
 /// points are beyond the float range, mostly close to it).
 void ExpectConservativeDistances(const Bvh& bvh, const WideBvh& wide, const std::vector<BvhBox>& boxes,
                                  double offset, double spread, unsigned seed) {
-  const bool expectTight = spread < 1e30;
+  const bool expectTight = spread < 1e38;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(-0.5, 1.5);
   int tight = 0, checked = 0;
@@ -118,11 +119,11 @@ void ExpectConservativeDistances(const Bvh& bvh, const WideBvh& wide, const std:
           EXPECT_EQ(distance2[c], std::numeric_limits<double>::infinity());
           continue;
         }
-        double nearest2 = std::numeric_limits<double>::infinity();
+        long double nearest2 = std::numeric_limits<long double>::infinity();
         for (int i : items) nearest2 = std::min(nearest2, ExactDistance2(bvh.ItemBoxes()[i], p));
-        ASSERT_LE(distance2[c], nearest2) << "node " << node << " child " << c;
+        ASSERT_LE(static_cast<long double>(distance2[c]), nearest2) << "node " << node << " child " << c;
         ++checked;
-        if (distance2[c] >= 0.5 * nearest2) ++tight;
+        if (distance2[c] >= 0.5L * nearest2) ++tight;
       }
     }
   }
@@ -146,6 +147,23 @@ TEST(WideBvh, ReachesEveryLeafOnceAndBoundsConservatively) {
       ExpectConservativeDistances(bvh, wide, boxes, offset, 1e40, 8);
     }
   }
+}
+
+TEST(WideBvh, GeometryBeyondTheClampBoundsConservatively) {
+  // Boxes of size up to 1e33 spread over 1e35: the geometry reaches past the
+  // offset clamp of far points, which must then not move a point past a box.
+  std::vector<BvhBox> boxes = RandomBoxes(300, -0.5, 0.01, false, 10);
+  for (BvhBox& b : boxes) {
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] *= 1e35;
+      b.hi[k] *= 1e35;
+    }
+  }
+  const Bvh bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
+  const WideBvh wide(bvh);
+  ExpectLeavesMatchBinary(bvh, wide);
+  ExpectConservativeDistances(bvh, wide, boxes, 0.0, 1e35, 11);
+  ExpectConservativeDistances(bvh, wide, boxes, 0.0, 1e40, 12);
 }
 
 TEST(WideBvh, SmallTrees) {
