@@ -363,6 +363,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     } else if (releasedFactor < 0 && !noneEnforced && order == JetOrder::Second) {
       freeCount = std::max(0, FreeLineParameters(shape, active, grad, freeCoords, &reducedNorm));
     }
+    bool finalOnFace = false;
     if (freeCount > 0 && reducedNorm > residualScale) {
       double step[3];
       if (useFullRank ? FullRankStep(jet, r, pd, size, step)
@@ -381,103 +382,107 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
         }
         if (outcome == StepOutcome::Final) {
           atRefValid = false;
-          // On a face the enforced constraints' multipliers are still to be
-          // checked: the next iteration, stationary there, does that.
-          if (!noneEnforced) continue;
-          result.converged = true;
-          break;
+          if (noneEnforced) {
+            result.converged = true;
+            break;
+          }
+          // On a face, stationary there: the enforced constraints'
+          // multipliers decide below, as after the general path's final step.
+          finalOnFace = true;
         }
       }
     }
-    FaceBasis face;
-    BuildFaceBasis(shape, active, &face);
-    const int m = face.columns;
-    const Matrix T = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&face.t[0][0]);
-    const Vector gReduced = T.transpose() * g;
-    bool stationary = m == 0 || gReduced.norm() <= residualScale;
-    Vector step = Vector::Zero();
-    if (!stationary) {
-      Matrix jac = Matrix::Zero();  // rows: ambient coordinates, columns: parameters
-      for (int k = 0; k < ad; ++k) {
-        for (int i = 0; i < pd; ++i) jac(k, i) = jet.d1[k][i];
-      }
-      bool haveStep = false;
-      if (useFullRank) {
-        // 7.3.2.1: J is square; -J^-1 r is always a descent direction.
-        Matrix square = jac;
-        PadDiagonal(pd, &square);
-        if (std::abs(square.determinant()) > kSingularTolerance * std::pow(size, pd)) {
-          step = square.partialPivLu().solve(-Eigen::Map<const Vector>(r));
-          haveStep = step.allFinite();
+    if (!finalOnFace) {
+      FaceBasis face;
+      BuildFaceBasis(shape, active, &face);
+      const int m = face.columns;
+      const Matrix T = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&face.t[0][0]);
+      const Vector gReduced = T.transpose() * g;
+      bool stationary = m == 0 || gReduced.norm() <= residualScale;
+      Vector step = Vector::Zero();
+      if (!stationary) {
+        Matrix jac = Matrix::Zero();  // rows: ambient coordinates, columns: parameters
+        for (int k = 0; k < ad; ++k) {
+          for (int i = 0; i < pd; ++i) jac(k, i) = jet.d1[k][i];
         }
-      }
-      const Matrix gaussNewton = jac.transpose() * jac;
-      Matrix gnReduced = T.transpose() * gaussNewton * T;
-      // Gradient descent scaled to the Gauss-Newton model's Cauchy step.
-      const double curvature = gReduced.dot(gnReduced * gReduced);
-      const Vector descent = -gReduced * (gReduced.squaredNorm() / std::max(curvature, 1e-300));
-      PadDiagonal(m, &gnReduced);
-      if (!haveStep) {
-        Matrix hessian = gaussNewton;
-        if (order == JetOrder::Second) {
-          for (int i = 0; i < pd; ++i) {
-            for (int j = 0; j < pd; ++j) {
-              for (int k = 0; k < ad; ++k) hessian(i, j) += r[k] * jet.d2[k][i][j];
-            }
+        bool haveStep = false;
+        if (useFullRank) {
+          // 7.3.2.1: J is square; -J^-1 r is always a descent direction.
+          Matrix square = jac;
+          PadDiagonal(pd, &square);
+          if (std::abs(square.determinant()) > kSingularTolerance * std::pow(size, pd)) {
+            step = square.partialPivLu().solve(-Eigen::Map<const Vector>(r));
+            haveStep = step.allFinite();
           }
         }
-        const Matrix hReduced = T.transpose() * hessian * T;
-        double h[3][3];
-        for (int i = 0; i < 3; ++i) {
-          for (int j = 0; j < 3; ++j) h[i][j] = hReduced(i, j);
+        const Matrix gaussNewton = jac.transpose() * jac;
+        Matrix gnReduced = T.transpose() * gaussNewton * T;
+        // Gradient descent scaled to the Gauss-Newton model's Cauchy step.
+        const double curvature = gReduced.dot(gnReduced * gReduced);
+        const Vector descent = -gReduced * (gReduced.squaredNorm() / std::max(curvature, 1e-300));
+        PadDiagonal(m, &gnReduced);
+        if (!haveStep) {
+          Matrix hessian = gaussNewton;
+          if (order == JetOrder::Second) {
+            for (int i = 0; i < pd; ++i) {
+              for (int j = 0; j < pd; ++j) {
+                for (int k = 0; k < ad; ++k) hessian(i, j) += r[k] * jet.d2[k][i][j];
+              }
+            }
+          }
+          const Matrix hReduced = T.transpose() * hessian * T;
+          double h[3][3];
+          for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) h[i][j] = hReduced(i, j);
+          }
+          Vector delta;
+          if (NewtonStepOf(h, m, gReduced.data(), delta.data())) {
+            step = T * delta;
+            haveStep = true;
+          }
         }
-        Vector delta;
-        if (NewtonStepOf(h, m, gReduced.data(), delta.data())) {
+        bool newton = haveStep;
+        if (!haveStep) {
+          // Levenberg-Marquardt on the Gauss-Newton model: a descent direction
+          // for any damping, and well defined for singular Jacobians.
+          const double damping = 1e-10 * (gnReduced.trace() + size * size) + 1e-300;
+          gnReduced.diagonal().array() += damping;
+          Eigen::LLT<Matrix> llt(gnReduced);
+          Vector delta = llt.solve(-gReduced);
+          if (llt.info() != Eigen::Success || !delta.allFinite() || delta.dot(gReduced) >= 0.0) delta = descent;
           step = T * delta;
-          haveStep = true;
         }
-      }
-      bool newton = haveStep;
-      if (!haveStep) {
-        // Levenberg-Marquardt on the Gauss-Newton model: a descent direction
-        // for any damping, and well defined for singular Jacobians.
-        const double damping = 1e-10 * (gnReduced.trace() + size * size) + 1e-300;
-        gnReduced.diagonal().array() += damping;
-        Eigen::LLT<Matrix> llt(gnReduced);
-        Vector delta = llt.solve(-gReduced);
-        if (llt.info() != Eigen::Success || !delta.allFinite() || delta.dot(gReduced) >= 0.0) delta = descent;
-        step = T * delta;
-      }
-      if (releasedFactor >= 0 && MovesOut(shape, releasedFactor, releasedIndex, step.data())) {
-        // Right after a release the multiplier promises descent into the
-        // interior; a curved model's step back out would only cycle.
-        step = T * descent;
-        newton = false;
-      }
-      releasedFactor = -1;
+        if (releasedFactor >= 0 && MovesOut(shape, releasedFactor, releasedIndex, step.data())) {
+          // Right after a release the multiplier promises descent into the
+          // interior; a curved model's step back out would only cycle.
+          step = T * descent;
+          newton = false;
+        }
+        releasedFactor = -1;
 
-      // The model's step first, then plain descent: a step that the line
-      // search cannot use (a nearly singular model) falls back to the gradient.
-      const Vector candidates[2] = {step, T * descent};
-      bool moved = false, final = false;
-      for (int c = 0; c < 2 && !moved && !final; ++c) {
-        const StepOutcome outcome =
-            LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, need, trialJet, ref);
-        if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
-        if (outcome == StepOutcome::Moved) {
-          std::swap(atRef, trialJet);
-          atRefOrder = need;
-        } else {
-          if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
-          atRefValid = false;
+        // The model's step first, then plain descent: a step that the line
+        // search cannot use (a nearly singular model) falls back to the gradient.
+        const Vector candidates[2] = {step, T * descent};
+        bool moved = false, final = false;
+        for (int c = 0; c < 2 && !moved && !final; ++c) {
+          const StepOutcome outcome =
+              LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, need, trialJet, ref);
+          if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
+          if (outcome == StepOutcome::Moved) {
+            std::swap(atRef, trialJet);
+            atRefOrder = need;
+          } else {
+            if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
+            atRefValid = false;
+          }
+          final = outcome == StepOutcome::Final;
+          moved = !final;
         }
-        final = outcome == StepOutcome::Final;
-        moved = !final;
+        if (moved) continue;
+        // No decrease possible (or a negligible step): a stationary point up to
+        // rounding.
+        stationary = true;
       }
-      if (moved) continue;
-      // No decrease possible (or a negligible step): a stationary point up to
-      // rounding.
-      stationary = true;
     }
 
     // Stationary on the current face: release the constraint whose

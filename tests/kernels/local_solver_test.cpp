@@ -5,6 +5,7 @@
 // search's certificate, which only trusts KKT points.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -72,6 +73,37 @@ TEST(LocalSolve, StartOnAFaceReachesTheInteriorMinimum) {
   // A local solve may end in another basin now and then; from the basin's
   // own parameters with one moved to a face, it rarely does.
   EXPECT_GT(matched, checked * 9 / 10);
+}
+
+TEST(LocalSolve, FaceSolvesFarFromTheOriginConverge) {
+  // Quads moved 1e4 away from the origin, where the gradient's rounding
+  // noise exceeds the stationarity tolerance; the point lies just beyond
+  // the edge v = 0 and the solve starts on that edge. Each solve must stop
+  // at its stationary point on the edge within a few iterations, not take
+  // tiny final steps until the iteration cap.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> inner(0.2, 0.8);
+  int iterations = 0;
+  constexpr int kCells = 100;
+  for (int trial = 0; trial < kCells; ++trial) {
+    RefCell cell = RandomCurvedCell(CellType::Quad, 2 + trial % 2, false, 3, rng);
+    for (double& x : cell.points) x += 1e4;
+    const double u[2] = {inner(rng), 0.0};
+    RefJet jet;
+    RefEvaluateJet(cell, u, 1, &jet);
+    const double tangentLength =
+        std::sqrt(jet.d1[0][1] * jet.d1[0][1] + jet.d1[1][1] * jet.d1[1][1] + jet.d1[2][1] * jet.d1[2][1]);
+    double point[3];
+    for (int k = 0; k < 3; ++k) point[k] = jet.x[k] - 0.05 * cell.size() * jet.d1[k][1] / tangentLength;
+    const double start[2] = {std::clamp(u[0] + 0.1, 0.0, 1.0), 0.0};
+    LocalSolveOptions options;
+    options.size = cell.size();
+    options.checkKkt = true;
+    const auto result = LocalSolve(cell.view(), point, start, options);
+    EXPECT_TRUE(result.converged) << "trial " << trial << ", " << result.iterations << " iterations";
+    iterations += result.iterations;
+  }
+  EXPECT_LT(iterations, 15 * kCells);
 }
 
 }  // namespace
