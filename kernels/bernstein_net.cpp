@@ -327,9 +327,11 @@ bool HessianStencil::IntervalHessianIsPositive(const double lo[3][3], const doub
   }
   double lambdaMin;
   if (paramDim_ == 2) {
-    const double tr = mid(0, 0) + mid(1, 1);
-    const double det = mid(0, 0) * mid(1, 1) - mid(0, 1) * mid(0, 1);
-    lambdaMin = 0.5 * tr - std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    // From the eigenvalues' half-difference, not the determinant: a product
+    // of two large entries would overflow (inf - inf), a square here only to
+    // +infinity, which rejects.
+    const double halfDifference = 0.5 * (mid(0, 0) - mid(1, 1));
+    lambdaMin = 0.5 * (mid(0, 0) + mid(1, 1)) - std::sqrt(halfDifference * halfDifference + mid(0, 1) * mid(0, 1));
   } else {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
     eigen.computeDirect(mid, Eigen::EigenvaluesOnly);
@@ -347,7 +349,8 @@ bool HessianStencil::ScaledHessianIsPositive(const double lo[3][3], const double
   for (int a = 0; a < paramDim_; ++a) {
     for (int b = a + 1; b < paramDim_; ++b) {
       const double largest = std::max(std::abs(lo[a][b]), std::abs(hi[a][b]));
-      beta(a, b) = beta(b, a) = largest / std::sqrt(lo[a][a] * lo[b][b]);
+      // Square roots apart: the product of two large diagonals overflows.
+      beta(a, b) = beta(b, a) = largest / (std::sqrt(lo[a][a]) * std::sqrt(lo[b][b]));
     }
   }
   double rho;

@@ -71,6 +71,17 @@ TEST(HessianStencil, VaryingDiagonalIsConvex) {
   EXPECT_FALSE(HessianStencil::Get(saddle.Shape()).IsConvex(saddle.c.data()));
 }
 
+TEST(HessianStencil, HugeIndefiniteHessianIsRejected) {
+  // H = [[2 s, 10 s], [10 s, 2 s]] is indefinite for every s > 0; with s
+  // large the product of the diagonal bounds overflows, which must not
+  // make the mixed entry look small.
+  for (const double scale : {1.0, 1e100, 1e155, 1e200}) {
+    const std::vector<double> terms[2] = {{0.0, 0.0, scale}, {0.0, 0.0, scale}};
+    const Net net = SeparablePlusCross(2, terms, 10.0 * scale);
+    EXPECT_FALSE(HessianStencil::Get(net.Shape()).IsConvex(net.c.data())) << "scale " << scale;
+  }
+}
+
 TEST(HessianStencil, ConcaveDirectionIsRejected) {
   const std::vector<double> terms[3] = {{0.0, 0.0, 1.0}, {0.0, 0.5, 0.0}, {0.0, 0.0, 1.0}};
   for (const int dims : {2, 3}) {
