@@ -19,16 +19,20 @@ using invmap::kernels::HessianStencil;
 using invmap::testing::ForGrid;
 using invmap::testing::Net;
 
-/// Net with coefficient (i, j, k) = a[i] + b[j] + c[k] + cross * (i / p)(j / q):
-/// the polynomial a(t_0) + b(t_1) + c(t_2) + cross t_0 t_1.
-Net SeparablePlusCross(int dims, const std::vector<double>* terms, double cross) {
+/// Net with coefficient (i, j, k) = a[i] + b[j] + c[k] + cross (i / p)(j / q)
+/// + cross02 (i / p)(k / r) + cross12 (j / q)(k / r): the polynomial a(t_0) +
+/// b(t_1) + c(t_2) + cross t_0 t_1 + cross02 t_0 t_2 + cross12 t_1 t_2.
+Net SeparablePlusCross(int dims, const std::vector<double>* terms, double cross, double cross02 = 0.0,
+                       double cross12 = 0.0) {
   Net net{dims, {0, 0, 0}, {}};
   for (int d = 0; d < dims; ++d) net.deg[d] = static_cast<int>(terms[d].size()) - 1;
   for (int k = 0; k < net.Size(2); ++k) {
     for (int j = 0; j < net.Size(1); ++j) {
       for (int i = 0; i < net.Size(0); ++i) {
         double v = terms[0][i] + terms[1][j] + (dims > 2 ? terms[2][k] : 0.0);
-        v += cross * (static_cast<double>(i) / net.deg[0]) * (static_cast<double>(j) / net.deg[1]);
+        const double t[3] = {static_cast<double>(i) / net.deg[0], static_cast<double>(j) / net.deg[1],
+                             dims > 2 ? static_cast<double>(k) / net.deg[2] : 0.0};
+        v += cross * t[0] * t[1] + cross02 * t[0] * t[2] + cross12 * t[1] * t[2];
         net.c.push_back(v);
       }
     }
@@ -112,7 +116,8 @@ TEST(HessianStencil, AcceptedNetsAreConvexEverywhere) {
         step *= std::pow(growth, 1.0 / p);
       }
     }
-    const Net net = SeparablePlusCross(dims, terms, 8.0 * (unit(rng) - 0.5));
+    const Net net = SeparablePlusCross(dims, terms, 8.0 * (unit(rng) - 0.5), 8.0 * (unit(rng) - 0.5),
+                                       8.0 * (unit(rng) - 0.5));
     if (!HessianStencil::Get(net.Shape()).IsConvex(net.c.data())) {
       ++rejected;
       continue;
