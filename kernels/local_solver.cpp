@@ -398,7 +398,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       const int m = face.columns;
       const Matrix T = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&face.t[0][0]);
       const Vector gReduced = T.transpose() * g;
-      bool stationary = m == 0 || gReduced.norm() <= residualScale;
+      const bool stationary = m == 0 || gReduced.norm() <= residualScale;
       Vector step = Vector::Zero();
       if (!stationary) {
         Matrix jac = Matrix::Zero();  // rows: ambient coordinates, columns: parameters
@@ -478,10 +478,9 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
           final = outcome == StepOutcome::Final;
           moved = !final;
         }
+        // Otherwise no decrease is possible (or the step was negligible): a
+        // stationary point up to rounding, as below.
         if (moved) continue;
-        // No decrease possible (or a negligible step): a stationary point up to
-        // rounding.
-        stationary = true;
       }
     }
 
