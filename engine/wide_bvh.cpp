@@ -19,7 +19,8 @@ constexpr double kClampOffset = 1e30;
 /// operands' magnitude, with a wide margin.
 constexpr double kGapRounding = 1.0 / (1 << 20);
 
-/// Puts child `c` of `node` into slot `slot` of `wide`.
+/// Puts binary node `node` into slot `slot` of `wide`: its box, and `first`,
+/// the wide node it becomes (an inner node) or its first item (a leaf).
 void FillSlot(const BvhNode& node, int slot, std::int32_t first, WideNode* wide) {
   for (int k = 0; k < 3; ++k) {
     wide->lo[k][slot] = node.lo[k];
