@@ -188,6 +188,11 @@ struct PointSearch {
   /// The squared distance a cell must beat.
   double Bound2() const { return bestCell >= 0 ? best * best : std::nextafter(best * best, kInf); }
 
+  /// True when an answer at `distance` replaces the best: the gap tolerance
+  /// admits equality, a found answer only a strictly nearer one. (Compared
+  /// as distances: their squares overflow beyond about 1e154.)
+  bool Beats(double distance) const { return bestCell >= 0 ? distance < best : distance <= best; }
+
   /// Algorithm 6: a region is solved as one block, a cell by the cell solver.
   void Solve(std::int64_t subdivision) {
     if (store.isRegion(subdivision)) {
@@ -199,7 +204,7 @@ struct PointSearch {
 
   void SolveRegion(const AffineRegion& region) {
     const RegionSolution r = SolveAffineRegion(region, p);
-    if (bestCell >= 0 ? !(r.distance < best) : !(r.distance <= best)) return;
+    if (!Beats(r.distance)) return;
     Accept(r);
   }
 
@@ -234,7 +239,7 @@ struct PointSearch {
     for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
     kernels::CellSolveResult r;
     kernels::CellSolver::SolveAffineSimplex(pd, dim, vertices, p, &r);
-    if (bestCell >= 0 ? !(r.distance < best) : !(r.distance <= best)) return;
+    if (!Beats(r.distance)) return;
     Consider(simplices.cell(i), r);
   }
 
