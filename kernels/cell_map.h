@@ -25,6 +25,10 @@ struct MapJet {
   double x[3] = {0, 0, 0};  ///< x_k(u).
   double d1[3][3] = {};     ///< dx_k/du_i.
   double d2[3][3][3] = {};  ///< d2x_k/du_i du_j (symmetric in i, j).
+  /// The weight function W(u), the denominator of a rational map x = N / W,
+  /// and dW/du_i (from order First): 1 and 0 for a polynomial cell.
+  double w = 1.0;
+  double dw[3] = {0, 0, 0};
 };
 
 /// Evaluates the map of `cell` at reference coordinates `ref` (paramDim

@@ -127,6 +127,14 @@ void ChooseSplit(const CellShape& shape, double* slot, const double* paramScale,
   }
 }
 
+/// A part of a cell whose squared distance stays at or above this level
+/// cannot beat a best squared distance `best2` by more than tau (the
+/// distance tolerance times the cell's size); `slack` covers the rounding of
+/// the nets' coefficients.
+double ExclusionLevel(double best2, double tau, double slack) {
+  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
+}
+
 /// Slots of the workspace: allocation by index, since growing the pool moves it.
 class SlotPool {
  public:
@@ -249,16 +257,36 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   } else if (!NearestControlPointStart(point, start)) {
     ReferenceCenter(cell_.shape, start);
   }
+  const double tau = kDistanceTolerance * size_;
   LocalSolveOptions options;
   options.affine = affine_;
   options.size = size_;
   // The search below trusts the local answer only at a KKT point.
   options.checkKkt = !affine_;
+  // A cell that has to beat a bound is given up as soon as a tangent plane
+  // shows it cannot (a neighbour of the best cell, usually).
+  struct Exclusion {
+    const CellSolver* solver;
+    double level;
+    double* q;  // the q net of the lower bound computed above (ws->scratch)
+  } exclusion{this, 0.0, ws->scratch.data()};
+  if (bounded && !affine_) {
+    exclusion.level = ExclusionLevel(bound2, tau, nets_.RoundingSlack(point));
+    options.exclusionLevel = exclusion.level;
+    options.exclusionContext = &exclusion;
+    options.confirmExclusion = [](const void* context) {
+      const Exclusion& e = *static_cast<const Exclusion*>(context);
+      return e.solver->ExcessIsConvex(e.level, e.q);
+    };
+  }
   LocalSolveResult best = LocalSolve(cell_, point, start, options);
   result.iterations = best.iterations;
+  if (best.aboveLevel) {
+    result.status = PointStatus::Farther;
+    return result;
+  }
 
   bool certified = true;
-  const double tau = kDistanceTolerance * size_;
   // An affine map makes the squared distance convex: the KKT point is global.
   // A distance within tau of zero cannot be beaten by more than tau.
   if (!affine_ && best.squaredDistance > tau * tau) certified = Search(point, bound2, &best, &result.iterations, ws);
@@ -274,6 +302,13 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     result.status = best.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
   }
   return result;
+}
+
+bool CellSolver::ExcessIsConvex(double level, double* q) const {
+  const int n = nets_.size();
+  const double* ww = nets_.rational() ? nets_.ww() : nullptr;
+  for (int i = 0; i < n; ++i) q[i] -= level * (ww ? ww[i] : 1.0);
+  return stencil_->IsConvex(q);
 }
 
 void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result) const {
@@ -448,10 +483,7 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
   const double tau = kDistanceTolerance * size_;
   const double slack = nets_.RoundingSlack(point);
   // Subdomains whose lower bound reaches this cannot beat the best by more than tau.
-  auto pruneLevel = [&] {
-    const double f = std::min(best->squaredDistance, bound2);
-    return f - std::max(2.0 * tau * std::sqrt(f), tau * tau) + slack;
-  };
+  auto pruneLevel = [&] { return ExclusionLevel(std::min(best->squaredDistance, bound2), tau, slack); };
   SlotPool pool(ws, slotSize);
   if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
   const HessianStencil& stencil = *stencil_;

@@ -131,7 +131,8 @@ class CellSolver {
 
   /// Lower bound of the squared distance from `point` to the cell: the
   /// smallest Bernstein coefficient ratio of the squared distance (exact for
-  /// constant distance, tighter than the box), the box distance for affine cells.
+  /// constant distance, tighter than the box), the box distance for affine
+  /// cells. Curved cells leave the q net of `point` in ws->scratch.
   double SquaredDistanceLowerBound(const double* point, SolveWorkspace* ws) const;
 
   const CellView& cell() const { return cell_; }
@@ -160,6 +161,11 @@ class CellSolver {
   /// control point nearest to `point`, a start for the local solve that is
   /// closer than the center; false for other cells.
   bool NearestControlPointStart(const double* point, double* ref) const;
+
+  /// True when g = q - level WW is convex over the whole cell, where the
+  /// local solve's tangent plane (LocalSolveResult::aboveLevel) then bounds
+  /// it from below. `q`: the q net of the point, overwritten with g's net.
+  bool ExcessIsConvex(double level, double* q) const;
 
   bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 

@@ -7,6 +7,7 @@
 
 #include "kernels/active_set.h"
 #include "kernels/cramer.h"
+#include "kernels/tangent_plane.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::kernels {
@@ -311,6 +312,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   MapJet* trialJet = &jets[1];
   bool atRefValid = false;
   JetOrder atRefOrder = JetOrder::Value;
+  bool exclusionPending = options.confirmExclusion && options.exclusionLevel > -std::numeric_limits<double>::infinity();
   for (int iter = 0; iter < options.maxIterations; ++iter) {
     result.iterations = iter + 1;
     // 7.3.2.1 only while no constraint has been met: a point that drove the
@@ -331,6 +333,13 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     for (int k = 0; k < ad; ++k) {
       r[k] = jet.x[k] - point[k];
       f += r[k] * r[k];
+    }
+    if (exclusionPending && TangentPlaneLowerBound(shape, ad, jet, point, ref, options.exclusionLevel, size) > 0.0) {
+      exclusionPending = false;
+      if (options.confirmExclusion(options.exclusionContext)) {
+        result.aboveLevel = true;
+        break;
+      }
     }
     // On the boundary and still far from the point: it most likely lies
     // outside the cell. (Giving up on a point inside only costs the caller a

@@ -3,6 +3,8 @@
 // squared distance near its starting point.
 #pragma once
 
+#include <limits>
+
 #include "kernels/cell_map.h"
 
 namespace invmap::kernels {
@@ -16,6 +18,8 @@ struct LocalSolveResult {
   bool converged = false;   ///< Stopped on the residual or step tolerance (not on the iteration cap).
   /// Converged and IsKktPoint holds at ref (only computed with LocalSolveOptions::checkKkt).
   bool kkt = false;
+  /// Stopped at ref on LocalSolveOptions::exclusionLevel (not converged).
+  bool aboveLevel = false;
   int iterations = 0;
 };
 
@@ -35,6 +39,16 @@ struct LocalSolveOptions {
   /// Fill LocalSolveResult::kkt, from the map's derivatives at the solution
   /// (the solve evaluates them there, instead of the value alone).
   bool checkKkt = false;
+  /// Stop (LocalSolveResult::aboveLevel) at the first iterate whose
+  /// TangentPlaneLowerBound at this squared distance is positive, once
+  /// confirmExclusion agrees: for a caller that only wants points below the
+  /// level. -infinity: never.
+  double exclusionLevel = -std::numeric_limits<double>::infinity();
+  /// Called (with exclusionContext) at most once, at the first positive
+  /// plane: true when the plane bounds the squared distance over the whole
+  /// cell (the convexity it needs); false lets the solve go on to convergence.
+  bool (*confirmExclusion)(const void* context) = nullptr;
+  const void* exclusionContext = nullptr;
 };
 
 /// Minimizes |x(u) - point|^2 over the reference domain starting at

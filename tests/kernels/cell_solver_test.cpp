@@ -536,38 +536,46 @@ TEST(CellSolverWarmStart, GivesTheSameAnswer) {
 
 /// The engine passes the best squared distance found on other cells as
 /// `bound2`: a cell that cannot beat it may answer Farther, but a cell that
-/// can must still give its true minimum.
+/// can must still give its true minimum. Cells that cannot beat the bound
+/// are often excluded part way through the local solve, by a tangent plane
+/// (kernels/tangent_plane.h), so every kind of cell and query is covered.
 TEST(CellSolverBound, FartherOnlyWhenTheCellCannotBeatTheBound) {
   SolveWorkspace ws;
   int failures = 0;
   for (CellType type : {CellType::Line, CellType::Tri, CellType::Quad, CellType::Tet, CellType::Hex, CellType::Wedge}) {
-    std::mt19937_64 rng(MixSeed(91 + static_cast<int>(type)));
-    const RefCell cell = RandomCurvedCell(type, 3, true, 3, rng);
-    const CellSolver solver(cell.view());
-    BruteForceReference reference(cell);
-    const double size = cell.size();
-    for (int i = 0; i < 200; ++i) {
-      const Query q = RandomQuery(cell, kQueryKinds[(i + 2) % 10], rng);
-      const RefClosest expect = reference.Closest(q.point.data());
-      // Just above the true distance: the answer must come back.
-      const double above = expect.distance + 1e-6 * size;
-      const CellSolveResult r = solver.Solve(q.point.data(), nullptr, &ws, above * above);
-      const std::string error = CheckResult(cell, q.point.data(), r, &expect);
-      if (!error.empty() && failures++ < kMaxReportedFailures) {
-        ADD_FAILURE() << kernels::CellTypeName(type) << " bound " << above << " (just above the minimum): " << error
-                      << "\n" << Describe(cell);
-      }
-      // Below it: Farther, or (if the solver does not prove that) a correct
-      // answer, which then is not below the bound.
-      if (expect.distance < 1e-4 * size) continue;
-      const double below = expect.distance - 1e-6 * size;
-      const CellSolveResult f = solver.Solve(q.point.data(), nullptr, &ws, below * below);
-      if (f.status != PointStatus::Farther) {
-        const std::string error2 = CheckResult(cell, q.point.data(), f, &expect);
-        if (!error2.empty() && failures++ < kMaxReportedFailures) {
-          ADD_FAILURE() << kernels::CellTypeName(type) << " bound " << below
-                        << " (just below the minimum), status not Farther: " << error2 << "\n"
-                        << Describe(cell);
+    for (const bool rational : {false, true}) {
+      for (const int ambientDim : {2, 3}) {
+        if (ParamDimOf(type) > ambientDim) continue;
+        std::mt19937_64 rng(MixSeed(91 + 4 * static_cast<int>(type) + 2 * rational + ambientDim));
+        const RefCell cell = RandomCurvedCell(type, 3, rational, ambientDim, rng);
+        const CellSolver solver(cell.view());
+        BruteForceReference reference(cell);
+        const double size = cell.size();
+        const std::string name = std::string(kernels::CellTypeName(type)) + (rational ? " rational" : "") + " in " +
+                                 std::to_string(ambientDim) + "D";
+        for (int i = 0; i < 300; ++i) {
+          const Query q = RandomQuery(cell, kQueryKinds[(i + 2) % 10], rng);
+          const RefClosest expect = reference.Closest(q.point.data());
+          // Just above the true distance: the answer must come back.
+          const double above = expect.distance + 1e-6 * size;
+          const CellSolveResult r = solver.Solve(q.point.data(), nullptr, &ws, above * above);
+          const std::string error = CheckResult(cell, q.point.data(), r, &expect);
+          if (!error.empty() && failures++ < kMaxReportedFailures) {
+            ADD_FAILURE() << name << " bound " << above << " (just above the minimum), query " << i << ": " << error
+                          << "\n" << Describe(cell);
+          }
+          // Below it: Farther, or (if the solver does not prove that) a
+          // correct answer, which then is not below the bound.
+          if (expect.distance < 1e-4 * size) continue;
+          const double below = expect.distance - 1e-6 * size;
+          const CellSolveResult f = solver.Solve(q.point.data(), nullptr, &ws, below * below);
+          if (f.status != PointStatus::Farther) {
+            const std::string error2 = CheckResult(cell, q.point.data(), f, &expect);
+            if (!error2.empty() && failures++ < kMaxReportedFailures) {
+              ADD_FAILURE() << name << " bound " << below << " (just below the minimum), query " << i
+                            << ", status not Farther: " << error2 << "\n" << Describe(cell);
+            }
+          }
         }
       }
     }
