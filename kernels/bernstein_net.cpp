@@ -1,6 +1,5 @@
 #include "kernels/bernstein_net.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,6 +7,7 @@
 #include <memory>
 #include <mutex>
 
+#include "kernels/interval_matrix.h"
 #include "kernels/simplex_index.h"
 
 namespace invmap::kernels {
@@ -309,60 +309,16 @@ bool HessianStencil::IsConvex(const double* f) const {
       if (!entries_[a][b].runs.empty()) RowRange(entries_[a][b], f, false, &lo[a][b], &hi[a][b]);
     }
   }
-  if (paramDim_ == 1) return true;
-  if (IntervalHessianIsPositive(lo, hi)) return true;
-  return ScaledHessianIsPositive(lo, hi);
+  return IntervalMatrixIsPositive(paramDim_, lo, hi);
 }
 
-bool HessianStencil::IntervalHessianIsPositive(const double lo[3][3], const double hi[3][3]) const {
-  Eigen::Matrix3d mid = Eigen::Matrix3d::Zero();
-  double radius2 = 0.0;
+void HessianStencil::HessianRanges(const double* f, double lo[3][3], double hi[3][3]) const {
   for (int a = 0; a < paramDim_; ++a) {
     for (int b = a; b < paramDim_; ++b) {
-      const double m = 0.5 * (lo[a][b] + hi[a][b]);
-      const double r = 0.5 * (hi[a][b] - lo[a][b]);
-      mid(a, b) = mid(b, a) = m;
-      radius2 += (a == b ? 1.0 : 2.0) * r * r;
+      lo[a][b] = hi[a][b] = 0.0;
+      if (!entries_[a][b].runs.empty()) RowRange(entries_[a][b], f, false, &lo[a][b], &hi[a][b]);
     }
   }
-  double lambdaMin;
-  if (paramDim_ == 2) {
-    // From the eigenvalues' half-difference, not the determinant: a product
-    // of two large entries would overflow (inf - inf), a square here only to
-    // +infinity, which rejects.
-    const double halfDifference = 0.5 * (mid(0, 0) - mid(1, 1));
-    lambdaMin = 0.5 * (mid(0, 0) + mid(1, 1)) - std::sqrt(halfDifference * halfDifference + mid(0, 1) * mid(0, 1));
-  } else {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
-    eigen.computeDirect(mid, Eigen::EigenvaluesOnly);
-    lambdaMin = eigen.eigenvalues()(0);
-  }
-  return lambdaMin > std::sqrt(radius2);
-}
-
-bool HessianStencil::ScaledHessianIsPositive(const double lo[3][3], const double hi[3][3]) const {
-  // H(u) = D^1/2 N D^1/2 with D the diagonal of H(u), so N has a unit
-  // diagonal and |N_ab| <= beta_ab = max |H_ab| / sqrt(min H_aa min H_bb).
-  // lambda_min(N) >= 1 - rho(|N - I|) >= 1 - rho(beta), so rho(beta) < 1
-  // proves every H(u) positive definite.
-  Eigen::Matrix3d beta = Eigen::Matrix3d::Zero();
-  for (int a = 0; a < paramDim_; ++a) {
-    for (int b = a + 1; b < paramDim_; ++b) {
-      const double largest = std::max(std::abs(lo[a][b]), std::abs(hi[a][b]));
-      // Square roots apart: the product of two large diagonals overflows.
-      beta(a, b) = beta(b, a) = largest / (std::sqrt(lo[a][a]) * std::sqrt(lo[b][b]));
-    }
-  }
-  double rho;
-  if (paramDim_ == 2) {
-    rho = beta(0, 1);
-  } else {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
-    eigen.computeDirect(beta, Eigen::EigenvaluesOnly);
-    rho = eigen.eigenvalues()(2);
-  }
-  // The margin keeps the test away from the rounding of its own arithmetic.
-  return rho < 1.0 - 1e-12;
 }
 
 }  // namespace invmap::kernels

@@ -55,9 +55,13 @@ class HessianStencil {
   /// True when the function with net `f` is strictly convex on the whole
   /// domain of the net, proved from the intervals [lo_ab, hi_ab] of the
   /// second-derivative nets' coefficients (which hold every Hessian's
-  /// entries) by either of two tests: see IntervalHessianIsPositive and
-  /// ScaledHessianIsPositive.
+  /// entries) by IntervalMatrixIsPositive.
   bool IsConvex(const double* f) const;
+
+  /// The least and largest coefficient of every second-derivative net of
+  /// `f` (entries a <= b of lo and hi; entries of identically zero nets
+  /// are 0): bounds of the Hessian of f over the whole domain.
+  void HessianRanges(const double* f, double lo[3][3], double hi[3][3]) const;
 
  private:
   explicit HessianStencil(const CellShape& shape);
@@ -69,14 +73,6 @@ class HessianStencil {
   /// Min and max of the rows of `entry`; false as soon as a row is <= 0 when
   /// `positive` is asked for (a diagonal entry that already fails).
   static bool RowRange(const Entry& entry, const double* f, bool positive, double* lo, double* hi);
-  /// Every Hessian is mid + E with |E_ab| <= rad_ab, so lambda_min >=
-  /// lambda_min(mid) - ||rad||_F > 0 proves it positive definite: tight
-  /// when the entries vary little.
-  bool IntervalHessianIsPositive(const double lo[3][3], const double hi[3][3]) const;
-  /// The diagonal scaled out (given positive lower bounds lo_aa): tight when
-  /// the diagonal entries vary a lot but stay positive and the mixed ones
-  /// are small, as over a cell whose parametrization speeds up along it.
-  bool ScaledHessianIsPositive(const double lo[3][3], const double hi[3][3]) const;
 
   int paramDim_ = 0;
   Entry entries_[3][3];  // a <= b only

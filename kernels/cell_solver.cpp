@@ -214,6 +214,7 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
   if (!affine_) {
     nets_.Build(cell, center);
     stencil_ = &HessianStencil::Get(nets_.shape());
+    if (!cell.weights) curvature_ = std::make_unique<const CurvatureBounds>(cell, nets_, *stencil_);
   }
 }
 
@@ -267,16 +268,17 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   // shows it cannot (a neighbour of the best cell, usually).
   struct Exclusion {
     const CellSolver* solver;
+    const double* point;
     double level;
     double* q;  // the q net of the lower bound computed above (ws->scratch)
-  } exclusion{this, 0.0, ws->scratch.data()};
+  } exclusion{this, point, 0.0, ws->scratch.data()};
   if (bounded && !affine_) {
     exclusion.level = ExclusionLevel(bound2, tau, nets_.RoundingSlack(point));
     options.exclusionLevel = exclusion.level;
     options.exclusionContext = &exclusion;
     options.confirmExclusion = [](const void* context) {
       const Exclusion& e = *static_cast<const Exclusion*>(context);
-      return e.solver->ExcessIsConvex(e.level, e.q);
+      return e.solver->ExcessIsConvex(e.point, e.level, e.q);
     };
   }
   LocalSolveResult best = LocalSolve(cell_, point, start, options);
@@ -304,11 +306,17 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   return result;
 }
 
-bool CellSolver::ExcessIsConvex(double level, double* q) const {
+bool CellSolver::ExcessIsConvex(const double* point, double level, double* q) const {
+  // A polynomial cell's g = f - level has f's Hessian.
+  if (DistanceIsConvex(point)) return true;
   const int n = nets_.size();
   const double* ww = nets_.rational() ? nets_.ww() : nullptr;
   for (int i = 0; i < n; ++i) q[i] -= level * (ww ? ww[i] : 1.0);
   return stencil_->IsConvex(q);
+}
+
+bool CellSolver::DistanceIsConvex(const double* point) const {
+  return curvature_ && curvature_->ProvesConvex(point);
 }
 
 void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result) const {
@@ -508,6 +516,9 @@ bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* be
     const double* q = slot + kHeaderSize;
     return NetLowerBound(n, q, rational ? q + n : nullptr);
   };
+
+  // f convex over the cell: its KKT point is the cell's global minimum.
+  if (bestIsKkt && DistanceIsConvex(point)) return true;
 
   const int root = pool.Allocate();
   {

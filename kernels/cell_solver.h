@@ -4,9 +4,11 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "kernels/cell_map.h"
+#include "kernels/curvature_bounds.h"
 #include "kernels/distance_net.h"
 #include "kernels/local_solver.h"
 
@@ -144,8 +146,8 @@ class CellSolver {
   /// True when the map is affine (then the squared distance is convex and
   /// one local solve is the global answer).
   bool isAffine() const { return affine_; }
-  /// Heap memory of the precomputed nets, in bytes.
-  std::size_t NetMemoryBytes() const { return nets_.MemoryBytes(); }
+  /// Heap memory of the precomputed nets and bounds, in bytes.
+  std::size_t NetMemoryBytes() const { return nets_.MemoryBytes() + (curvature_ ? sizeof(CurvatureBounds) : 0); }
   /// True when the cell is a volume (paramDim == ambientDim).
   bool isFullRank() const { return cell_.shape.paramDim() == cell_.ambientDim; }
 
@@ -164,8 +166,13 @@ class CellSolver {
 
   /// True when g = q - level WW is convex over the whole cell, where the
   /// local solve's tangent plane (LocalSolveResult::aboveLevel) then bounds
-  /// it from below. `q`: the q net of the point, overwritten with g's net.
-  bool ExcessIsConvex(double level, double* q) const;
+  /// it from below. `q`: the q net of `point`, overwritten with g's net
+  /// unless the curvature bounds alone prove it.
+  bool ExcessIsConvex(const double* point, double level, double* q) const;
+
+  /// True when the curvature bounds prove |x(u) - point|^2 convex over the
+  /// whole cell (polynomial cells; see CurvatureBounds).
+  bool DistanceIsConvex(const double* point) const;
 
   bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 
@@ -188,6 +195,9 @@ class CellSolver {
   static constexpr double kHullSlack = 1e-9;
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
+  /// Curved polynomial cells only (null otherwise: most cells of large
+  /// meshes are affine, and a pointer keeps their solvers small).
+  std::unique_ptr<const CurvatureBounds> curvature_;
 };
 
 }  // namespace invmap::kernels

@@ -29,6 +29,10 @@ class DistanceNets {
   int size() const { return size_; }
   /// True for rational cells; polynomial cells have WW = 1.
   bool rational() const { return rational_; }
+  /// The center the nets are built around (ambient coordinates).
+  const double* center() const { return center_; }
+  /// The NN net (size() values): |x - center|^2 for a polynomial cell.
+  const double* nn() const { return nets_.data(); }
   /// The WW net (size() values).
   const double* ww() const { return nets_.data() + static_cast<size_t>(size_) * (ambientDim_ + 1); }
   /// Writes the q net of `point` (size() values).
