@@ -170,10 +170,6 @@ class CellSolver {
   /// unless the curvature bounds alone prove it.
   bool ExcessIsConvex(const double* point, double level, double* q) const;
 
-  /// True when the curvature bounds prove |x(u) - point|^2 convex over the
-  /// whole cell (polynomial cells; see CurvatureBounds).
-  bool DistanceIsConvex(const double* point) const;
-
   bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
 
   CellView cell_;
@@ -195,8 +191,8 @@ class CellSolver {
   static constexpr double kHullSlack = 1e-9;
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
-  /// Curved polynomial cells only (null otherwise: most cells of large
-  /// meshes are affine, and a pointer keeps their solvers small).
+  /// Curved cells whose weights are nearly equal (null otherwise: most
+  /// cells of large meshes are affine, and a pointer keeps their solvers small).
   std::unique_ptr<const CurvatureBounds> curvature_;
 };
 

@@ -2,99 +2,63 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include "kernels/interval_matrix.h"
 
 namespace invmap::kernels {
 
-CurvatureBounds::CurvatureBounds(const CellView& cell, const DistanceNets& nets, const HessianStencil& stencil)
-    : paramDim_(cell.shape.paramDim()), ambientDim_(cell.ambientDim) {
-  const CellShape& shape = cell.shape;
-  const int ad = ambientDim_;
-  if (cell.weights != nullptr) return;
-  int factorOf[3] = {0, 0, 0}, dirOf[3] = {0, 0, 0};
-  for (int f = 0; f < shape.numFactors(); ++f) {
-    if (shape.factor(f).degree < 1) return;
-    for (int d = 0; d < shape.factor(f).dim; ++d) {
-      factorOf[shape.factor(f).offset + d] = f;
-      dirOf[shape.factor(f).offset + d] = d;
-    }
-  }
-  // The fixed part: half the Hessian of |x - c|^2, whose net is NN.
-  double lo[3][3], hi[3][3];
-  stencil.HessianRanges(nets.nn(), lo, hi);
-  double largest = 0.0;
-  for (int a = 0; a < paramDim_; ++a) {
-    for (int b = a; b < paramDim_; ++b) {
-      fixedLo_[Entry(a, b)] = 0.5 * lo[a][b];
-      fixedHi_[Entry(a, b)] = 0.5 * hi[a][b];
-      largest = std::max({largest, std::abs(lo[a][b]), std::abs(hi[a][b])});
-    }
-  }
-  // The box of each x_ab's net, from the coordinates' nets differentiated twice.
-  const int n = shape.numControlPoints();
-  std::vector<double> coordinate(n), first(n), second[3];
-  for (int a = 0; a < paramDim_; ++a) {
-    for (int b = a; b < paramDim_; ++b) {
-      const int e = Entry(a, b);
-      CellShape firstShape, secondShape;
-      const bool sameFactor = factorOf[a] == factorOf[b];
-      // x_ab is identically zero when the factor's degree leaves no second derivative.
-      if (sameFactor && shape.factor(factorOf[a]).degree < 2) continue;
-      for (int k = 0; k < ad; ++k) {
-        for (int c = 0; c < n; ++c) coordinate[c] = cell.points[static_cast<size_t>(c) * ad + k];
-        DifferentiateNet(shape, factorOf[a], dirOf[a], coordinate.data(), first.data(), &firstShape);
-        second[k].resize(n);
-        DifferentiateNet(firstShape, factorOf[b], dirOf[b], first.data(), second[k].data(), &secondShape);
+CurvatureBounds::CurvatureBounds(const DistanceNets& nets, const HessianStencil& stencil)
+    : paramDim_(nets.shape().paramDim()), ambientDim_(nets.ambientDim()), rational_(nets.rational()) {
+  for (int k = 0; k < ambientDim_; ++k) center_[k] = nets.center()[k];
+  // The nets' coefficients carry rounding of the products that made them:
+  // each range is widened well beyond it.
+  const auto store = [&](const double* net, Range* ranges) {
+    double lo[3][3], hi[3][3];
+    stencil.HessianRanges(net, lo, hi);
+    for (int a = 0; a < paramDim_; ++a) {
+      for (int b = a; b < paramDim_; ++b) {
+        const double widen = 1e-12 * std::max(std::abs(lo[a][b]), std::abs(hi[a][b]));
+        ranges[Entry(a, b)] = Range{lo[a][b] - widen, hi[a][b] + widen};
       }
-      const int secondSize = NetSize(secondShape);
-      for (int k = 0; k < ad; ++k) {
-        const auto [least, most] = std::minmax_element(second[k].begin(), second[k].begin() + secondSize);
-        midpoint_[e][k] = 0.5 * (*least + *most);
-      }
-      double radius2 = 0.0;
-      for (int i = 0; i < secondSize; ++i) {
-        double d2 = 0.0;
-        for (int k = 0; k < ad; ++k) d2 += (second[k][i] - midpoint_[e][k]) * (second[k][i] - midpoint_[e][k]);
-        radius2 = std::max(radius2, d2);
-      }
-      radius_[e] = std::sqrt(radius2);
     }
-  }
-  for (int k = 0; k < ad; ++k) center_[k] = nets.center()[k];
-  // The nets' coefficients carry rounding of the products and differences:
-  // the bounds are widened well beyond it.
-  const double widen = 1e-12 * largest;
+  };
+  store(nets.nn(), nn_);
+  Range nw[3][kEntries];
+  for (int k = 0; k < ambientDim_; ++k) store(nets.nw(k), nw[k]);
   for (int e = 0; e < kEntries; ++e) {
-    fixedLo_[e] -= widen;
-    fixedHi_[e] += widen;
-    radius_[e] *= 1.0 + 1e-12;
+    for (int k = 0; k < ambientDim_; ++k) nw_[e][k] = nw[k][e];
   }
-  available_ = std::isfinite(largest);
+  if (rational_) store(nets.ww(), ww_);
 }
 
-bool CurvatureBounds::ProvesConvex(const double* point) const {
-  if (!available_) return false;
+bool CurvatureBounds::ProvesConvex(const double* point, double level) const {
   double d[3] = {0, 0, 0}, distance2 = 0.0;
   for (int k = 0; k < ambientDim_; ++k) {
     d[k] = point[k] - center_[k];
     distance2 += d[k] * d[k];
   }
-  const double distance = std::sqrt(distance2);
+  const double weightFactor = distance2 - level;
   double lo[3][3] = {}, hi[3][3] = {};
   for (int a = 0; a < paramDim_; ++a) {
     for (int b = a; b < paramDim_; ++b) {
       const int e = Entry(a, b);
-      double along = 0.0, size = 0.0;
+      // -2 d . H(NW): its midpoint, and how far the ranges let it move.
+      double along = 0.0, spread = 0.0, size = 0.0;
       for (int k = 0; k < ambientDim_; ++k) {
-        along += d[k] * midpoint_[e][k];
-        size += std::abs(d[k] * midpoint_[e][k]);
+        along += d[k] * nw_[e][k].mid();
+        spread += std::abs(d[k]) * nw_[e][k].radius();
+        size += std::abs(d[k] * nw_[e][k].mid());
       }
-      // The dot product's rounding, and the spread of x_ab around m.
-      const double spread = distance * radius_[e] + 1e-14 * size;
-      lo[a][b] = fixedLo_[e] - along - spread;
-      hi[a][b] = fixedHi_[e] - along + spread;
+      double weightLo = 0.0, weightHi = 0.0;
+      if (rational_) {
+        weightLo = std::min(weightFactor * ww_[e].lo, weightFactor * ww_[e].hi);
+        weightHi = std::max(weightFactor * ww_[e].lo, weightFactor * ww_[e].hi);
+        size += std::abs(weightLo) + std::abs(weightHi);
+      }
+      // The rounding of the sums above, far below the ranges' widening.
+      const double rounding = 1e-14 * size;
+      lo[a][b] = nn_[e].lo - 2.0 * (along + spread) + weightLo - rounding;
+      hi[a][b] = nn_[e].hi - 2.0 * (along - spread) + weightHi + rounding;
     }
   }
   return IntervalMatrixIsPositive(paramDim_, lo, hi);

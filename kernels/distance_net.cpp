@@ -38,8 +38,8 @@ void DistanceNets::Build(const CellView& cell, const double* center) {
     MultiplyNets(base, nk, base, weightNet, nets_.data() + static_cast<size_t>(size_) * (k + 1));
   }
   MultiplyNets(base, weightNet, base, weightNet, nets_.data() + static_cast<size_t>(size_) * (ambientDim_ + 1));
-  scale2_ = *std::max_element(nn, nn + size_);
-  wwMax_ = *std::max_element(ww(), ww() + size_);
+  scale_ = std::sqrt(*std::max_element(nn, nn + size_));
+  wwRoot_ = std::sqrt(*std::max_element(ww(), ww() + size_));
 }
 
 void DistanceNets::SquaredDistanceNumerator(const double* point, double* q) const {
@@ -74,7 +74,7 @@ void DistanceNets::SquaredDistanceNumerator(const double* point, double* q) cons
 double DistanceNets::RoundingSlack(const double* point) const {
   double local2 = 0.0;
   for (int k = 0; k < ambientDim_; ++k) local2 += (point[k] - center_[k]) * (point[k] - center_[k]);
-  const double magnitude = std::sqrt(scale2_) + std::sqrt(local2 * wwMax_);
+  const double magnitude = scale_ + std::sqrt(local2) * wwRoot_;
   // Each coefficient is a short sum of products of these magnitudes; the
   // subdivision steps are convex combinations and add rounding of the same order.
   return 64.0 * std::numeric_limits<double>::epsilon() * magnitude * magnitude;

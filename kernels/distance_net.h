@@ -33,6 +33,11 @@ class DistanceNets {
   const double* center() const { return center_; }
   /// The NN net (size() values): |x - center|^2 for a polynomial cell.
   const double* nn() const { return nets_.data(); }
+  /// The NW net of ambient coordinate k (size() values): x_k - center_k for
+  /// a polynomial cell.
+  const double* nw(int k) const { return nets_.data() + static_cast<size_t>(size_) * (k + 1); }
+  /// Ambient dimension of the cell.
+  int ambientDim() const { return ambientDim_; }
   /// The WW net (size() values).
   const double* ww() const { return nets_.data() + static_cast<size_t>(size_) * (ambientDim_ + 1); }
   /// Writes the q net of `point` (size() values).
@@ -48,8 +53,10 @@ class DistanceNets {
   int ambientDim_ = 3;
   bool rational_ = false;
   double center_[3] = {0, 0, 0};
-  double scale2_ = 0.0;       // largest |N|^2 coefficient, for the slack
-  double wwMax_ = 0.0;        // largest WW coefficient, for the slack
+  // For the slack, as square roots (one per point is left to take): of the
+  // largest |N|^2 coefficient and of the largest WW coefficient.
+  double scale_ = 0.0;
+  double wwRoot_ = 0.0;
   std::vector<double> nets_;  // NN, NW_0 .. NW_{dim-1}, WW: size_ values each
 };
 
