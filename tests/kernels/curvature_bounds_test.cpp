@@ -13,6 +13,8 @@
 #include <string>
 
 #include "kernels/curvature_bounds.h"
+#include "tests/support/excess_function.h"
+#include "tests/support/finite_differences.h"
 #include "tests/support/reference_cell.h"
 
 namespace {
@@ -21,6 +23,8 @@ using invmap::kernels::CellType;
 using invmap::kernels::CurvatureBounds;
 using invmap::kernels::DistanceNets;
 using invmap::kernels::HessianStencil;
+using invmap::testing::ExcessFunction;
+using invmap::testing::FiniteDifferenceHessian;
 using invmap::testing::ParamDimOf;
 using invmap::testing::QueryKind;
 using invmap::testing::RandomCurvedCell;
@@ -28,6 +32,7 @@ using invmap::testing::RandomQuery;
 using invmap::testing::RandomRefPoint;
 using invmap::testing::RefCell;
 using invmap::testing::RefEvaluate;
+using invmap::testing::SmallestEigenvalue;
 
 /// The center of the control points' box (any center serves).
 std::array<double, 3> BoxCenter(const RefCell& cell) {
@@ -53,54 +58,6 @@ struct CellBounds {
   DistanceNets nets;
   std::unique_ptr<CurvatureBounds> bounds;
 };
-
-/// g(u) = W(u)^2 (|x(u) - p|^2 - level) from the reference evaluator (W = 1
-/// for a polynomial cell); W is the map of a polynomial cell whose first
-/// coordinate holds the weights.
-struct ExcessFunction {
-  ExcessFunction(const RefCell& c, const double* p, double l) : cell(c), weightCell(c), point(p), level(l) {
-    weightCell.weights.clear();
-    for (int i = 0; i < c.numControlPoints(); ++i) {
-      for (int k = 0; k < c.ambientDim; ++k) {
-        weightCell.points[i * c.ambientDim + k] = k == 0 ? (c.isRational() ? c.weights[i] : 1.0) : 0.0;
-      }
-    }
-  }
-  double operator()(const double* u) const {
-    double x[3], w[3];
-    RefEvaluate(cell, u, x);
-    RefEvaluate(weightCell, u, w);
-    double f = 0.0;
-    for (int k = 0; k < cell.ambientDim; ++k) f += (x[k] - point[k]) * (x[k] - point[k]);
-    return w[0] * w[0] * (f - level);
-  }
-  const RefCell& cell;
-  RefCell weightCell;
-  const double* point;
-  double level;
-};
-
-/// Smallest eigenvalue of the Hessian of g at u, by central differences
-/// (step h in the reference coordinates); `largest` gets its largest |entry|.
-double SmallestExcessHessianEigenvalue(const ExcessFunction& g, int pd, const double* u, double h, double* largest) {
-  Eigen::MatrixXd hessian(pd, pd);
-  for (int a = 0; a < pd; ++a) {
-    for (int b = a; b < pd; ++b) {
-      double sum = 0.0;
-      for (const int sa : {-1, 1}) {
-        for (const int sb : {-1, 1}) {
-          double x[3] = {u[0], u[1], u[2]};
-          x[a] += sa * h;
-          x[b] += sb * h;
-          sum += sa * sb * g(x);
-        }
-      }
-      hessian(a, b) = hessian(b, a) = sum / (4 * h * h);
-    }
-  }
-  *largest = hessian.cwiseAbs().maxCoeff();
-  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(hessian).eigenvalues()(0);
-}
 
 TEST(CurvatureBounds, ConvexOnlyWhereEveryHessianIsPositive) {
   int proved = 0, failures = 0;
@@ -129,9 +86,9 @@ TEST(CurvatureBounds, ConvexOnlyWhereEveryHessianIsPositive) {
               double least = 1e300, scale = 0.0;
               for (int s = 0; s < 100; ++s) {
                 const std::array<double, 3> u = RandomRefPoint(type, rng);
-                double largest = 0.0;
-                least = std::min(least, SmallestExcessHessianEigenvalue(g, cell.paramDim(), u.data(), 1e-4, &largest));
-                scale = std::max(scale, largest);
+                const Eigen::MatrixXd hessian = FiniteDifferenceHessian(g, cell.paramDim(), u.data(), 1e-4);
+                least = std::min(least, SmallestEigenvalue(hessian));
+                scale = std::max(scale, hessian.cwiseAbs().maxCoeff());
               }
               if (!(least > -1e-6 * scale) && failures++ < 10) {
                 ADD_FAILURE() << invmap::kernels::CellTypeName(type) << " degree " << degree

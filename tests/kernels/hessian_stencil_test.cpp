@@ -11,13 +11,16 @@
 #include <vector>
 
 #include "kernels/bernstein_net.h"
+#include "tests/support/finite_differences.h"
 #include "tests/support/tensor_net.h"
 
 namespace {
 
 using invmap::kernels::HessianStencil;
+using invmap::testing::FiniteDifferenceHessian;
 using invmap::testing::ForGrid;
 using invmap::testing::Net;
+using invmap::testing::SmallestEigenvalue;
 
 /// Net with coefficient (i, j, k) = a[i] + b[j] + c[k] + cross (i / p)(j / q)
 /// + cross02 (i / p)(k / r) + cross12 (j / q)(k / r): the polynomial a(t_0) +
@@ -38,27 +41,6 @@ Net SeparablePlusCross(int dims, const std::vector<double>* terms, double cross,
     }
   }
   return net;
-}
-
-/// Smallest eigenvalue of the Hessian at t by central differences.
-double SmallestHessianEigenvalue(const Net& net, const double* t, double h) {
-  const int dims = net.dims;
-  Eigen::MatrixXd hessian(dims, dims);
-  for (int a = 0; a < dims; ++a) {
-    for (int b = a; b < dims; ++b) {
-      double sum = 0.0;
-      for (const int sa : {-1, 1}) {
-        for (const int sb : {-1, 1}) {
-          double x[3] = {t[0], t[1], t[2]};
-          x[a] += sa * h;
-          x[b] += sb * h;
-          sum += sa * sb * net(x);
-        }
-      }
-      hessian(a, b) = hessian(b, a) = sum / (4 * h * h);
-    }
-  }
-  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(hessian).eigenvalues().minCoeff();
 }
 
 TEST(HessianStencil, VaryingDiagonalIsConvex) {
@@ -127,7 +109,7 @@ TEST(HessianStencil, AcceptedNetsAreConvexEverywhere) {
     ForGrid(dims, dims == 2 ? 11 : 5, [&](const double* grid) {
       double t[3] = {0, 0, 0};
       for (int d = 0; d < dims; ++d) t[d] = h + (1 - 2 * h) * grid[d];
-      ASSERT_GT(SmallestHessianEigenvalue(net, t, h), -1e-5) << "trial " << trial;
+      ASSERT_GT(SmallestEigenvalue(FiniteDifferenceHessian(net, net.dims, t, h)), -1e-5) << "trial " << trial;
     });
   }
   EXPECT_GT(accepted, 100);

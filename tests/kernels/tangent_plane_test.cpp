@@ -16,6 +16,7 @@
 
 #include "kernels/cell_map.h"
 #include "kernels/tangent_plane.h"
+#include "tests/support/excess_function.h"
 #include "tests/support/reference_cell.h"
 
 namespace {
@@ -25,6 +26,7 @@ using invmap::kernels::EvaluateMap;
 using invmap::kernels::JetOrder;
 using invmap::kernels::MapJet;
 using invmap::kernels::TangentPlaneLowerBound;
+using invmap::testing::ExcessFunction;
 using invmap::testing::ParamDimOf;
 using invmap::testing::QueryKind;
 using invmap::testing::RandomBoundaryRefPoint;
@@ -53,37 +55,6 @@ std::vector<std::array<double, 3>> DomainVertices(CellType type) {
   }
   return {};
 }
-
-/// g(u) = W(u)^2 (|x(u) - p|^2 - level) from the reference evaluator; W is
-/// the map of a polynomial cell whose first coordinate holds the weights.
-struct ExcessFunction {
-  const RefCell& cell;
-  RefCell weightCell;
-  const double* point;
-  double level;
-
-  ExcessFunction(const RefCell& c, const double* p, double l) : cell(c), weightCell(c), point(p), level(l) {
-    weightCell.weights.clear();
-    for (int i = 0; i < c.numControlPoints(); ++i) {
-      for (int k = 0; k < c.ambientDim; ++k) {
-        weightCell.points[i * c.ambientDim + k] = k == 0 && c.isRational() ? c.weights[i] : (k == 0 ? 1.0 : 0.0);
-      }
-    }
-  }
-  double W(const double* u) const {
-    double w[3];
-    RefEvaluate(weightCell, u, w);
-    return w[0];
-  }
-  double operator()(const double* u) const {
-    double x[3];
-    RefEvaluate(cell, u, x);
-    double f = 0.0;
-    for (int k = 0; k < cell.ambientDim; ++k) f += (x[k] - point[k]) * (x[k] - point[k]);
-    const double w = W(u);
-    return w * w * (f - level);
-  }
-};
 
 TEST(TangentPlaneLowerBound, MatchesTheTangentPlaneOfTheExcess) {
   int positive = 0, negative = 0, failures = 0;
@@ -117,7 +88,7 @@ TEST(TangentPlaneLowerBound, MatchesTheTangentPlaneOfTheExcess) {
             gradient[d] = (g(plus.data()) - g(minus.data())) / (2 * h);
             gradientSize += std::abs(gradient[d]);
           }
-          const double w2 = g.W(ref.data()) * g.W(ref.data());
+          const double w2 = g.Weight(ref.data()) * g.Weight(ref.data());
           double expected = std::numeric_limits<double>::infinity();
           for (const std::array<double, 3>& v : vertices) {
             double plane = g(ref.data());
