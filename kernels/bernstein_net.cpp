@@ -123,19 +123,24 @@ void AppendRow(const std::vector<std::pair<int, double>>& row, std::vector<Hessi
 /// Folds the rows of `run` into the range [*lo, *hi]. Each row is summed from
 /// 0.0 in term order, exactly as the sparse rule reads, so no row is -0 and
 /// the range does not depend on the order the rows are folded in.
+/// *nonFinite turns NaN when a row is infinite or NaN (a difference of
+/// coefficients near the overflow threshold): min and max would skip a NaN
+/// row, and an infinite one bounds nothing.
 template <int kTerms>
-void RunRange(const HessianRun& run, const double* f, double* lo, double* hi) {
+void RunRange(const HessianRun& run, const double* f, double* lo, double* hi, double* nonFinite) {
   const int terms = kTerms > 0 ? kTerms : run.terms;
   const double* at = f + run.first;
-  double l = *lo, h = *hi;
+  double l = *lo, h = *hi, check = *nonFinite;
   for (int k = 0; k < run.length; ++k) {
     double v = 0.0;
     for (int t = 0; t < terms; ++t) v += run.weight[t] * at[k + run.offset[t]];
     l = std::min(l, v);
     h = std::max(h, v);
+    check += v * 0.0;  // 0 for a finite row, NaN otherwise
   }
   *lo = l;
   *hi = h;
+  *nonFinite = check;
 }
 
 }  // namespace
@@ -276,20 +281,26 @@ HessianStencil::HessianStencil(const CellShape& shape) : paramDim_(shape.paramDi
 }
 
 bool HessianStencil::RowRange(const Entry& entry, const double* f, bool positive, double* lo, double* hi) {
-  double l = std::numeric_limits<double>::infinity(), h = -l;
+  double l = std::numeric_limits<double>::infinity(), h = -l, nonFinite = 0.0;
   for (const HessianRun& run : entry.runs) {
     switch (run.terms) {
       case 3:
-        RunRange<3>(run, f, &l, &h);
+        RunRange<3>(run, f, &l, &h, &nonFinite);
         break;
       case 4:
-        RunRange<4>(run, f, &l, &h);
+        RunRange<4>(run, f, &l, &h, &nonFinite);
         break;
       default:
-        RunRange<0>(run, f, &l, &h);
+        RunRange<0>(run, f, &l, &h, &nonFinite);
         break;
     }
     if (positive && l <= 0.0) return false;
+  }
+  if (nonFinite != 0.0) {
+    // Some row is not a number: the entry is unbounded.
+    l = -std::numeric_limits<double>::infinity();
+    h = std::numeric_limits<double>::infinity();
+    if (positive) return false;
   }
   *lo = l;
   *hi = h;

@@ -60,7 +60,8 @@ class HessianStencil {
 
   /// The least and largest coefficient of every second-derivative net of
   /// `f` (entries a <= b of lo and hi; entries of identically zero nets
-  /// are 0): bounds of the Hessian of f over the whole domain.
+  /// are 0): bounds of the Hessian of f over the whole domain. An entry with
+  /// a row that is not finite (overflow) gets [-infinity, +infinity].
   void HessianRanges(const double* f, double lo[3][3], double hi[3][3]) const;
 
  private:
@@ -70,8 +71,9 @@ class HessianStencil {
   struct Entry {
     std::vector<HessianRun> runs;
   };
-  /// Min and max of the rows of `entry`; false as soon as a row is <= 0 when
-  /// `positive` is asked for (a diagonal entry that already fails).
+  /// Min and max of the rows of `entry` ([-inf, +inf] when a row is not
+  /// finite); false as soon as a row is <= 0 or not finite when `positive`
+  /// is asked for (a diagonal entry that already fails).
   static bool RowRange(const Entry& entry, const double* f, bool positive, double* lo, double* hi);
 
   int paramDim_ = 0;

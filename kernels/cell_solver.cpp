@@ -253,9 +253,13 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   // An infinite bound is no bound: beyond about 1e154 the squared distance
   // itself overflows to infinity, and such a point must still get its answer.
   const bool bounded = bound2 < std::numeric_limits<double>::infinity();
-  if (bounded && SquaredDistanceLowerBound(point, ws) >= bound2) {
-    result.status = PointStatus::Farther;
-    return result;
+  double* q = nullptr;  // the q net of `point`, when the lower bound has computed it
+  if (bounded) {
+    if (SquaredDistanceLowerBound(point, ws) >= bound2) {
+      result.status = PointStatus::Farther;
+      return result;
+    }
+    if (!affine_) q = ws->scratch.data();
   }
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplex(point, &result);
@@ -280,9 +284,9 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     const CellSolver* solver;
     const double* point;
     double level;
-    double* q;  // the q net of the lower bound computed above (ws->scratch)
-  } exclusion{this, point, 0.0, ws->scratch.data()};
-  if (bounded && !affine_) {
+    double* q;
+  } exclusion{this, point, 0.0, q};
+  if (q) {
     exclusion.level = ExclusionLevel(bound2, tau, nets_.RoundingSlack(point));
     options.exclusionLevel = exclusion.level;
     options.exclusionContext = &exclusion;

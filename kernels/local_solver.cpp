@@ -543,7 +543,10 @@ bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, co
   }
   // A converged solve leaves a residual gradient near rounding; a point that
   // is not stationary has one of the order of |J| |r|.
-  const double tolerance = 1e-7 * std::sqrt(jac2 * r2) + 1e-12 * size * size;
+  // (Square roots apart: jac2 * r2 overflows long before either factor.
+  // A tolerance that still overflows would accept any point: not KKT then.)
+  const double tolerance = 1e-7 * std::sqrt(jac2) * std::sqrt(r2) + 1e-12 * size * size;
+  if (!std::isfinite(tolerance)) return false;
   ActiveSet active;
   for (int f = 0; f < shape.numFactors(); ++f) {
     double lambda[4];

@@ -11,9 +11,10 @@ namespace invmap::kernels {
 /// by W(ref)^2 > 0, minus a bound on its rounding. `jet`: the map at `ref`
 /// to at least first order; `size`: the cell's length scale.
 ///
-/// A positive value proves g > 0, so f > level, on every part of the cell
-/// where g is convex: over the whole cell when the net of q - level WW
-/// (= g in Bernstein form) passes HessianStencil::IsConvex. Near the
+/// A positive value proves g > 0, so f > level, over the whole cell when g
+/// is convex over the whole cell (whose domain is convex and holds ref):
+/// when the net of q - level WW (= g in Bernstein form) passes
+/// HessianStencil::IsConvex, or CurvatureBounds proves it. Near the
 /// closest point of a neighbouring cell that is plainly farther than the
 /// best, the plane is nearly flat along the cell and rises into it, so the
 /// cell is excluded without converging a local solve on it.

@@ -786,3 +786,57 @@ TEST(CellSolverInside, FindsInteriorPointsOfCurvedTetrahedra) {
   }
   EXPECT_GE(found, total * 98 / 100) << found << " of " << total;
 }
+
+namespace invmap::testing {
+namespace {
+
+/// Cells scaled by exact powers of two up to the edge of the double range,
+/// where nets and Hessian rows overflow: answers must stay the global
+/// minimum (distances scale exactly, so the reference is the unscaled
+/// cell's), bounded or not. Found by review: a convexity test that skipped
+/// overflowed (NaN) rows declared a C-shaped quad at 2^508 Farther.
+TEST(CellSolverExtremeScale, AnswersStayGlobalNearTheOverflow) {
+  std::mt19937_64 rng(123);
+  std::vector<RefCell> cells;
+  for (int d = 2; d <= 6; ++d) cells.push_back(CShapedQuad(d));
+  cells.push_back(SpiralQuad());
+  for (int i = 0; i < 4; ++i) cells.push_back(RandomCurvedCell(CellType::Line, 3, i % 2, 2, rng));
+  for (int i = 0; i < 4; ++i) cells.push_back(RandomCurvedCell(CellType::Quad, 3, i % 2, 3, rng));
+  SolveWorkspace ws;
+  int failures = 0;
+  for (const int exponent : {0, 400, 505, 508}) {
+    const double scale = std::ldexp(1.0, exponent);
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const RefCell& base = cells[c];
+      RefCell big = base;
+      for (double& v : big.points) v *= scale;
+      BruteForceReference reference(base);
+      const CellSolver solver(big.view());
+      std::uniform_real_distribution<double> coordinate(-3.0, 3.0);
+      for (int i = 0; i < 150; ++i) {
+        const double p[3] = {coordinate(rng), coordinate(rng), base.ambientDim == 3 ? coordinate(rng) : 0.0};
+        const RefClosest expect = reference.Closest(p);
+        const double scaled[3] = {p[0] * scale, p[1] * scale, p[2] * scale};
+        const double tolerance = kRelTol * base.size();
+        const CellSolveResult free = solver.Solve(scaled, nullptr, &ws);
+        // Just above the true distance: the cell must not be excluded.
+        const double above = (expect.distance + 1e-6 * base.size()) * scale;
+        const CellSolveResult bounded = solver.Solve(scaled, nullptr, &ws, above * above);
+        const bool freeWrong = !(free.distance / scale <= expect.distance + tolerance);
+        const bool boundedWrong =
+            bounded.status == PointStatus::Farther || !(bounded.distance / scale <= expect.distance + tolerance);
+        if ((freeWrong || boundedWrong) && failures++ < kMaxReportedFailures) {
+          ADD_FAILURE() << "scale 2^" << exponent << ", cell " << c << ", query " << i << " " << Coords(p, 3)
+                        << ": reference " << expect.distance << ", unbounded " << free.distance / scale << " ("
+                        << StatusName(free.status) << "), bounded " << bounded.distance / scale << " ("
+                        << StatusName(bounded.status) << ")\n"
+                        << Describe(base);
+        }
+      }
+    }
+  }
+  EXPECT_EQ(failures, 0);
+}
+
+}  // namespace
+}  // namespace invmap::testing

@@ -11,6 +11,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "kernels/curvature_bounds.h"
 #include "tests/support/excess_function.h"
@@ -23,6 +24,7 @@ using invmap::kernels::CellType;
 using invmap::kernels::CurvatureBounds;
 using invmap::kernels::DistanceNets;
 using invmap::kernels::HessianStencil;
+using invmap::testing::ControlPointRefLocations;
 using invmap::testing::ExcessFunction;
 using invmap::testing::FiniteDifferenceHessian;
 using invmap::testing::ParamDimOf;
@@ -83,9 +85,12 @@ TEST(CurvatureBounds, ConvexOnlyWhereEveryHessianIsPositive) {
               if (!built.bounds->ProvesConvex(point.data(), level)) continue;
               ++proved;
               const ExcessFunction g(cell, point.data(), level);
+              // A lattice with the domain's corners, edges and faces (where
+              // the bounds' ranges are attained), and random points.
+              std::vector<std::array<double, 3>> samples = ControlPointRefLocations(type, {{4, 4, 4}});
+              for (int s = 0; s < 60; ++s) samples.push_back(RandomRefPoint(type, rng));
               double least = 1e300, scale = 0.0;
-              for (int s = 0; s < 100; ++s) {
-                const std::array<double, 3> u = RandomRefPoint(type, rng);
+              for (const std::array<double, 3>& u : samples) {
                 const Eigen::MatrixXd hessian = FiniteDifferenceHessian(g, cell.paramDim(), u.data(), 1e-4);
                 least = std::min(least, SmallestEigenvalue(hessian));
                 scale = std::max(scale, hessian.cwiseAbs().maxCoeff());

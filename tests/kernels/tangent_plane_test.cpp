@@ -1,7 +1,7 @@
 // The tangent-plane exclusion bound (kernels/tangent_plane.h) against an
 // independent computation: g = W^2 (|x - p|^2 - level) from the reference
 // evaluator, its gradient by central differences, and the plane's least
-// value over the domain from an explicit list of the domain's vertices.
+// value over the domain from the domain's vertices.
 // Random curved cells of every type, polynomial and rational, in 2D and 3D,
 // at interior and boundary reference points and levels on both sides of
 // the plane's sign change.
@@ -26,6 +26,7 @@ using invmap::kernels::EvaluateMap;
 using invmap::kernels::JetOrder;
 using invmap::kernels::MapJet;
 using invmap::kernels::TangentPlaneLowerBound;
+using invmap::testing::ControlPointRefLocations;
 using invmap::testing::ExcessFunction;
 using invmap::testing::ParamDimOf;
 using invmap::testing::QueryKind;
@@ -36,26 +37,6 @@ using invmap::testing::RandomRefPoint;
 using invmap::testing::RefCell;
 using invmap::testing::RefEvaluate;
 
-/// The vertices of the reference domain of `type` (FORMATS.md section 1):
-/// products of each factor's origin and unit points.
-std::vector<std::array<double, 3>> DomainVertices(CellType type) {
-  switch (type) {
-    case CellType::Line:
-      return {{0, 0, 0}, {1, 0, 0}};
-    case CellType::Tri:
-      return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    case CellType::Quad:
-      return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
-    case CellType::Tet:
-      return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    case CellType::Hex:
-      return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
-    case CellType::Wedge:
-      return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
-  }
-  return {};
-}
-
 TEST(TangentPlaneLowerBound, MatchesTheTangentPlaneOfTheExcess) {
   int positive = 0, negative = 0, failures = 0;
   for (CellType type : {CellType::Line, CellType::Tri, CellType::Quad, CellType::Tet, CellType::Hex, CellType::Wedge}) {
@@ -65,7 +46,8 @@ TEST(TangentPlaneLowerBound, MatchesTheTangentPlaneOfTheExcess) {
         std::mt19937_64 rng(17 + 8 * static_cast<int>(type) + 2 * rational + ambientDim);
         const RefCell cell = RandomCurvedCell(type, 3, rational, ambientDim, rng);
         const int pd = cell.paramDim();
-        const std::vector<std::array<double, 3>> vertices = DomainVertices(type);
+        // The domain's vertices: the control points of degree one.
+        const std::vector<std::array<double, 3>> vertices = ControlPointRefLocations(type, {{1, 1, 1}});
         for (int i = 0; i < 200; ++i) {
           const QueryKind kind = i % 2 ? QueryKind::Far : QueryKind::Boundary;
           const std::array<double, 3> point = RandomQuery(cell, kind, rng).point;
