@@ -33,11 +33,10 @@ void EvaluateTyped(const CellView& cell, const double* ref, MapJet* out) {
     }
   } else {
     // Quotient rule: x = N / W and its derivatives.
-    out->w = h.value[Ambient];
     const double invW = 1.0 / h.value[Ambient];
     for (int k = 0; k < Ambient; ++k) out->x[k] = h.value[k] * invW;
     if constexpr (Order != JetOrder::Value) {
-      for (int i = 0; i < kParams; ++i) out->dw[i] = h.d1[i][Ambient];
+      for (int i = 0; i < kParams; ++i) out->logWeightSlope[i] = h.d1[i][Ambient] * invW;
       for (int k = 0; k < Ambient; ++k) {
         for (int i = 0; i < kParams; ++i) out->d1[k][i] = (h.d1[i][k] - out->x[k] * h.d1[i][Ambient]) * invW;
       }

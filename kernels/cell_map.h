@@ -25,10 +25,9 @@ struct MapJet {
   double x[3] = {0, 0, 0};  ///< x_k(u).
   double d1[3][3] = {};     ///< dx_k/du_i.
   double d2[3][3][3] = {};  ///< d2x_k/du_i du_j (symmetric in i, j).
-  /// The weight function W(u), the denominator of a rational map x = N / W,
-  /// and dW/du_i (from order First): 1 and 0 for a polynomial cell.
-  double w = 1.0;
-  double dw[3] = {0, 0, 0};
+  /// (dW/du_i) / W (from order First), where W(u) is the weight function,
+  /// the denominator of a rational map x = N / W: 0 for a polynomial cell.
+  double logWeightSlope[3] = {0, 0, 0};
 };
 
 /// Evaluates the map of `cell` at reference coordinates `ref` (paramDim

@@ -20,7 +20,7 @@ double TangentPlaneLowerBound(const CellShape& shape, int ambientDim, const MapJ
   double slope[3] = {0, 0, 0};
   for (int i = 0; i < shape.paramDim(); ++i) {
     for (int k = 0; k < ambientDim; ++k) slope[i] += 2.0 * jet.d1[k][i] * r[k];
-    slope[i] += 2.0 * (jet.dw[i] / jet.w) * excess;
+    slope[i] += 2.0 * jet.logWeightSlope[i] * excess;
   }
   // A linear function's least value over a simplex is at a vertex: per
   // factor, its origin or one of its unit points.
@@ -42,7 +42,7 @@ double TangentPlaneLowerBound(const CellShape& shape, int ambientDim, const MapJ
   for (int k = 0; k < ambientDim; ++k) magnitude = std::max({magnitude, std::abs(point[k]), std::abs(jet.x[k]) + size});
   for (int i = 0; i < shape.paramDim(); ++i) {
     for (int k = 0; k < ambientDim; ++k) columns += std::abs(jet.d1[k][i]);
-    weightSlope += 2.0 * std::abs(jet.dw[i] / jet.w);
+    weightSlope += 2.0 * std::abs(jet.logWeightSlope[i]);
   }
   const double delta = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
   const double rounding = (2.0 * delta * (std::sqrt(f) + columns) + delta * delta) * (1.0 + weightSlope);
