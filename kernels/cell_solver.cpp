@@ -228,7 +228,7 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
   }
 }
 
-double CellSolver::SquaredDistanceLowerBound(const double* point, SolveWorkspace* ws) const {
+double CellSolver::SquaredDistanceLowerBound(const double* point, double slack, SolveWorkspace* ws) const {
   double box2 = 0.0;
   for (int k = 0; k < cell_.ambientDim; ++k) {
     const double d = std::max({boxLo_[k] - point[k], 0.0, point[k] - boxHi_[k]});
@@ -239,7 +239,7 @@ double CellSolver::SquaredDistanceLowerBound(const double* point, SolveWorkspace
   if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
   nets_.SquaredDistanceNumerator(point, ws->scratch.data());
   const double lb = NetLowerBound(n, ws->scratch.data(), nets_.rational() ? nets_.ww() : nullptr);
-  return std::max(box2, lb - nets_.RoundingSlack(point));
+  return std::max(box2, lb - slack);
 }
 
 CellSolveResult CellSolver::Solve(const double* point, const double* initialRef, SolveWorkspace* ws,
@@ -253,9 +253,11 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   // An infinite bound is no bound: beyond about 1e154 the squared distance
   // itself overflows to infinity, and such a point must still get its answer.
   const bool bounded = bound2 < std::numeric_limits<double>::infinity();
+  // The rounding of the nets' coefficients at this point, for every bound below.
+  const double slack = affine_ ? 0.0 : nets_.RoundingSlack(point);
   double* q = nullptr;  // the q net of `point`, when the lower bound has computed it
   if (bounded) {
-    if (SquaredDistanceLowerBound(point, ws) >= bound2) {
+    if (SquaredDistanceLowerBound(point, slack, ws) >= bound2) {
       result.status = PointStatus::Farther;
       return result;
     }
@@ -289,7 +291,7 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     double* q;
   } exclusion{this, point, 0.0, q};
   if (q && pd > 1) {
-    exclusion.level = ExclusionLevel(bound2, tau, nets_.RoundingSlack(point));
+    exclusion.level = ExclusionLevel(bound2, tau, slack);
     options.exclusionLevel = exclusion.level;
     options.exclusionContext = &exclusion;
     options.confirmExclusion = [](const void* context) {
@@ -307,7 +309,9 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   bool certified = true;
   // An affine map makes the squared distance convex: the KKT point is global.
   // A distance within tau of zero cannot be beaten by more than tau.
-  if (!affine_ && best.squaredDistance > tau * tau) certified = Search(point, bound2, &best, &result.iterations, ws);
+  if (!affine_ && best.squaredDistance > tau * tau) {
+    certified = Search(point, bound2, slack, &best, &result.iterations, ws);
+  }
 
   std::copy(best.ref, best.ref + pd, result.ref);
   std::copy(best.closest, best.closest + ad, result.closest);
@@ -493,14 +497,13 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
   return true;
 }
 
-bool CellSolver::Search(const double* point, double bound2, LocalSolveResult* best, int* iterations,
+bool CellSolver::Search(const double* point, double bound2, double slack, LocalSolveResult* best, int* iterations,
                         SolveWorkspace* ws) const {
   const CellShape& netShape = nets_.shape();
   const int n = nets_.size();
   const bool rational = nets_.rational();
   const int slotSize = kHeaderSize + n * (rational ? 2 : 1);
   const double tau = kDistanceTolerance * size_;
-  const double slack = nets_.RoundingSlack(point);
   // Subdomains whose lower bound reaches this cannot beat the best by more than tau.
   auto pruneLevel = [&] { return ExclusionLevel(std::min(best->squaredDistance, bound2), tau, slack); };
   SlotPool pool(ws, slotSize);

@@ -131,12 +131,6 @@ class CellSolver {
   static void SolveAffineSimplex(int paramDim, int ambientDim, const double* const* v, const double* point,
                                  CellSolveResult* result);
 
-  /// Lower bound of the squared distance from `point` to the cell: the
-  /// smallest Bernstein coefficient ratio of the squared distance (exact for
-  /// constant distance, tighter than the box), the box distance for affine
-  /// cells. Curved cells leave the q net of `point` in ws->scratch.
-  double SquaredDistanceLowerBound(const double* point, SolveWorkspace* ws) const;
-
   const CellView& cell() const { return cell_; }
   /// Axis-aligned box of the control points: lo[k], hi[k].
   const double* boxLo() const { return boxLo_; }
@@ -170,7 +164,16 @@ class CellSolver {
   /// unless the curvature bounds alone prove it.
   bool ExcessIsConvex(const double* point, double level, double* q) const;
 
-  bool Search(const double* point, double bound2, LocalSolveResult* best, int* iterations, SolveWorkspace* ws) const;
+  /// Lower bound of the squared distance from `point` to the cell: the
+  /// smallest Bernstein coefficient ratio of the squared distance (exact for
+  /// constant distance, tighter than the box) less `slack`, the nets'
+  /// RoundingSlack at `point`; the box distance for affine cells. Curved
+  /// cells leave the q net of `point` in ws->scratch.
+  double SquaredDistanceLowerBound(const double* point, double slack, SolveWorkspace* ws) const;
+
+  /// `slack`: the nets' RoundingSlack at `point`.
+  bool Search(const double* point, double bound2, double slack, LocalSolveResult* best, int* iterations,
+              SolveWorkspace* ws) const;
 
   CellView cell_;
   double boxLo_[3] = {0, 0, 0};
