@@ -116,7 +116,10 @@ BuildResult Manifold::Build(const Geometry& geometry) {
       }
     }
     impl->bvh = engine::BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
-    impl->wideBvh = engine::WideBvh(impl->bvh);
+    const engine::CellStore& store = impl->store;
+    impl->wideBvh = engine::WideBvh(impl->bvh, store.dimension(), [&store](int s, std::vector<double>* xyz) {
+      store.SubdivisionHullPoints(s, xyz);
+    });
     impl->simplices.Build(impl->store, impl->bvh);
     result.manifold.impl_ = std::move(impl);
   } catch (const std::bad_alloc&) {

@@ -91,6 +91,31 @@ std::string BezierShape(CellType cell, const int* degreeList, int count, int dim
 
 kernels::CellType ToKernelType(CellType type) { return static_cast<kernels::CellType>(type); }
 
+void CellStore::SubdivisionHullPoints(std::int64_t s, std::vector<double>* xyz) const {
+  if (isRegion(s)) {
+    const AffineRegion& region = subdivisionRegion(s);
+    if (region.paramDim == dimension_) return;
+    for (int corner = 0; corner < (1 << region.paramDim); ++corner) {
+      double x[3] = {0, 0, 0};
+      for (int k = 0; k < dimension_; ++k) {
+        x[k] = region.b[k];
+        for (int d = 0; d < region.paramDim; ++d) {
+          x[k] += region.A[k][d] * ((corner >> d) & 1 ? region.hi[d] : region.lo[d]);
+        }
+      }
+      xyz->insert(xyz->end(), x, x + 3);
+    }
+    return;
+  }
+  const std::int64_t cell = subdivisions_[s];
+  const kernels::CellShape& shape = shapes_[cell];
+  if (shape.paramDim() == dimension_) return;
+  const double* points = points_.data() + pointOffset_[cell];
+  for (int i = 0; i < shape.numControlPoints(); ++i) {
+    for (int k = 0; k < 3; ++k) xyz->push_back(k < dimension_ ? points[i * dimension_ + k] : 0.0);
+  }
+}
+
 void CellStore::AddCell(const kernels::CellShape& shape, const double* points, const double* weights,
                         const CellOrigin& origin) {
   const int n = shape.numControlPoints();

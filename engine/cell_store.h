@@ -84,6 +84,12 @@ class CellStore {
   const double* subdivisionBoxHi(std::int64_t s) const {
     return isRegion(s) ? subdivisionRegion(s).boxHi : solvers_[subdivisions_[s]].boxHi();
   }
+  /// Appends to `xyz` (3 coordinates per point, 0 as the third in 2D) points
+  /// whose convex hull holds subdivision `s`: a cell's control points
+  /// (weights are positive), a region's parameter-box corners mapped by its
+  /// affine map. Nothing for volumes: an oriented box (engine/oriented_box.h)
+  /// around a solid prunes little that its axis-aligned box does not.
+  void SubdivisionHullPoints(std::int64_t s, std::vector<double>* xyz) const;
 
  private:
   /// Appends one Bezier cell (control points copied) and its origin.

@@ -470,6 +470,7 @@ void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplice
     if (entry.count > 0) {
       for (int i = entry.first; i < entry.first + entry.count; ++i) {
         if (BoxDistance2(itemBoxes[i], search.p, dim) > search.best * search.best) continue;
+        if (WideBvh::OrientedDistance2(wide.ItemOrientedBox(i), point) > search.best * search.best) continue;
         const std::int64_t simplexCell = simplices.cell(i);
         if (simplexCell >= 0) {
           if (simplexCell != seeded) search.SolveSimplexItem(simplices, i);
@@ -481,29 +482,39 @@ void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplice
       continue;
     }
     const WideNode& node = wideNodes[entry.first];
-    double distance2[4];
-    WideBvh::ChildDistances2(node, point, distance2);
-    // The children within the best distance, pushed farthest first.
+    double box2[4], bound2[4];
+    WideBvh::ChildDistances2(node, point, box2, bound2);
+    // The children within the best distance, pushed farthest first. Nearest
+    // by box, not by the tighter bound: on the wavy surface that order finds
+    // the closest cell sooner (the solved cells of a near point ~20% fewer,
+    // measured), and the tighter bound still prunes.
     WideEntry near[4];
+    double order[4];
     int n = 0;
     for (int c = 0; c < 4; ++c) {
       // An unused slot is skipped outright: with no best distance yet (an
       // infinite gap tolerance, or a squared distance that overflows) its
       // infinite bound would pass the test.
-      if (node.count[c] < 0 || !(distance2[c] <= search.best * search.best)) continue;
-      WideEntry child{distance2[c], node.first[c], node.count[c]};
+      if (node.count[c] < 0 || !(bound2[c] <= search.best * search.best)) continue;
+      const WideEntry child{bound2[c], node.first[c], node.count[c]};
       int at = n++;
-      for (; at > 0 && near[at - 1].lowerBound2 < child.lowerBound2; --at) near[at] = near[at - 1];
+      for (; at > 0 && order[at - 1] < box2[c]; --at) {
+        near[at] = near[at - 1];
+        order[at] = order[at - 1];
+      }
       near[at] = child;
+      order[at] = box2[c];
     }
     // The children's memory is requested now, while the nearer ones are
     // searched: on large meshes the traversal waits on cache misses.
     for (int c = 0; c < n; ++c) {
       if (near[c].count == 0) {
-        __builtin_prefetch(&wideNodes[near[c].first]);
-        __builtin_prefetch(reinterpret_cast<const char*>(&wideNodes[near[c].first]) + 64);
+        for (int line = 0; line < static_cast<int>(sizeof(WideNode)); line += 64) {
+          __builtin_prefetch(reinterpret_cast<const char*>(&wideNodes[near[c].first]) + line);
+        }
       } else {
         __builtin_prefetch(&itemBoxes[near[c].first]);
+        __builtin_prefetch(&wide.ItemOrientedBox(near[c].first));
         if (!simplices.empty()) __builtin_prefetch(simplices.vertices(near[c].first));
       }
     }

@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include "engine/parallel.h"
+
 namespace invmap::engine {
 namespace {
 
@@ -30,7 +32,16 @@ void FillSlot(const BvhNode& node, int slot, std::int32_t first, WideNode* wide)
   wide->count[slot] = node.count;
 }
 
-/// A node with every slot unused: empty boxes.
+/// Puts `box` into slot `slot` of `wide`.
+void SetOrientedBox(const OrientedBox& box, int slot, WideNode* wide) {
+  for (int j = 0; j < 3; ++j) {
+    for (int k = 0; k < 3; ++k) wide->axis[j][k][slot] = box.axis[j][k];
+    wide->orientedLo[j][slot] = box.lo[j];
+    wide->orientedHi[j][slot] = box.hi[j];
+  }
+}
+
+/// A node with every slot unused: empty boxes, unbounded oriented boxes.
 WideNode EmptyWideNode() {
   WideNode wide;
   for (int k = 0; k < 3; ++k) {
@@ -39,6 +50,7 @@ WideNode EmptyWideNode() {
       wide.hi[k][c] = -kInfF;
     }
   }
+  for (int c = 0; c < 4; ++c) SetOrientedBox(UnboundedOrientedBox(), c, &wide);
   for (int c = 0; c < 4; ++c) {
     wide.first[c] = 0;
     wide.count[c] = -1;
@@ -46,10 +58,40 @@ WideNode EmptyWideNode() {
   return wide;
 }
 
+/// The items below each binary node, [first[i], end[i]): the Bvh lays its
+/// tree out depth first, so they are contiguous.
+void ItemRanges(const Bvh& bvh, std::vector<int>* first, std::vector<int>* end) {
+  const std::vector<BvhNode>& nodes = bvh.Nodes();
+  first->resize(nodes.size());
+  end->resize(nodes.size());
+  // Children come after their parent: a backward pass sees them first.
+  for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
+    const BvhNode& node = nodes[i];
+    (*first)[i] = node.count > 0 ? node.first : (*first)[node.first];
+    (*end)[i] = node.count > 0 ? node.first + node.count : (*end)[node.first + 1];
+  }
+}
+
+/// The oriented box along the principal axes of `moments` of the hull
+/// points of items [first, end) (Bvh::Items() order), which it reads once
+/// more for the intervals. `xyz` is scratch.
+OrientedBox FitItemsBox(const Bvh& bvh, int first, int end, int dimension, const HullPoints& hull,
+                        const PointMoments& moments, std::vector<double>* xyz) {
+  if (!moments.complete) return UnboundedOrientedBox();
+  OrientedBoxFitter fitter(dimension, bvh.Origin(), moments);
+  for (int i = first; i < end; ++i) {
+    xyz->clear();
+    hull(bvh.Items()[i], xyz);
+    fitter.AddToInterval(xyz->data(), xyz->size() / 3);
+  }
+  return fitter.Result();
+}
+
 }  // namespace
 
-WideBvh::WideBvh(const Bvh& bvh) {
+WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull) {
   const std::vector<BvhNode>& nodes = bvh.Nodes();
+  itemOriented_.assign(bvh.Items().size(), UnboundedOrientedBox());
   if (nodes.empty()) return;
   std::copy(bvh.Origin(), bvh.Origin() + 3, origin_);
   for (const BvhNode& node : nodes) {
@@ -58,9 +100,13 @@ WideBvh::WideBvh(const Bvh& bvh) {
   // (binary inner node, wide node) pairs still to fill with the binary
   // node's grandchildren.
   std::vector<std::pair<int, int>> pending;
+  // The binary node of each slot (4 per wide node), -1 for an unused one.
+  std::vector<int> slotBinary(4, -1);
   nodes_.push_back(EmptyWideNode());
   if (nodes[0].count > 0) {
     FillSlot(nodes[0], 0, nodes[0].first, &nodes_[0]);
+    slotBinary[0] = 0;
+    if (hull) FitOrientedBoxes(bvh, dimension, hull, slotBinary);
     return;
   }
   pending.emplace_back(0, 0);
@@ -85,11 +131,66 @@ WideBvh::WideBvh(const Bvh& bvh) {
       if (node.count == 0) {
         first = static_cast<std::int32_t>(nodes_.size());
         nodes_.push_back(EmptyWideNode());
+        slotBinary.resize(4 * nodes_.size(), -1);
         pending.emplace_back(slots[s], first);
       }
       FillSlot(node, s, first, &nodes_[wideIndex]);
+      slotBinary[4 * wideIndex + s] = slots[s];
     }
   }
+  if (hull) FitOrientedBoxes(bvh, dimension, hull, slotBinary);
+}
+
+void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& hull,
+                               const std::vector<int>& slotBinary) {
+  std::vector<int> first, end;
+  ItemRanges(bvh, &first, &end);
+  // Each item's moments and box from its own hull points.
+  std::vector<PointMoments> itemMoments(itemOriented_.size());
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(itemOriented_.size()), 1024,
+               [&](std::int64_t begin, std::int64_t stop) {
+                 std::vector<double> xyz;
+                 for (std::int64_t i = begin; i < stop; ++i) {
+                   xyz.clear();
+                   hull(bvh.Items()[i], &xyz);
+                   PointMoments& m = itemMoments[i];
+                   m = PointMoments::Of(xyz.data(), xyz.size() / 3);
+                   m.complete = !xyz.empty();
+                   if (!m.complete) continue;
+                   OrientedBoxFitter fitter(dimension, bvh.Origin(), m);
+                   fitter.AddToInterval(xyz.data(), xyz.size() / 3);
+                   itemOriented_[i] = fitter.Result();
+                 }
+               });
+  // The binary nodes' moments, merged up from their items and children
+  // (children come after their parent: a backward pass sees them first).
+  const std::vector<BvhNode>& nodes = bvh.Nodes();
+  std::vector<PointMoments> nodeMoments(nodes.size());
+  for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
+    const BvhNode& node = nodes[i];
+    if (node.count > 0) {
+      PointMoments m = itemMoments[node.first];
+      for (int item = node.first + 1; item < node.first + node.count; ++item) {
+        m = PointMoments::Merge(m, itemMoments[item]);
+      }
+      nodeMoments[i] = m;
+    } else {
+      nodeMoments[i] = PointMoments::Merge(nodeMoments[node.first], nodeMoments[node.first + 1]);
+    }
+  }
+  // Every slot's intervals read the hull points of all items below it: one
+  // pass over the points per level of the tree.
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(slotBinary.size()), 16,
+               [&](std::int64_t begin, std::int64_t stop) {
+                 std::vector<double> xyz;
+                 for (std::int64_t s = begin; s < stop; ++s) {
+                   const int binary = slotBinary[s];
+                   if (binary < 0) continue;
+                   const OrientedBox box =
+                       FitItemsBox(bvh, first[binary], end[binary], dimension, hull, nodeMoments[binary], &xyz);
+                   SetOrientedBox(box, static_cast<int>(s % 4), &nodes_[s / 4]);
+                 }
+               });
 }
 
 WidePoint WideBvh::Prepare(const double* p) const {
@@ -105,10 +206,28 @@ WidePoint WideBvh::Prepare(const double* p) const {
     // Rounded up, so the float slack is never below the double one.
     point.slack[k] = std::nextafter(static_cast<float>(slack), kInfF);
   }
+  // The gap along an oriented box's axis, axis . offset - hi with
+  // |axis| < 1 and |hi| within about the extent, rounds by a few float
+  // epsilons of the offsets and the extent together (and the offsets' own
+  // rounding); each axis's slack holds 16 epsilons of them.
+  point.axisSlack = std::nextafter(point.slack[0] + point.slack[1] + point.slack[2], kInfF);
   return point;
 }
 
-void WideBvh::ChildDistances2(const WideNode& node, const WidePoint& point, double* distance2) {
+double WideBvh::OrientedDistance2(const OrientedBox& box, const WidePoint& point) {
+  double d2 = 0.0;
+  for (int j = 0; j < 3; ++j) {
+    const float t =
+        box.axis[j][0] * point.offset[0] + box.axis[j][1] * point.offset[1] + box.axis[j][2] * point.offset[2];
+    // Written so that NaN (unbounded axes, offsets beyond the float range) gives 0.
+    const float shrunk = std::max(box.lo[j] - t, t - box.hi[j]) - point.axisSlack;
+    const double gap = shrunk > 0.0f ? shrunk : 0.0f;
+    d2 += gap * gap;
+  }
+  return d2;
+}
+
+void WideBvh::ChildDistances2(const WideNode& node, const WidePoint& point, double* box2, double* bound2) {
   float gap[3][4];
   for (int k = 0; k < 3; ++k) {
     for (int c = 0; c < 4; ++c) {
@@ -119,11 +238,26 @@ void WideBvh::ChildDistances2(const WideNode& node, const WidePoint& point, doub
       gap[k][c] = shrunk > 0.0f ? shrunk : 0.0f;
     }
   }
+  float orientedGap[3][4];
+  for (int j = 0; j < 3; ++j) {
+    for (int c = 0; c < 4; ++c) {
+      const float t = node.axis[j][0][c] * point.offset[0] + node.axis[j][1][c] * point.offset[1] +
+                      node.axis[j][2][c] * point.offset[2];
+      const float shrunk = std::max(node.orientedLo[j][c] - t, t - node.orientedHi[j][c]) - point.axisSlack;
+      orientedGap[j][c] = shrunk > 0.0f ? shrunk : 0.0f;
+    }
+  }
   // Squares in double: a gap near the float range would overflow in float.
   for (int c = 0; c < 4; ++c) {
     double d2 = 0.0;
     for (int k = 0; k < 3; ++k) d2 += static_cast<double>(gap[k][c]) * static_cast<double>(gap[k][c]);
-    distance2[c] = node.count[c] < 0 ? std::numeric_limits<double>::infinity() : d2;
+    double oriented2 = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      oriented2 += static_cast<double>(orientedGap[j][c]) * static_cast<double>(orientedGap[j][c]);
+    }
+    const double unused = node.count[c] < 0 ? std::numeric_limits<double>::infinity() : 0.0;
+    box2[c] = std::max(d2, unused);
+    bound2[c] = std::max({d2, oriented2, unused});
   }
 }
 

@@ -110,8 +110,8 @@ void ExpectConservativeDistances(const Bvh& bvh, const WideBvh& wide, const std:
     if (q % 5 == 0) std::copy(boxes[q].lo, boxes[q].lo + 3, p);
     const WidePoint point = wide.Prepare(p);
     for (int node = 0; node < static_cast<int>(wide.Nodes().size()); ++node) {
-      double distance2[4];
-      WideBvh::ChildDistances2(wide.Nodes()[node], point, distance2);
+      double distance2[4], bound2[4];
+      WideBvh::ChildDistances2(wide.Nodes()[node], point, distance2, bound2);
       for (int c = 0; c < 4; ++c) {
         std::vector<int> items;
         ItemsBelow(wide, node, c, &items);
