@@ -16,6 +16,7 @@
 #include "engine/bvh_build.h"
 #include "engine/oriented_box.h"
 #include "engine/wide_bvh.h"
+#include "tests/engine/wide_tree_items.h"
 #include "tests/support/closest_reference.h"
 
 namespace invmap::engine {
@@ -75,17 +76,6 @@ double ExactDistance2(const std::array<double, 9>& v, const double* p) {
   double d2 = 0.0;
   for (int k = 0; k < 3; ++k) d2 += (p[k] - x[k]) * (p[k] - x[k]);
   return d2;
-}
-
-/// The items below child c of wide node `node`.
-void ItemsBelow(const WideBvh& wide, int node, int c, std::vector<int>* items) {
-  const WideNode& w = wide.Nodes()[node];
-  if (w.count[c] > 0) {
-    for (int i = w.first[c]; i < w.first[c] + w.count[c]; ++i) items->push_back(i);
-    return;
-  }
-  if (w.count[c] < 0) return;
-  for (int g = 0; g < 4; ++g) ItemsBelow(wide, w.first[c], g, items);
 }
 
 /// For random points: every child's bound and every item's oriented bound is

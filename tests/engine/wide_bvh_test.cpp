@@ -12,6 +12,7 @@
 
 #include "engine/bvh_build.h"
 #include "engine/wide_bvh.h"
+#include "tests/engine/wide_tree_items.h"
 
 namespace invmap::engine {
 namespace {
@@ -65,17 +66,6 @@ void CollectLeaves(const WideBvh& wide, int node, std::vector<Child>* leaves) {
     ASSERT_LT(w.first[c], static_cast<int>(wide.Nodes().size()));
     CollectLeaves(wide, w.first[c], leaves);
   }
-}
-
-/// The items below child c of wide node `node`.
-void ItemsBelow(const WideBvh& wide, int node, int c, std::vector<int>* items) {
-  const WideNode& w = wide.Nodes()[node];
-  if (w.count[c] > 0) {
-    for (int i = w.first[c]; i < w.first[c] + w.count[c]; ++i) items->push_back(i);
-    return;
-  }
-  if (w.count[c] < 0) return;
-  for (int g = 0; g < 4; ++g) ItemsBelow(wide, w.first[c], g, items);
 }
 
 void ExpectLeavesMatchBinary(const Bvh& bvh, const WideBvh& wide) {
