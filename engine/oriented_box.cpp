@@ -48,6 +48,7 @@ OrientedBox UnboundedOrientedBox() {
 PointMoments PointMoments::Of(const double* xyz, std::size_t count) {
   PointMoments m;
   m.count = static_cast<double>(count);
+  m.complete = count > 0;
   if (count == 0) return m;
   for (std::size_t i = 0; i < count; ++i) m.mean += Eigen::Vector3d(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
   m.mean /= m.count;

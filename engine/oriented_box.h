@@ -45,7 +45,8 @@ struct PointMoments {
   /// False when some set merged in had no hull to give: no box then.
   bool complete = true;
 
-  /// The moments of `count` points (3 coordinates each).
+  /// The moments of `count` points (3 coordinates each); no points is no
+  /// hull (not complete).
   static PointMoments Of(const double* xyz, std::size_t count);
   /// The moments of the union of two sets.
   static PointMoments Merge(const PointMoments& a, const PointMoments& b);

@@ -155,7 +155,6 @@ void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& 
                    hull(bvh.Items()[i], &xyz);
                    PointMoments& m = itemMoments[i];
                    m = PointMoments::Of(xyz.data(), xyz.size() / 3);
-                   m.complete = !xyz.empty();
                    if (!m.complete) continue;
                    OrientedBoxFitter fitter(dimension, bvh.Origin(), m);
                    fitter.AddToInterval(xyz.data(), xyz.size() / 3);

@@ -213,8 +213,9 @@ TEST(PointMoments, MergedEqualsTheUnion) {
     }
   }
   EXPECT_TRUE(merged.complete);
-  PointMoments missing;
-  missing.complete = false;
+  // No points: no hull, and a union with it has none either.
+  const PointMoments missing = PointMoments::Of(nullptr, 0);
+  EXPECT_FALSE(missing.complete);
   EXPECT_FALSE(PointMoments::Merge(merged, missing).complete);
 }
 
