@@ -9,9 +9,9 @@ namespace {
 /// homogeneous sums directly for a polynomial cell, the quotient rule for a
 /// rational one. d2 comes out of the contraction as a lower triangle and is
 /// mirrored; entries beyond `Order` are not written.
-template <int Ambient, bool Rational, JetOrder Order, int... Dims>
+template <int Ambient, bool Rational, JetOrder Order, int LineDegree, int... Dims>
 void EvaluateTyped(const CellView& cell, const double* ref, MapJet* out) {
-  using Contraction = TensorContraction<Ambient, Rational, Order, Dims...>;
+  using Contraction = TensorContraction<Ambient, Rational, Order, LineDegree, Dims...>;
   constexpr int kParams = Contraction::kParams;
   const Contraction contraction(cell.shape, ref, cell.points, cell.weights);
   typename Contraction::Jet h;
@@ -57,36 +57,51 @@ void EvaluateTyped(const CellView& cell, const double* ref, MapJet* out) {
   }
 }
 
-// The three dispatch steps below turn the runtime order, weighting and
-// ambient dimension into template arguments of EvaluateTyped.
-template <int Ambient, bool Rational, int... Dims>
+// The dispatch steps below turn the runtime order, weighting, ambient
+// dimension and (for the commonest line-factor degrees) degree into template
+// arguments of EvaluateTyped.
+template <int Ambient, bool Rational, int LineDegree, int... Dims>
 void EvaluateForOrder(const CellView& cell, const double* ref, JetOrder order, MapJet* out) {
   switch (order) {
     case JetOrder::Value:
-      return EvaluateTyped<Ambient, Rational, JetOrder::Value, Dims...>(cell, ref, out);
+      return EvaluateTyped<Ambient, Rational, JetOrder::Value, LineDegree, Dims...>(cell, ref, out);
     case JetOrder::First:
-      return EvaluateTyped<Ambient, Rational, JetOrder::First, Dims...>(cell, ref, out);
+      return EvaluateTyped<Ambient, Rational, JetOrder::First, LineDegree, Dims...>(cell, ref, out);
     case JetOrder::Second:
-      return EvaluateTyped<Ambient, Rational, JetOrder::Second, Dims...>(cell, ref, out);
+      return EvaluateTyped<Ambient, Rational, JetOrder::Second, LineDegree, Dims...>(cell, ref, out);
   }
 }
 
-template <int Ambient, int... Dims>
+template <int Ambient, int LineDegree, int... Dims>
 void EvaluateForWeights(const CellView& cell, const double* ref, JetOrder order, MapJet* out) {
   if (cell.weights != nullptr) {
-    EvaluateForOrder<Ambient, true, Dims...>(cell, ref, order, out);
+    EvaluateForOrder<Ambient, true, LineDegree, Dims...>(cell, ref, order, out);
   } else {
-    EvaluateForOrder<Ambient, false, Dims...>(cell, ref, order, out);
+    EvaluateForOrder<Ambient, false, LineDegree, Dims...>(cell, ref, order, out);
   }
 }
 
-template <int... Dims>
+template <int LineDegree, int... Dims>
 void EvaluateForAmbient(const CellView& cell, const double* ref, JetOrder order, MapJet* out) {
   if (cell.ambientDim == 2) {
-    EvaluateForWeights<2, Dims...>(cell, ref, order, out);
+    EvaluateForWeights<2, LineDegree, Dims...>(cell, ref, order, out);
   } else {
-    EvaluateForWeights<3, Dims...>(cell, ref, order, out);
+    EvaluateForWeights<3, LineDegree, Dims...>(cell, ref, order, out);
   }
+}
+
+/// Quads and hexes: quadratic and cubic ones, where all factors share the
+/// degree, get loops of constant length (the second-order jet of a bicubic
+/// quad measured 1.36x faster, of a tricubic hex 1.2x); other degrees the
+/// general contraction. (Curves gained nothing measurable.)
+template <int... Dims>
+void EvaluateForLineDegree(const CellView& cell, const double* ref, JetOrder order, MapJet* out) {
+  const int degree = cell.shape.factor(0).degree;
+  bool uniform = true;
+  for (int f = 1; f < cell.shape.numFactors(); ++f) uniform = uniform && cell.shape.factor(f).degree == degree;
+  if (uniform && degree == 3) return EvaluateForAmbient<3, Dims...>(cell, ref, order, out);
+  if (uniform && degree == 2) return EvaluateForAmbient<2, Dims...>(cell, ref, order, out);
+  EvaluateForAmbient<0, Dims...>(cell, ref, order, out);
 }
 
 }  // namespace
@@ -95,17 +110,17 @@ void EvaluateMap(const CellView& cell, const double* ref, JetOrder order, MapJet
   // Factor dimensions per cell type, first factor first (CellShape::FactorDimOf).
   switch (cell.shape.type()) {
     case CellType::Line:
-      return EvaluateForAmbient<1>(cell, ref, order, out);
+      return EvaluateForAmbient<0, 1>(cell, ref, order, out);
     case CellType::Tri:
-      return EvaluateForAmbient<2>(cell, ref, order, out);
+      return EvaluateForAmbient<0, 2>(cell, ref, order, out);
     case CellType::Quad:
-      return EvaluateForAmbient<1, 1>(cell, ref, order, out);
+      return EvaluateForLineDegree<1, 1>(cell, ref, order, out);
     case CellType::Tet:
-      return EvaluateForAmbient<3>(cell, ref, order, out);
+      return EvaluateForAmbient<0, 3>(cell, ref, order, out);
     case CellType::Hex:
-      return EvaluateForAmbient<1, 1, 1>(cell, ref, order, out);
+      return EvaluateForLineDegree<1, 1, 1>(cell, ref, order, out);
     case CellType::Wedge:
-      return EvaluateForAmbient<2, 1>(cell, ref, order, out);
+      return EvaluateForAmbient<0, 2, 1>(cell, ref, order, out);
   }
 }
 

@@ -94,7 +94,9 @@ auto& BasisOf(Bases& bases) {
 /// The bases of a cell whose simplex factors have dimensions Dims (first
 /// factor fastest in the net), and the contraction of its control net
 /// (Ambient coordinates per point, plus weights when Rational) with them.
-template <int Ambient, bool Rational, JetOrder Order, int... Dims>
+/// LineDegree > 0: every line factor has that degree, so the loops over
+/// their bases have a constant length and unroll (0: any degrees).
+template <int Ambient, bool Rational, JetOrder Order, int LineDegree, int... Dims>
 class TensorContraction {
  public:
   static constexpr int kComps = Ambient + (Rational ? 1 : 0);
@@ -142,9 +144,11 @@ class TensorContraction {
       }
     } else {
       const auto& basis = BasisOf<K - 1>(bases_);
+      constexpr int kFixedSize = kDims[K - 1] == 1 && LineDegree > 0 ? LineDegree + 1 : 0;
+      const int size = kFixedSize > 0 ? kFixedSize : basis.size;
       out->Clear();
       PartialJet<kComps, ParamsOf(K - 1), Order> part;
-      for (int b = 0; b < basis.size; ++b) {
+      for (int b = 0; b < size; ++b) {
         Contract<K - 1>(block * basis.size + b, &part);
         AccumulateFactor(part, basis, b, out);
       }
