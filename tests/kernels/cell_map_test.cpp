@@ -1,6 +1,6 @@
 // kernels::EvaluateMap against the reference's multinomial formula: value,
 // first and second derivatives of every cell type, for uniform degrees (which
-// quads and hexes of degree 2 and 3 evaluate with loops of constant length)
+// cubic quads and hexes evaluate with loops of constant length)
 // and mixed ones, polynomial and rational, in 2D and 3D, inside and outside
 // the reference domain.
 #include <gtest/gtest.h>
