@@ -5,15 +5,6 @@
 
 namespace invmap::kernels {
 
-void FactorBarycentric(const CellShape& shape, int f, const double* ref, double* lambda) {
-  const SimplexFactor& fac = shape.factor(f);
-  lambda[0] = 1.0;
-  for (int i = 0; i < fac.dim; ++i) {
-    lambda[i + 1] = ref[fac.offset + i];
-    lambda[0] -= ref[fac.offset + i];
-  }
-}
-
 void ClampToDomain(const CellShape& shape, double* ref) {
   for (int f = 0; f < shape.numFactors(); ++f) {
     const SimplexFactor& fac = shape.factor(f);

@@ -14,8 +14,16 @@ struct ActiveSet {
   unsigned enforced[kMaxFactors] = {0, 0, 0};
 };
 
-/// Barycentric coordinates (lambda_0..lambda_d) of factor `f` at reference point `ref`.
-void FactorBarycentric(const CellShape& shape, int f, const double* ref, double* lambda);
+/// Barycentric coordinates (lambda_0..lambda_d) of factor `f` at reference
+/// point `ref`. Inline: the local solve's every step asks for them.
+inline void FactorBarycentric(const CellShape& shape, int f, const double* ref, double* lambda) {
+  const SimplexFactor& fac = shape.factor(f);
+  lambda[0] = 1.0;
+  for (int i = 0; i < fac.dim; ++i) {
+    lambda[i + 1] = ref[fac.offset + i];
+    lambda[0] -= ref[fac.offset + i];
+  }
+}
 
 /// Clamps `ref` into the reference domain (each simplex factor separately).
 void ClampToDomain(const CellShape& shape, double* ref);

@@ -48,7 +48,12 @@ double FeasibleFraction(const CellShape& shape, const ActiveSet& active, const d
     }
     for (int k = 0; k <= fac.dim; ++k) {
       if ((active.enforced[f] & (1u << k)) || dLambda[k] >= 0.0) continue;
-      const double a = std::max(0.0, lambda[k]) / -dLambda[k];
+      // Most constraints are nowhere near blocking: those with twice the
+      // room the step needs skip the division (the test is exact: their
+      // fraction is at least 2 alpha, rounding included).
+      const double room = std::max(0.0, lambda[k]);
+      if (room >= 2.0 * alpha * -dLambda[k]) continue;
+      const double a = room / -dLambda[k];
       if (a < alpha) {
         alpha = a;
         *blockFactor = f;
@@ -252,20 +257,21 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
   const double feasible = FeasibleFraction(shape, active, ref, step.data(), &blockFactor, &blockIndex);
   const double slope = 2.0 * g.dot(step);  // derivative of |r|^2 along the step
   if (!(slope < 0.0)) return StepOutcome::Rejected;
-  if (blockFactor >= 0 && feasible * step.norm() <= kStepTolerance) {
+  const double length = step.norm();
+  if (blockFactor >= 0 && feasible * length <= kStepTolerance) {
     // Already on that constraint's face (up to rounding): a descent step
     // that leaves the domain at once means the constraint becomes active.
     active.enforced[blockFactor] |= 1u << blockIndex;
     return StepOutcome::Blocked;
   }
-  if (newton && blockFactor < 0 && -slope <= fNoise && step.norm() <= kFinalStep) {
+  if (newton && blockFactor < 0 && -slope <= fNoise && length <= kFinalStep) {
     for (int i = 0; i < pd; ++i) ref[i] += step[i];
     return StepOutcome::Final;
   }
   double alpha = feasible;
   double trial[3];
   for (int halving = 0; halving < 60; ++halving) {
-    if (alpha * step.norm() <= kStepTolerance || -alpha * slope <= fNoise) return StepOutcome::Negligible;
+    if (alpha * length <= kStepTolerance || -alpha * slope <= fNoise) return StepOutcome::Negligible;
     for (int i = 0; i < pd; ++i) trial[i] = ref[i] + alpha * step[i];
     EvaluateMap(cell, trial, trialOrder, trialJet);
     const double fTrial = SquaredDistance(*trialJet, point, cell.ambientDim);
