@@ -388,7 +388,8 @@ bool CellSolver::NearestControlPointStart(const double* point, double* ref) cons
   // Control point (i, j, ..) sits over the Greville parameters (i / p, j / q, ..).
   // A volume's start is kept off the faces: a start on a face enforces its
   // constraint, which rules out the full-rank step for the rest of the solve.
-  // (Curves and surfaces start faster on the face: measured.)
+  // Curves and surfaces start on the face: LocalSolve keeps only the
+  // constraints the descent presses against there (a point beyond the edge).
   const double inset = isFullRank() ? kStartInset : 0.0;
   for (int f = 0; f < shape.numFactors(); ++f) {
     const int n = shape.factor(f).degree + 1;

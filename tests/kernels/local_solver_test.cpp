@@ -1,8 +1,10 @@
-// The local solve (kernels/local_solver.h) started on a face of a cell whose
-// closest point is inside: it must leave the face (release the constraint)
-// and stop at a KKT point, the interior minimum the brute-force reference
-// finds. A solve that stops on the face is a wrong start for the cell
-// search's certificate, which only trusts KKT points.
+// The local solve (kernels/local_solver.h) against the brute-force
+// reference. Started on a face of a cell whose closest point is inside, it
+// must leave the face (release the constraint) and stop at a KKT point, the
+// interior minimum; a solve that stops on the face is a wrong start for the
+// cell search's certificate, which only trusts KKT points. Started in the
+// basin of the closest point of a curve or surface (the interior fast path),
+// it must reach that point, inside or on the boundary.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +17,7 @@
 namespace {
 
 using invmap::kernels::CellType;
+using invmap::testing::RefClosest;
 using invmap::kernels::LocalSolve;
 using invmap::kernels::LocalSolveOptions;
 using invmap::testing::BruteForceReference;
@@ -73,6 +76,57 @@ TEST(LocalSolve, StartOnAFaceReachesTheInteriorMinimum) {
   // A local solve may end in another basin now and then; from the basin's
   // own parameters with one moved to a face, it rarely does.
   EXPECT_GT(matched, checked * 9 / 10);
+}
+
+TEST(LocalSolve, CurvesAndSurfacesReachTheClosestPointOfTheirBasin) {
+  // Lines in the plane and in space, quads in space (the interior fast
+  // path's cells), degrees 1 to 4, every third rational; points near the
+  // cell and up to 40% of its size away, in any direction, so that some
+  // closest points lie on the boundary (the fast path hands over there).
+  struct Kind {
+    CellType type;
+    int ambientDim;
+  };
+  const Kind kinds[] = {{CellType::Quad, 3}, {CellType::Line, 2}, {CellType::Line, 3}};
+  std::mt19937_64 rng(424242);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), symmetric(-1.0, 1.0);
+  int checked = 0, matched = 0, onBoundary = 0, inside = 0;
+  for (int trial = 0; trial < 240; ++trial) {
+    const Kind kind = kinds[trial % 3];
+    const RefCell cell = RandomCurvedCell(kind.type, 1 + trial / 3 % 4, trial % 3 == 0, kind.ambientDim, rng);
+    const int pd = cell.paramDim();
+    const double u[2] = {unit(rng), unit(rng)};
+    RefJet jet;
+    RefEvaluateJet(cell, u, 0, &jet);
+    const double offset = (trial % 2 == 0 ? 0.02 : 0.4) * cell.size();
+    double point[3] = {0, 0, 0}, direction[3] = {0, 0, 0}, length2 = 0.0;
+    for (int k = 0; k < kind.ambientDim; ++k) {
+      direction[k] = symmetric(rng);
+      length2 += direction[k] * direction[k];
+    }
+    for (int k = 0; k < kind.ambientDim; ++k) point[k] = jet.x[k] + offset * direction[k] / std::sqrt(length2);
+    BruteForceReference reference(cell);
+    const RefClosest expected = reference.Closest(point);
+    // A start in the answer's basin, inside the domain (an answer on the
+    // boundary is then reached by steps that leave it): the answer's
+    // parameters moved by up to 0.05, kept 0.02 off the faces.
+    double start[3] = {0, 0, 0};
+    for (int i = 0; i < pd; ++i) start[i] = std::clamp(expected.ref[i] + 0.05 * symmetric(rng), 0.02, 0.98);
+    LocalSolveOptions options;
+    options.size = cell.size();
+    options.checkKkt = true;
+    const auto result = LocalSolve(cell.view(), point, start, options);
+    SCOPED_TRACE(::testing::Message() << "trial " << trial << "\n" << invmap::testing::Describe(cell));
+    ++checked;
+    EXPECT_TRUE(result.converged);
+    EXPECT_TRUE(result.kkt) << "stopped at a point that is not a KKT point";
+    (result.onBoundary ? onBoundary : inside) += 1;
+    if (std::abs(std::sqrt(result.squaredDistance) - expected.distance) <= 1e-9 * cell.size()) ++matched;
+  }
+  EXPECT_GT(onBoundary, 20);
+  EXPECT_GT(inside, 20);
+  // Distinct minima within 0.05 of each other in the parameters are rare.
+  EXPECT_GE(matched, checked * 97 / 100);
 }
 
 TEST(LocalSolve, FaceSolvesFarFromTheOriginConverge) {
