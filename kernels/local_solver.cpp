@@ -337,26 +337,46 @@ void ReleaseInwardConstraints(const CellView& cell, const MapJet& jet, const dou
   }
 }
 
-/// How InteriorNewton left the solve.
-enum class InteriorOutcome { Converged, AboveLevel, Handover };
+/// How LineFactorNewton left the solve.
+enum class FastOutcome { Converged, AboveLevel, Handover };
 
-/// The interior iterations of a curve or surface cell of line factors
-/// (lines and quads in a higher-dimensional space) in their common case:
-/// Newton steps of the full Hessian that stay in the domain and pass the
-/// Armijo test at once. The steps, tests and tolerances are the general
-/// loop's (see LocalSolve); what is left out is its active-set machinery,
-/// and the dimensions are fixed at compile time. That machinery's generic
-/// loops took about twice the time of the map's evaluation on a near point
-/// of a bicubic surface (measured). Any other case (a step that leaves the
-/// domain, fails the Armijo test, or a Hessian that is not positive
-/// definite) hands over to the general loop at the current iterate, with the
-/// map evaluated there to second order.
+/// The iterations of a curve or surface cell of line factors (lines and
+/// quads in a higher-dimensional space) in their common case: Newton steps
+/// of the full Hessian over the free parameters (those of no enforced
+/// constraint: on a face, the others stay at 0 or 1) that stay in the domain
+/// and pass the Armijo test at once, until the face is stationary and no
+/// enforced constraint's multiplier asks for a release. The steps, tests and
+/// tolerances are the general loop's (see LocalSolve); what is left out is
+/// its active-set machinery, and the dimensions are fixed at compile time.
+/// That machinery's generic loops took about twice the time of the map's
+/// evaluation on a near point of a bicubic surface (measured). Any other
+/// case (a step that leaves the domain or fails the Armijo test, a Hessian
+/// that is not positive definite, a constraint to release) hands over to the
+/// general loop at the current iterate, with the active set unchanged.
 template <int PD, int AD>
-InteriorOutcome InteriorNewton(const CellView& cell, const double* point, const LocalSolveOptions& options,
-                               double* ref, JetCache* jets, bool* exclusionPending, int* iter,
-                               LocalSolveResult* result) {
+FastOutcome LineFactorNewton(const CellView& cell, const double* point, const LocalSolveOptions& options,
+                             const ActiveSet& active, double* ref, JetCache* jets, bool* exclusionPending, int* iter,
+                             LocalSolveResult* result) {
   const double size = options.size;
   const double gradTol = kGradientTolerance * size;
+  // Parameter i is factor i's: free, or held at 0 (constraint 1 enforced,
+  // released toward +u_i) or at 1 (constraint 0, released toward -u_i).
+  int freeCoords[3], m = 0;
+  double releaseSign[3] = {0, 0, 0};
+  for (int i = 0; i < PD; ++i) {
+    if (active.enforced[i] == 0) {
+      freeCoords[m++] = i;
+    } else {
+      releaseSign[i] = (active.enforced[i] & 2u) ? 1.0 : -1.0;
+    }
+  }
+  // True when no enforced constraint's multiplier is below -residualScale.
+  const auto noRelease = [&](const double* grad, double residualScale) {
+    for (int i = 0; i < PD; ++i) {
+      if (releaseSign[i] != 0.0 && releaseSign[i] * grad[i] < -residualScale) return false;
+    }
+    return true;
+  };
   for (; *iter < options.maxIterations; ++*iter) {
     result->iterations = *iter + 1;
     jets->EnsureAt(cell, ref, JetOrder::Second);
@@ -369,78 +389,85 @@ InteriorOutcome InteriorNewton(const CellView& cell, const double* point, const 
     if (*exclusionPending &&
         TangentPlaneLowerBound(cell.shape, AD, jet, point, ref, options.exclusionLevel, size) > 0.0) {
       *exclusionPending = false;
-      if (options.confirmExclusion(options.exclusionContext)) return InteriorOutcome::AboveLevel;
+      if (options.confirmExclusion(options.exclusionContext)) return FastOutcome::AboveLevel;
     }
     double grad[3] = {0, 0, 0};
-    double reducedNorm2 = 0.0;  // InteriorReducedGradientNorm for line factors: |g|^2 / 2
     for (int i = 0; i < PD; ++i) {
       for (int k = 0; k < AD; ++k) grad[i] += jet.d1[k][i] * r[k];
-      reducedNorm2 += 0.5 * grad[i] * grad[i];
     }
-    if (std::sqrt(reducedNorm2) <= gradTol * (size + std::sqrt(f))) return InteriorOutcome::Converged;
+    // The gradient reduced to the free face (see FreeLineParameters).
+    double reducedNorm2 = 0.0;
+    for (int a = 0; a < m; ++a) reducedNorm2 += 0.5 * grad[freeCoords[a]] * grad[freeCoords[a]];
+    const double residualScale = gradTol * (size + std::sqrt(f));
+    if (std::sqrt(reducedNorm2) <= residualScale) {
+      return noRelease(grad, residualScale) ? FastOutcome::Converged : FastOutcome::Handover;
+    }
     double magnitude = size;
     for (int k = 0; k < AD; ++k) magnitude = std::max(magnitude, std::abs(point[k]) + std::abs(r[k]));
     const double rError = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
     const double fNoise = 2.0 * std::sqrt(f) * rError + rError * rError;
 
-    double h[3][3], step[3];
-    for (int a = 0; a < PD; ++a) {
+    double h[3][3], g[3], x[3];
+    for (int a = 0; a < m; ++a) {
+      const int i = freeCoords[a];
+      g[a] = grad[i];
       for (int b = 0; b <= a; ++b) {
+        const int j = freeCoords[b];
         double v = 0.0;
-        for (int k = 0; k < AD; ++k) v += jet.d1[k][a] * jet.d1[k][b] + r[k] * jet.d2[k][a][b];
+        for (int k = 0; k < AD; ++k) v += jet.d1[k][i] * jet.d1[k][j] + r[k] * jet.d2[k][i][j];
         h[a][b] = h[b][a] = v;
       }
     }
-    if (!NewtonStepOf(h, PD, grad, step)) return InteriorOutcome::Handover;
-    double trial[3] = {0, 0, 0}, slope = 0.0, length2 = 0.0;
+    if (!NewtonStepOf(h, m, g, x)) return FastOutcome::Handover;
+    double trial[3] = {ref[0], ref[1], ref[2]}, slope = 0.0, length2 = 0.0;
     bool inside = true;
-    for (int i = 0; i < PD; ++i) {
-      trial[i] = ref[i] + step[i];
+    for (int a = 0; a < m; ++a) {
+      const int i = freeCoords[a];
+      trial[i] = ref[i] + x[a];
       inside = inside && trial[i] >= 0.0 && trial[i] <= 1.0;
-      slope += 2.0 * grad[i] * step[i];
-      length2 += step[i] * step[i];
+      slope += 2.0 * g[a] * x[a];
+      length2 += x[a] * x[a];
     }
     const double length = std::sqrt(length2);
-    if (!inside) return InteriorOutcome::Handover;
+    if (!inside) return FastOutcome::Handover;
     if (-slope <= fNoise && length <= kFinalStep) {
+      // In the quadratic region: the step is taken unchecked, and on a face
+      // the multipliers of this iterate decide (as in the general loop).
       std::copy(trial, trial + PD, ref);
       jets->valid = false;
-      return InteriorOutcome::Converged;
+      return noRelease(grad, residualScale) ? FastOutcome::Converged : FastOutcome::Handover;
     }
-    if (length <= kStepTolerance || -slope <= fNoise) return InteriorOutcome::Handover;
+    if (length <= kStepTolerance || -slope <= fNoise) return FastOutcome::Handover;
     EvaluateMap(cell, trial, JetOrder::Second, jets->trial);
     const double fTrial = SquaredDistance(*jets->trial, point, AD);
-    if (!(fTrial <= f + 1e-4 * slope && fTrial < f)) return InteriorOutcome::Handover;
+    if (!(fTrial <= f + 1e-4 * slope && fTrial < f)) return FastOutcome::Handover;
     std::copy(trial, trial + PD, ref);
     jets->AcceptTrial(JetOrder::Second);
   }
-  return InteriorOutcome::Handover;
+  return FastOutcome::Handover;
 }
 
-/// InteriorNewton for the cell's dimensions; Handover at once for cells it
-/// does not cover (a volume, a simplex factor, an affine map, a start on the
-/// boundary).
-InteriorOutcome InteriorNewtonFor(const CellView& cell, const double* point, const LocalSolveOptions& options,
-                                  const ActiveSet& active, double* ref, JetCache* jets, bool* exclusionPending,
-                                  int* iter, LocalSolveResult* result) {
+/// LineFactorNewton for the cell's dimensions; Handover at once for cells it
+/// does not cover (a volume, a simplex factor, an affine map).
+FastOutcome LineFactorNewtonFor(const CellView& cell, const double* point, const LocalSolveOptions& options,
+                                const ActiveSet& active, double* ref, JetCache* jets, bool* exclusionPending,
+                                int* iter, LocalSolveResult* result) {
   const CellShape& shape = cell.shape;
-  if (options.affine || active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0) {
-    return InteriorOutcome::Handover;
-  }
+  if (options.affine) return FastOutcome::Handover;
   for (int f = 0; f < shape.numFactors(); ++f) {
-    if (shape.factor(f).dim != 1) return InteriorOutcome::Handover;
+    if (shape.factor(f).dim != 1) return FastOutcome::Handover;
   }
   const int pd = shape.paramDim();
   if (pd == 2 && cell.ambientDim == 3) {
-    return InteriorNewton<2, 3>(cell, point, options, ref, jets, exclusionPending, iter, result);
+    return LineFactorNewton<2, 3>(cell, point, options, active, ref, jets, exclusionPending, iter, result);
   }
   if (pd == 1 && cell.ambientDim == 2) {
-    return InteriorNewton<1, 2>(cell, point, options, ref, jets, exclusionPending, iter, result);
+    return LineFactorNewton<1, 2>(cell, point, options, active, ref, jets, exclusionPending, iter, result);
   }
   if (pd == 1 && cell.ambientDim == 3) {
-    return InteriorNewton<1, 3>(cell, point, options, ref, jets, exclusionPending, iter, result);
+    return LineFactorNewton<1, 3>(cell, point, options, active, ref, jets, exclusionPending, iter, result);
   }
-  return InteriorOutcome::Handover;
+  return FastOutcome::Handover;
 }
 
 }  // namespace
@@ -475,11 +502,11 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     ReleaseInwardConstraints(cell, *jets.atRef, point, &active);
   }
   int iter = 0;
-  const InteriorOutcome interior =
-      InteriorNewtonFor(cell, point, options, active, ref, &jets, &exclusionPending, &iter, &result);
-  result.converged = interior == InteriorOutcome::Converged;
-  result.aboveLevel = interior == InteriorOutcome::AboveLevel;
-  for (; interior == InteriorOutcome::Handover && iter < options.maxIterations; ++iter) {
+  const FastOutcome fast =
+      LineFactorNewtonFor(cell, point, options, active, ref, &jets, &exclusionPending, &iter, &result);
+  result.converged = fast == FastOutcome::Converged;
+  result.aboveLevel = fast == FastOutcome::AboveLevel;
+  for (; fast == FastOutcome::Handover && iter < options.maxIterations; ++iter) {
     result.iterations = iter + 1;
     // 7.3.2.1 only while no constraint has been met: a point that drove the
     // solve onto the boundary is outside the cell, where -J^-1 r keeps
