@@ -20,6 +20,7 @@ using invmap::kernels::CellType;
 using invmap::testing::RefClosest;
 using invmap::kernels::LocalSolve;
 using invmap::kernels::LocalSolveOptions;
+using invmap::testing::AffineCell;
 using invmap::testing::BruteForceReference;
 using invmap::testing::RandomCurvedCell;
 using invmap::testing::RefCell;
@@ -107,11 +108,14 @@ TEST(LocalSolve, CurvesAndSurfacesReachTheClosestPointOfTheirBasin) {
     for (int k = 0; k < kind.ambientDim; ++k) point[k] = jet.x[k] + offset * direction[k] / std::sqrt(length2);
     BruteForceReference reference(cell);
     const RefClosest expected = reference.Closest(point);
-    // A start in the answer's basin, inside the domain (an answer on the
-    // boundary is then reached by steps that leave it): the answer's
-    // parameters moved by up to 0.05, kept 0.02 off the faces.
+    // A start in the answer's basin: the answer's parameters moved by up to
+    // 0.05, kept 0.02 off the faces (an answer on the boundary is then
+    // reached by steps that leave the domain), or every other trial clamped
+    // onto them (the solve then starts on a face, and keeps its constraint
+    // only when the descent presses against it).
+    const double margin = trial % 4 < 2 ? 0.02 : 0.0;
     double start[3] = {0, 0, 0};
-    for (int i = 0; i < pd; ++i) start[i] = std::clamp(expected.ref[i] + 0.05 * symmetric(rng), 0.02, 0.98);
+    for (int i = 0; i < pd; ++i) start[i] = std::clamp(expected.ref[i] + 0.05 * symmetric(rng), margin, 1.0 - margin);
     LocalSolveOptions options;
     options.size = cell.size();
     options.checkKkt = true;
@@ -127,6 +131,31 @@ TEST(LocalSolve, CurvesAndSurfacesReachTheClosestPointOfTheirBasin) {
   EXPECT_GT(inside, 20);
   // Distinct minima within 0.05 of each other in the parameters are rare.
   EXPECT_GE(matched, checked * 97 / 100);
+}
+
+TEST(LocalSolve, ReleasesAFaceConstraintThatStopsPressing) {
+  // The plane z = 0 parametrized as x = u, y = v + (u - 1/2)^2 / 2 (a quad of
+  // degrees 2 and 1; the parabola's Bernstein coefficients are 1/8, -1/8,
+  // 1/8). From the start (0.95, 0) the point (0.5, 0.1, 0) pulls toward
+  // v < 0, so the solve starts on the face v = 0; sliding along it toward
+  // u = 0.5, the pull turns into the cell, whose interior holds the point.
+  const double a[6] = {1, 0, 0, 1, 0, 0}, b[3] = {0, 0, 0};
+  RefCell cell = AffineCell(CellType::Quad, {2, 1, 0}, 3, a, b);
+  for (std::size_t c = 0; c < cell.points.size(); c += 3) {
+    cell.points[c + 1] += cell.points[c] == 0.5 ? -0.125 : 0.125;
+  }
+  const double point[3] = {0.5, 0.1, 0.0};
+  const double start[2] = {0.95, 0.0};
+  LocalSolveOptions options;
+  options.size = cell.size();
+  options.checkKkt = true;
+  const auto result = LocalSolve(cell.view(), point, start, options);
+  EXPECT_TRUE(result.converged);
+  EXPECT_TRUE(result.kkt);
+  EXPECT_FALSE(result.onBoundary);
+  EXPECT_LT(std::sqrt(result.squaredDistance), 1e-12);
+  EXPECT_NEAR(result.ref[0], 0.5, 1e-9);
+  EXPECT_NEAR(result.ref[1], 0.1, 1e-9);
 }
 
 TEST(LocalSolve, FaceSolvesFarFromTheOriginConverge) {
