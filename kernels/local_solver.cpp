@@ -31,6 +31,16 @@ double SquaredDistance(const MapJet& jet, const double* point, int ambientDim) {
   return f;
 }
 
+/// The rounding level of f = |r|^2 (r = x - point): the map's coordinates
+/// carry errors of a few ulps of the coordinates' magnitude, and f doubles
+/// their relative size.
+double RoundingOfF(const double* point, const double* r, int ambientDim, double size, double f) {
+  double magnitude = size;
+  for (int k = 0; k < ambientDim; ++k) magnitude = std::max(magnitude, std::abs(point[k]) + std::abs(r[k]));
+  const double rError = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  return 2.0 * std::sqrt(f) * rError + rError * rError;
+}
+
 /// Largest step fraction in (0, 1] that keeps every free barycentric
 /// coordinate non-negative, and the constraint that blocks it (factor, index).
 double FeasibleFraction(const CellShape& shape, const ActiveSet& active, const double* ref, const double* step,
@@ -171,7 +181,7 @@ bool NewtonStepOf(const double h[3][3], int m, const double* g, double* x) {
 /// block of H is positive definite and the step is finite and descends.
 bool NewtonStepOver(const MapJet& jet, const double* r, const double* grad, const int* coords, int m, int ad,
                     double* step) {
-  double h[3][3], g[3], x[3];
+  double h[3][3], g[3] = {0, 0, 0}, x[3];  // g zeroed for the compiler: it is read only below m
   for (int a = 0; a < m; ++a) {
     const int i = coords[a];
     g[a] = grad[i];
@@ -402,31 +412,18 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
     if (std::sqrt(reducedNorm2) <= residualScale) {
       return noRelease(grad, residualScale) ? FastOutcome::Converged : FastOutcome::Handover;
     }
-    double magnitude = size;
-    for (int k = 0; k < AD; ++k) magnitude = std::max(magnitude, std::abs(point[k]) + std::abs(r[k]));
-    const double rError = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
-    const double fNoise = 2.0 * std::sqrt(f) * rError + rError * rError;
+    const double fNoise = RoundingOfF(point, r, AD, size, f);
 
-    double h[3][3], g[3], x[3];
-    for (int a = 0; a < m; ++a) {
-      const int i = freeCoords[a];
-      g[a] = grad[i];
-      for (int b = 0; b <= a; ++b) {
-        const int j = freeCoords[b];
-        double v = 0.0;
-        for (int k = 0; k < AD; ++k) v += jet.d1[k][i] * jet.d1[k][j] + r[k] * jet.d2[k][i][j];
-        h[a][b] = h[b][a] = v;
-      }
-    }
-    if (!NewtonStepOf(h, m, g, x)) return FastOutcome::Handover;
+    double step[3];
+    if (!NewtonStepOver(jet, r, grad, freeCoords, m, AD, step)) return FastOutcome::Handover;
     double trial[3] = {ref[0], ref[1], ref[2]}, slope = 0.0, length2 = 0.0;
     bool inside = true;
     for (int a = 0; a < m; ++a) {
       const int i = freeCoords[a];
-      trial[i] = ref[i] + x[a];
+      trial[i] = ref[i] + step[i];
       inside = inside && trial[i] >= 0.0 && trial[i] <= 1.0;
-      slope += 2.0 * g[a] * x[a];
-      length2 += x[a] * x[a];
+      slope += 2.0 * grad[i] * step[i];
+      length2 += step[i] * step[i];
     }
     const double length = std::sqrt(length2);
     if (!inside) return FastOutcome::Handover;
@@ -539,12 +536,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       for (int k = 0; k < ad; ++k) grad[i] += jet.d1[k][i] * r[k];
     }
     const double residualScale = gradTol * (size + std::sqrt(f));
-    // Rounding of f: the map's coordinates carry errors of a few ulps of the
-    // coordinates' magnitude, and f = |r|^2 doubles their relative size.
-    double magnitude = size;
-    for (int k = 0; k < ad; ++k) magnitude = std::max(magnitude, std::abs(point[k]) + std::abs(r[k]));
-    const double rError = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
-    const double fNoise = 2.0 * std::sqrt(f) * rError + rError * rError;
+    const double fNoise = RoundingOfF(point, r, ad, size, f);
 
     const Vector g = Eigen::Map<const Vector>(grad);
     // The common cases without the fallbacks' set-up: in the interior, the
