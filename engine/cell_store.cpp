@@ -135,6 +135,7 @@ void CellStore::AddCell(const kernels::CellShape& shape, const double* points, c
 std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
   dimension_ = geometry.dimension;
   numPatches_ = geometry.patches.size();
+  splineSpans_.assign(numPatches_, {0, 0, 0});
   if (dimension_ != 2 && dimension_ != 3) {
     return "dimension: " + std::to_string(dimension_) + ", expected 2 or 3";
   }
@@ -173,6 +174,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         const ExtractedCells cells = ExtractBezierCells(spline);
         const kernels::CellShape shape(cells.type, cells.degrees);
         splineGrids.push_back({static_cast<std::int64_t>(shapes_.size()), cells.spans, cells.paramDim});
+        splineSpans_[p] = cells.spans;
         for (int c = 0; c < cells.numCells; ++c) {
           origin.indexInPatch = c;
           origin.sharedParameters = true;
@@ -323,6 +325,22 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
     }
   }
   return {};
+}
+
+std::int64_t CellStore::SplineNeighbor(std::int64_t cell, const int* step) const {
+  const CellOrigin& origin = origins_[cell];
+  if (!origin.sharedParameters) return -1;
+  const std::array<int, 3>& spans = splineSpans_[origin.patch];
+  // Cells follow their patch's span grid, first direction fastest.
+  std::int64_t index = 0, stride = 1, rest = origin.indexInPatch;
+  for (int d = 0; d < 3 && spans[d] > 0; ++d) {
+    const std::int64_t span = rest % spans[d] + step[d];
+    rest /= spans[d];
+    if (span < 0 || span >= spans[d]) return -1;
+    index += span * stride;
+    stride *= spans[d];
+  }
+  return patchFirst_[origin.patch] + index;
 }
 
 std::size_t CellStore::MemoryBytes() const {

@@ -2,6 +2,7 @@
 // solvers (bounds, precomputed distance nets) and the way back to the patch.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -75,6 +76,10 @@ class CellStore {
   /// True when `cell` belongs to an affine region (it is then searched only
   /// as part of its region).
   bool inRegion(std::int64_t cell) const { return regionOfCell_[cell] >= 0; }
+  /// The cell of the same B-spline patch `step[d]` spans (-1, 0 or +1)
+  /// away from `cell` along each of its parameter directions d, or -1 when
+  /// that leaves the patch or `cell` is not a B-spline patch's.
+  std::int64_t SplineNeighbor(std::int64_t cell, const int* step) const;
   /// Face neighbours of the tetrahedral cells (empty without tetrahedra).
   const TetAdjacency& tetAdjacency() const { return tetAdjacency_; }
   /// Bounds of a subdivision's cells.
@@ -100,6 +105,7 @@ class CellStore {
   std::size_t numPatches_ = 0;
   bool hasVolumeCells_ = false;
   std::vector<std::int64_t> patchFirst_;  // numPatches_ + 1 entries
+  std::vector<std::array<int, 3>> splineSpans_;  // per patch: its span grid (zeros unless a B-spline patch)
   std::vector<kernels::CellShape> shapes_;
   std::vector<std::int64_t> pointOffset_;   // first coordinate of each cell in points_
   std::vector<std::int64_t> weightOffset_;  // first weight of each cell in weights_, -1 if polynomial

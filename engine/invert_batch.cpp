@@ -9,6 +9,7 @@
 #include "engine/nearest_cells.h"
 #include "engine/parallel.h"
 #include "engine/spatial_sort.h"
+#include "engine/warm_start.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::engine {
@@ -582,8 +583,8 @@ bool SolveAffineSimplexLanes(const CellStore& store, const QueryPoints& points, 
 
 /// Writes one point's answer at position `index` of `results` (its place in
 /// the chunk's Morton order) and keeps it as the next point's warm start.
-void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t index, std::int64_t* warmCell,
-                double* warmRef, Results* results) {
+void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t index, WarmStart* warm,
+                Results* results) {
   if (search.bestCell < 0) {
     WriteNotFound(Status::None, index, results);
     results->iterations[index] = search.iterations;
@@ -607,8 +608,11 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
           ? r.distance
           : std::hypot(r.closest[0] - search.p[0], r.closest[1] - search.p[1], r.closest[2] - search.p[2]);
   results->iterations[index] = search.iterations;
-  *warmCell = search.bestCell;
-  std::copy(r.ref, r.ref + 3, warmRef);
+  warm->cell = search.bestCell;
+  std::copy(search.p, search.p + 3, warm->point);
+  std::copy(r.ref, r.ref + 3, warm->ref);
+  std::copy(r.closest, r.closest + 3, warm->closest);
+  std::copy(&r.jacobian[0][0], &r.jacobian[0][0] + 9, &warm->jacobian[0][0]);
 }
 
 /// The box of the finite points of `points` (lo = hi = 0 when there is
@@ -730,8 +734,7 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, 
             if (useBucketList) GatherSearchedCandidates(store, lanesSolved, scratch);
           };
           if (!store.hasVolumeCells()) prepare();
-          std::int64_t warmCell = -1;
-          double warmRef[3] = {0, 0, 0};
+          WarmStart warm;
           for (std::int64_t s = first; s < last; ++s) {
             double p[3] = {0, 0, 0};
             bool finite = true;
@@ -740,7 +743,10 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, 
               finite = finite && std::isfinite(p[k]);
             }
             if (!finite) continue;
-            PointSearch search(store, p, scratch, warmCell, warmRef, maxDistance);
+            std::int64_t startCell;
+            double startRef[3];
+            PredictStart(store, warm, p, &startCell, startRef);
+            PointSearch search(store, p, scratch, startCell, startRef, maxDistance);
             if (store.hasVolumeCells()) search.TryInsideByWalk(bvh);
             if (!search.inside) {
               if (!prepared) prepare();
@@ -751,7 +757,7 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, 
                 SearchBvh(bvh, wide, simplices, search);
               }
             }
-            WriteFound(store, search, s, &warmCell, warmRef, sorted);
+            WriteFound(store, search, s, &warm, sorted);
           }
         }
       },

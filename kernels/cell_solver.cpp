@@ -315,6 +315,7 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
 
   std::copy(best.ref, best.ref + pd, result.ref);
   std::copy(best.closest, best.closest + ad, result.closest);
+  std::copy(&best.jacobian[0][0], &best.jacobian[0][0] + 9, &result.jacobian[0][0]);
   result.distance = std::sqrt(best.squaredDistance);
   if (bounded && best.squaredDistance >= bound2) {
     result.status = PointStatus::Farther;

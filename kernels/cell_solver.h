@@ -33,6 +33,9 @@ struct CellSolveResult {
                                   ///< where its square overflows, beyond about 1e154).
   PointStatus status = PointStatus::InvalidInput;
   int iterations = 0;  ///< Newton iterations over all local solves of this query.
+  /// dx_k/du_i at `ref` where the solve knows it (a curved cell's local
+  /// solve), else zero: a nearby point's solve predicts its start from it.
+  double jacobian[3][3] = {};
 };
 
 /// Reusable scratch memory for CellSolver::Solve, so the hot path never

@@ -703,6 +703,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   jets.EnsureAt(cell, ref, finalOrder);
   result.kkt = options.checkKkt && result.converged && IsKktPoint(cell, *jets.atRef, point, ref, size);
   std::copy(jets.atRef->x, jets.atRef->x + ad, result.closest);
+  if (jets.order >= JetOrder::First) std::copy(&jets.atRef->d1[0][0], &jets.atRef->d1[0][0] + 9, &result.jacobian[0][0]);
   result.squaredDistance = SquaredDistance(*jets.atRef, point, ad);
   result.onBoundary = active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0;
   return result;

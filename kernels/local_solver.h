@@ -14,6 +14,9 @@ struct LocalSolveResult {
   double ref[3] = {0, 0, 0};      ///< Reference coordinates of the KKT point.
   double closest[3] = {0, 0, 0};  ///< The map at ref.
   double squaredDistance = 0.0;
+  /// dx_k/du_i at ref, when the solve evaluated the map's derivatives there
+  /// (with LocalSolveOptions::checkKkt, or on its way); zero otherwise.
+  double jacobian[3][3] = {};
   bool onBoundary = false;  ///< Some constraint is enforced at the solution.
   bool converged = false;   ///< Stopped on the residual or step tolerance (not on the iteration cap).
   /// Converged and IsKktPoint holds at ref (only computed with LocalSolveOptions::checkKkt).

@@ -534,6 +534,40 @@ TEST(CellSolverWarmStart, GivesTheSameAnswer) {
   EXPECT_EQ(failures, 0);
 }
 
+/// The Jacobian a solve reports (the engine predicts the next point's start
+/// from it) is the map's derivative at the answer, by the independent
+/// multinomial evaluation.
+TEST(CellSolverJacobian, IsTheMapsDerivativeAtTheAnswer) {
+  SolveWorkspace ws;
+  int checked = 0;
+  for (CellType type : {CellType::Line, CellType::Tri, CellType::Quad}) {
+    for (bool rational : {false, true}) {
+      std::mt19937_64 rng(MixSeed(83 + static_cast<int>(type) * 2 + rational));
+      const RefCell cell = RandomCurvedCell(type, 3, rational, 3, rng);
+      const CellSolver solver(cell.view());
+      for (int i = 0; i < 100; ++i) {
+        const Query q = RandomQuery(cell, kQueryKinds[i % 10], rng);
+        const CellSolveResult r = solver.Solve(q.point.data(), nullptr, &ws);
+        ASSERT_NE(r.status, PointStatus::InvalidInput);
+        RefJet expect;
+        RefEvaluateJet(cell, r.ref, 1, &expect);
+        double scale = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          for (int j = 0; j < cell.paramDim(); ++j) scale = std::max(scale, std::fabs(expect.d1[k][j]));
+        }
+        for (int k = 0; k < 3; ++k) {
+          for (int j = 0; j < cell.paramDim(); ++j) {
+            ASSERT_NEAR(r.jacobian[k][j], expect.d1[k][j], 1e-12 * scale)
+                << kernels::CellTypeName(type) << " query " << i << " dx" << k << "/du" << j;
+          }
+        }
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 600);
+}
+
 /// The engine passes the best squared distance found on other cells as
 /// `bound2`: a cell that cannot beat it may answer Farther, but a cell that
 /// can must still give its true minimum. Cells that cannot beat the bound
