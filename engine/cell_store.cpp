@@ -178,6 +178,8 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         for (int c = 0; c < cells.numCells; ++c) {
           origin.indexInPatch = c;
           origin.sharedParameters = true;
+          origin.span = {c % cells.spans[0], c / cells.spans[0] % cells.spans[1],
+                         c / (cells.spans[0] * cells.spans[1])};
           for (int d = 0; d < cells.paramDim; ++d) {
             const double lo = cells.spanLo[static_cast<std::size_t>(c) * cells.paramDim + d];
             const double hi = cells.spanHi[static_cast<std::size_t>(c) * cells.paramDim + d];
@@ -332,10 +334,9 @@ std::int64_t CellStore::SplineNeighbor(std::int64_t cell, const int* step) const
   if (!origin.sharedParameters) return -1;
   const std::array<int, 3>& spans = splineSpans_[origin.patch];
   // Cells follow their patch's span grid, first direction fastest.
-  std::int64_t index = 0, stride = 1, rest = origin.indexInPatch;
-  for (int d = 0; d < 3 && spans[d] > 0; ++d) {
-    const std::int64_t span = rest % spans[d] + step[d];
-    rest /= spans[d];
+  std::int64_t index = 0, stride = 1;
+  for (int d = 0; d < 3; ++d) {
+    const std::int64_t span = origin.span[d] + step[d];
     if (span < 0 || span >= spans[d]) return -1;
     index += span * stride;
     stride *= spans[d];

@@ -26,6 +26,8 @@ struct CellOrigin {
   /// True when the patch's cells tile one parameter domain (B-spline
   /// patches), so a parameter of one cell means a place near another.
   bool sharedParameters = false;
+  /// With sharedParameters: the cell's place in its patch's grid of spans.
+  std::array<std::int32_t, 3> span{0, 0, 0};
 };
 
 /// All cells of a geometry. Immutable after Build; safe to read from many threads.

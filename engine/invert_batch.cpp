@@ -42,6 +42,9 @@ struct BucketScratch {
   std::vector<WideEntry> wideStack;
   std::vector<std::int64_t> triedCells;             // volume cells already tried for the point
   kernels::SolveWorkspace workspace;
+  // The local models of a point's best answer so far and of the cell being
+  // solved (PointSearch::bestModel says which slot is the best's).
+  kernels::AnswerModel models[2];
   // The bucket's points as lanes (structure of arrays) and their best answer
   // over the affine simplex candidates, solved a cell at a time for all lanes.
   std::vector<double> laneCoord[3];
@@ -174,6 +177,9 @@ struct PointSearch {
   double best;  // starts at the gap tolerance (algorithm 4, line 3)
   std::int64_t bestCell = -1;
   kernels::CellSolveResult bestResult;
+  /// The slot of scratch.models holding the best answer's local model (for
+  /// the next point's start), or -1 when it is unknown.
+  int bestModel = -1;
   int iterations = 0;
   bool inside = false;  // a volume cell holds the point: nothing is closer
   std::vector<std::int64_t>& tried = scratch.triedCells;
@@ -215,6 +221,7 @@ struct PointSearch {
     best = r.distance;
     bestCell = r.cell;
     bestResult = kernels::CellSolveResult();
+    bestModel = -1;
     std::copy(r.ref, r.ref + 3, bestResult.ref);
     std::copy(r.closest, r.closest + 3, bestResult.closest);
     bestResult.distance = r.distance;
@@ -225,10 +232,11 @@ struct PointSearch {
     const kernels::CellSolver& solver = store.solver(cell);
     double start[3];
     const double* initial = cell == warmCell ? warmRef : (StartFromBest(cell, start) ? start : nullptr);
-    const kernels::CellSolveResult r = solver.Solve(p, initial, &scratch.workspace, Bound2());
+    const int slot = bestModel == 0 ? 1 : 0;
+    const kernels::CellSolveResult r = solver.Solve(p, initial, &scratch.workspace, Bound2(), &scratch.models[slot]);
     iterations += r.iterations;
     if (r.status == kernels::PointStatus::Farther) return;
-    Consider(cell, r);
+    if (Consider(cell, r) && scratch.models[slot].known) bestModel = slot;
   }
 
   /// Item `i` of the BVH, an affine simplex, in closed form from the
@@ -246,13 +254,15 @@ struct PointSearch {
     Consider(simplices.cell(i), r);
   }
 
-  /// Keeps a cell's answer that beats the best so far.
-  void Consider(std::int64_t cell, const kernels::CellSolveResult& r) {
-    if (bestCell < 0 || r.distance < best) {
-      best = r.distance;
-      bestCell = cell;
-      bestResult = r;
-    }
+  /// Keeps a cell's answer that beats the best so far (true then; its model
+  /// is unknown until the caller sets bestModel).
+  bool Consider(std::int64_t cell, const kernels::CellSolveResult& r) {
+    if (bestCell >= 0 && !(r.distance < best)) return false;
+    best = r.distance;
+    bestCell = cell;
+    bestResult = r;
+    bestModel = -1;
+    return true;
   }
 
   /// A start in `cell` from the best answer so far when both cells tile one
@@ -352,6 +362,7 @@ struct PointSearch {
       best = r.distance;
       bestCell = cell;
       bestResult = r;
+      bestModel = -1;
       inside = true;
     } else {
       iterations += r.iterations;
@@ -612,7 +623,8 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
   std::copy(search.p, search.p + 3, warm->point);
   std::copy(r.ref, r.ref + 3, warm->ref);
   std::copy(r.closest, r.closest + 3, warm->closest);
-  std::copy(&r.jacobian[0][0], &r.jacobian[0][0] + 9, &warm->jacobian[0][0]);
+  warm->model.known = search.bestModel >= 0;
+  if (warm->model.known) warm->model = search.scratch.models[search.bestModel];
 }
 
 /// The box of the finite points of `points` (lo = hi = 0 when there is

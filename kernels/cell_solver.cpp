@@ -243,8 +243,9 @@ double CellSolver::SquaredDistanceLowerBound(const double* point, double slack, 
 }
 
 CellSolveResult CellSolver::Solve(const double* point, const double* initialRef, SolveWorkspace* ws,
-                                  double bound2) const {
+                                  double bound2, AnswerModel* model) const {
   CellSolveResult result;
+  if (model) model->known = false;
   const int pd = cell_.shape.paramDim();
   const int ad = cell_.ambientDim;
   for (int k = 0; k < ad; ++k) {
@@ -299,6 +300,7 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
       return e.solver->ExcessIsConvex(e.point, e.level, e.q);
     };
   }
+  options.model = model;
   LocalSolveResult best = LocalSolve(cell_, point, start, options);
   result.iterations = best.iterations;
   if (best.aboveLevel) {
@@ -310,12 +312,14 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   // An affine map makes the squared distance convex: the KKT point is global.
   // A distance within tau of zero cannot be beaten by more than tau.
   if (!affine_ && best.squaredDistance > tau * tau) {
+    const double localRef[3] = {best.ref[0], best.ref[1], best.ref[2]};
     certified = Search(point, bound2, slack, &best, &result.iterations, ws);
+    // A nearer minimum the search found has no model here.
+    if (model && !std::equal(localRef, localRef + pd, best.ref)) model->known = false;
   }
 
   std::copy(best.ref, best.ref + pd, result.ref);
   std::copy(best.closest, best.closest + ad, result.closest);
-  std::copy(&best.jacobian[0][0], &best.jacobian[0][0] + 9, &result.jacobian[0][0]);
   result.distance = std::sqrt(best.squaredDistance);
   if (bounded && best.squaredDistance >= bound2) {
     result.status = PointStatus::Farther;

@@ -33,9 +33,6 @@ struct CellSolveResult {
                                   ///< where its square overflows, beyond about 1e154).
   PointStatus status = PointStatus::InvalidInput;
   int iterations = 0;  ///< Newton iterations over all local solves of this query.
-  /// dx_k/du_i at `ref` where the solve knows it (a curved cell's local
-  /// solve), else zero: a nearby point's solve predicts its start from it.
-  double jacobian[3][3] = {};
 };
 
 /// Reusable scratch memory for CellSolver::Solve, so the hot path never
@@ -85,8 +82,10 @@ class CellSolver {
   /// `bound2`: the squared distance of the best point found elsewhere; parts
   /// of the cell that cannot beat it are skipped, and a cell that cannot beat
   /// it at all returns status Farther (often without any Newton iteration).
+  /// `model` (optional) receives the local model at the answer, when the
+  /// answer is a curved cell's local solve's (known = false otherwise).
   CellSolveResult Solve(const double* point, const double* initialRef, SolveWorkspace* ws,
-                        double bound2 = std::numeric_limits<double>::infinity()) const;
+                        double bound2 = std::numeric_limits<double>::infinity(), AnswerModel* model = nullptr) const;
 
   /// Volume cells only: the local full-rank solve alone (7.3.2.1), from the
   /// point's barycentric place in a tetrahedron's corners, else from

@@ -310,12 +310,14 @@ struct JetCache {
   void EnsureAt(const CellView& cell, const double* ref, JetOrder need) {
     if (valid && order >= need) return;
     EvaluateMap(cell, ref, need, atRef);
+    std::copy(ref, ref + 3, at);
     valid = true;
     order = need;
   }
-  /// The trial point, evaluated to `trialOrder`, became the iterate.
-  void AcceptTrial(JetOrder trialOrder) {
+  /// The trial point `ref`, evaluated to `trialOrder`, became the iterate.
+  void AcceptTrial(JetOrder trialOrder, const double* ref) {
     std::swap(atRef, trial);
+    std::copy(ref, ref + 3, at);
     valid = true;
     order = trialOrder;
   }
@@ -323,9 +325,23 @@ struct JetCache {
   MapJet jets[2];
   MapJet* atRef = &jets[0];
   MapJet* trial = &jets[1];
+  /// Where *atRef was evaluated (it stays there when `valid` turns false).
+  double at[3] = {0, 0, 0};
   bool valid = false;
   JetOrder order = JetOrder::Value;
 };
+
+/// The Hessian of half the squared distance from `point`, J^T J + sum_k r_k
+/// d2x_k with r = x - point, from a second-order jet.
+void DistanceHessian(const MapJet& jet, const double* point, int pd, int ad, double (*hessian)[3]) {
+  for (int i = 0; i < pd; ++i) {
+    for (int j = 0; j < pd; ++j) {
+      double h = 0.0;
+      for (int k = 0; k < ad; ++k) h += jet.d1[k][i] * jet.d1[k][j] + (jet.x[k] - point[k]) * jet.d2[k][i][j];
+      hessian[i][j] = h;
+    }
+  }
+}
 
 /// Releases the enforced constraints of a start on the boundary that the
 /// descent direction there points away from (negative multiplier):
@@ -439,7 +455,7 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
     const double fTrial = SquaredDistance(*jets->trial, point, AD);
     if (!(fTrial <= f + 1e-4 * slope && fTrial < f)) return FastOutcome::Handover;
     std::copy(trial, trial + PD, ref);
-    jets->AcceptTrial(JetOrder::Second);
+    jets->AcceptTrial(JetOrder::Second, ref);
   }
   return FastOutcome::Handover;
 }
@@ -561,7 +577,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
         const StepOutcome outcome =
             LineSearch(cell, point, active, f, fNoise, g, Eigen::Map<const Vector>(step), true, need, jets.trial, ref);
         if (outcome == StepOutcome::Moved) {
-          jets.AcceptTrial(need);
+          jets.AcceptTrial(need, ref);
           continue;
         }
         if (outcome == StepOutcome::Blocked) {
@@ -658,7 +674,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
               LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, need, jets.trial, ref);
           if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
           if (outcome == StepOutcome::Moved) {
-            jets.AcceptTrial(need);
+            jets.AcceptTrial(need, ref);
           } else {
             if (outcome == StepOutcome::Blocked) SnapToFace(shape, active, ref);
             jets.valid = false;
@@ -699,11 +715,29 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   }
 
   std::copy(ref, ref + pd, result.ref);
+  // The last second-order jet, when it lies within a final step of the
+  // answer (kFinalStep: far closer than any use of the Hessian needs), gives
+  // the Hessian there without another evaluation.
+  AnswerModel* model = options.checkKkt ? options.model : nullptr;
+  if (model) {
+    bool jetNearAnswer = jets.order == JetOrder::Second;
+    for (int i = 0; i < pd; ++i) jetNearAnswer = jetNearAnswer && std::abs(jets.at[i] - ref[i]) <= kFinalStep;
+    if (jetNearAnswer) {
+      DistanceHessian(*jets.atRef, point, pd, ad, model->hessian);
+    } else {
+      std::fill(&model->hessian[0][0], &model->hessian[0][0] + 9, 0.0);
+    }
+  }
   const JetOrder finalOrder = options.checkKkt ? JetOrder::First : JetOrder::Value;
   jets.EnsureAt(cell, ref, finalOrder);
   result.kkt = options.checkKkt && result.converged && IsKktPoint(cell, *jets.atRef, point, ref, size);
   std::copy(jets.atRef->x, jets.atRef->x + ad, result.closest);
-  if (jets.order >= JetOrder::First) std::copy(&jets.atRef->d1[0][0], &jets.atRef->d1[0][0] + 9, &result.jacobian[0][0]);
+  if (model) {
+    std::copy(&jets.atRef->d1[0][0], &jets.atRef->d1[0][0] + 9, &model->jacobian[0][0]);
+    model->known = true;
+  } else if (options.model) {
+    options.model->known = false;
+  }
   result.squaredDistance = SquaredDistance(*jets.atRef, point, ad);
   result.onBoundary = active.enforced[0] != 0 || active.enforced[1] != 0 || active.enforced[2] != 0;
   return result;

@@ -14,9 +14,6 @@ struct LocalSolveResult {
   double ref[3] = {0, 0, 0};      ///< Reference coordinates of the KKT point.
   double closest[3] = {0, 0, 0};  ///< The map at ref.
   double squaredDistance = 0.0;
-  /// dx_k/du_i at ref, when the solve evaluated the map's derivatives there
-  /// (with LocalSolveOptions::checkKkt, or on its way); zero otherwise.
-  double jacobian[3][3] = {};
   bool onBoundary = false;  ///< Some constraint is enforced at the solution.
   bool converged = false;   ///< Stopped on the residual or step tolerance (not on the iteration cap).
   /// Converged and IsKktPoint holds at ref (only computed with LocalSolveOptions::checkKkt).
@@ -24,6 +21,17 @@ struct LocalSolveResult {
   /// Stopped at ref on LocalSolveOptions::exclusionLevel (not converged).
   bool aboveLevel = false;
   int iterations = 0;
+};
+
+/// The local model of the squared distance at a solve's answer: what a
+/// nearby point's solve needs to predict its own start (engine/warm_start.h).
+struct AnswerModel {
+  bool known = false;  ///< The fields below hold the answer's model (unset otherwise).
+  double jacobian[3][3];  ///< dx_k/du_i at the answer.
+  /// The Hessian of half the squared distance to the query point, J^T J +
+  /// sum_k r_k d2x_k, at the answer or within a final Newton step of it
+  /// (zero when the solve evaluated no second derivatives there).
+  double hessian[3][3];
 };
 
 /// See LocalSolveOptions::stopAtBoundary.
@@ -52,6 +60,9 @@ struct LocalSolveOptions {
   /// cell (the convexity it needs); false lets the solve go on to convergence.
   bool (*confirmExclusion)(const void* context) = nullptr;
   const void* exclusionContext = nullptr;
+  /// When set, receives the model at the answer (with checkKkt, whose final
+  /// evaluation gives the Jacobian; known = false otherwise).
+  AnswerModel* model = nullptr;
 };
 
 /// Minimizes |x(u) - point|^2 over the reference domain starting at

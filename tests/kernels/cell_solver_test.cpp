@@ -534,38 +534,59 @@ TEST(CellSolverWarmStart, GivesTheSameAnswer) {
   EXPECT_EQ(failures, 0);
 }
 
-/// The Jacobian a solve reports (the engine predicts the next point's start
-/// from it) is the map's derivative at the answer, by the independent
-/// multinomial evaluation.
-TEST(CellSolverJacobian, IsTheMapsDerivativeAtTheAnswer) {
+/// The local model a solve reports at its answer (the engine predicts the
+/// next point's start from it): the map's derivative there and the Hessian
+/// of half the squared distance, by the independent multinomial evaluation.
+TEST(CellSolverModel, IsTheDistanceModelAtTheAnswer) {
   SolveWorkspace ws;
-  int checked = 0;
+  int known = 0, withHessian = 0, queries = 0;
   for (CellType type : {CellType::Line, CellType::Tri, CellType::Quad}) {
     for (bool rational : {false, true}) {
       std::mt19937_64 rng(MixSeed(83 + static_cast<int>(type) * 2 + rational));
       const RefCell cell = RandomCurvedCell(type, 3, rational, 3, rng);
       const CellSolver solver(cell.view());
-      for (int i = 0; i < 100; ++i) {
+      const int pd = cell.paramDim();
+      for (int i = 0; i < 100; ++i, ++queries) {
         const Query q = RandomQuery(cell, kQueryKinds[i % 10], rng);
-        const CellSolveResult r = solver.Solve(q.point.data(), nullptr, &ws);
+        kernels::AnswerModel model;
+        const CellSolveResult r =
+            solver.Solve(q.point.data(), nullptr, &ws, std::numeric_limits<double>::infinity(), &model);
         ASSERT_NE(r.status, PointStatus::InvalidInput);
+        if (!model.known) continue;
+        ++known;
         RefJet expect;
-        RefEvaluateJet(cell, r.ref, 1, &expect);
+        RefEvaluateJet(cell, r.ref, 2, &expect);
         double scale = 0.0;
         for (int k = 0; k < 3; ++k) {
-          for (int j = 0; j < cell.paramDim(); ++j) scale = std::max(scale, std::fabs(expect.d1[k][j]));
+          for (int j = 0; j < pd; ++j) scale = std::max(scale, std::fabs(expect.d1[k][j]));
         }
         for (int k = 0; k < 3; ++k) {
-          for (int j = 0; j < cell.paramDim(); ++j) {
-            ASSERT_NEAR(r.jacobian[k][j], expect.d1[k][j], 1e-12 * scale)
+          for (int j = 0; j < pd; ++j) {
+            ASSERT_NEAR(model.jacobian[k][j], expect.d1[k][j], 1e-12 * scale)
                 << kernels::CellTypeName(type) << " query " << i << " dx" << k << "/du" << j;
           }
         }
-        ++checked;
+        if (model.hessian[0][0] == 0.0) continue;
+        ++withHessian;
+        // Within a final Newton step (1e-6 in reference coordinates) of the answer.
+        for (int a = 0; a < pd; ++a) {
+          for (int b = 0; b < pd; ++b) {
+            double h = 0.0;
+            for (int k = 0; k < 3; ++k) {
+              h += expect.d1[k][a] * expect.d1[k][b] + (expect.x[k] - q.point[k]) * expect.d2[k][a][b];
+            }
+            ASSERT_NEAR(model.hessian[a][b], h, 1e-4 * scale * scale)
+                << kernels::CellTypeName(type) << " query " << i << " H" << a << b;
+          }
+        }
       }
     }
   }
-  EXPECT_EQ(checked, 600);
+  // Every answer of a local solve has its model; the search's own minima
+  // (points near an evolute) and answers within the distance tolerance of
+  // the query (no search) may not.
+  EXPECT_GT(known, queries * 8 / 10);
+  EXPECT_GT(withHessian, known / 2);
 }
 
 /// The engine passes the best squared distance found on other cells as
