@@ -620,9 +620,11 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
           : std::hypot(r.closest[0] - search.p[0], r.closest[1] - search.p[1], r.closest[2] - search.p[2]);
   results->iterations[index] = search.iterations;
   warm->cell = search.bestCell;
-  std::copy(search.p, search.p + 3, warm->point);
-  std::copy(r.ref, r.ref + 3, warm->ref);
-  std::copy(r.closest, r.closest + 3, warm->closest);
+  for (int k = 0; k < 3; ++k) {
+    warm->point[k] = search.p[k];
+    warm->ref[k] = r.ref[k];
+    warm->closest[k] = r.closest[k];
+  }
   warm->model.known = search.bestModel >= 0;
   if (warm->model.known) warm->model = search.scratch.models[search.bestModel];
 }

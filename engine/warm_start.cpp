@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/cramer.h"
+
 namespace invmap::engine {
 namespace {
 
@@ -34,41 +36,37 @@ void StepModels(const WarmStart& warm, int paramDim, int dim, const double* p, d
 }
 
 /// Solves model step = rhs for the parameters not `held` (the held ones
-/// keep their `step`, which moves the right-hand side), by Cholesky on the
-/// free block. False when that block is not positive definite.
+/// keep their `step`, which moves the right-hand side), in closed form for
+/// the free block of at most 3 x 3. False when that block is not positive
+/// definite (by its leading minors) or the step is not finite.
 bool SolveFree(const double (*model)[3], const double* rhs, int paramDim, const bool* held, double* step) {
   int free[3], m = 0;
   for (int i = 0; i < paramDim; ++i) {
     if (!held[i]) free[m++] = i;
   }
-  double b[3], l[3][3];
-  for (int a = 0; a < m; ++a) {
-    b[a] = rhs[free[a]];
-    for (int j = 0; j < paramDim; ++j) b[a] -= held[j] ? model[free[a]][j] * step[j] : 0.0;
+  double a[3][3], b[3];
+  for (int r = 0; r < m; ++r) {
+    b[r] = rhs[free[r]];
+    for (int j = 0; j < paramDim; ++j) b[r] -= held[j] ? model[free[r]][j] * step[j] : 0.0;
+    for (int c = 0; c < m; ++c) a[r][c] = model[free[r]][free[c]];
   }
-  for (int a = 0; a < m; ++a) {
-    for (int c = 0; c <= a; ++c) {
-      double sum = model[free[a]][free[c]];
-      for (int e = 0; e < c; ++e) sum -= l[a][e] * l[c][e];
-      if (a == c) {
-        if (!(sum > 0.0)) return false;
-        l[a][a] = std::sqrt(sum);
-      } else {
-        l[a][c] = sum / l[c][c];
-      }
-    }
+  double x[3];
+  if (m == 1) {
+    if (!(a[0][0] > 0.0)) return false;
+    x[0] = b[0] / a[0][0];
+  } else if (m == 2) {
+    const double det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    if (!(a[0][0] > 0.0 && det > 0.0)) return false;
+    const double inverse = 1.0 / det;
+    x[0] = (a[1][1] * b[0] - a[0][1] * b[1]) * inverse;
+    x[1] = (a[0][0] * b[1] - a[1][0] * b[0]) * inverse;
+  } else if (m == 3) {
+    const double det = kernels::Determinant3(a[0], a[1], a[2]);
+    if (!(a[0][0] > 0.0 && a[0][0] * a[1][1] - a[0][1] * a[1][0] > 0.0 && det > 0.0)) return false;
+    // Symmetric: the rows serve as the columns Cramer's rule takes.
+    kernels::CramerSolve3(a[0], a[1], a[2], det, b, x);
   }
-  double y[3];
-  for (int a = 0; a < m; ++a) {
-    y[a] = b[a];
-    for (int e = 0; e < a; ++e) y[a] -= l[a][e] * y[e];
-    y[a] /= l[a][a];
-  }
-  for (int a = m - 1; a >= 0; --a) {
-    for (int e = a + 1; e < m; ++e) y[a] -= l[e][a] * y[e];
-    y[a] /= l[a][a];
-    step[free[a]] = y[a];
-  }
+  for (int r = 0; r < m; ++r) step[free[r]] = x[r];
   return std::isfinite(step[0]) && std::isfinite(step[1]) && std::isfinite(step[2]);
 }
 
@@ -85,7 +83,7 @@ bool IsBoxCell(const kernels::CellShape& shape) {
 
 void PredictStart(const CellStore& store, const WarmStart& warm, const double* p, std::int64_t* cell, double* ref) {
   *cell = warm.cell;
-  std::copy(warm.ref, warm.ref + 3, ref);
+  for (int i = 0; i < 3; ++i) ref[i] = warm.ref[i];
   if (warm.cell < 0 || !warm.model.known) return;
   const int dim = store.dimension();
   if (std::equal(p, p + dim, warm.point)) return;

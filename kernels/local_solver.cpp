@@ -310,14 +310,14 @@ struct JetCache {
   void EnsureAt(const CellView& cell, const double* ref, JetOrder need) {
     if (valid && order >= need) return;
     EvaluateMap(cell, ref, need, atRef);
-    std::copy(ref, ref + 3, at);
+    for (int i = 0; i < 3; ++i) at[i] = ref[i];
     valid = true;
     order = need;
   }
   /// The trial point `ref`, evaluated to `trialOrder`, became the iterate.
   void AcceptTrial(JetOrder trialOrder, const double* ref) {
     std::swap(atRef, trial);
-    std::copy(ref, ref + 3, at);
+    for (int i = 0; i < 3; ++i) at[i] = ref[i];
     valid = true;
     order = trialOrder;
   }
@@ -326,6 +326,7 @@ struct JetCache {
   MapJet* atRef = &jets[0];
   MapJet* trial = &jets[1];
   /// Where *atRef was evaluated (it stays there when `valid` turns false).
+  /// Copied by loops: std::copy of its 3 values compiled to a memmove call.
   double at[3] = {0, 0, 0};
   bool valid = false;
   JetOrder order = JetOrder::Value;
