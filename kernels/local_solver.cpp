@@ -744,6 +744,38 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   return result;
 }
 
+namespace {
+
+/// True when every factor of the cell is an interval (lines, quads, hexes).
+bool IsLineFactorCell(const CellShape& shape) {
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    if (shape.factor(f).dim != 1) return false;
+  }
+  return true;
+}
+
+/// IsKktPoint's test for a cell of line factors, whose parameters are its
+/// factors' coordinates: the general test below with its face basis and
+/// multipliers written out (the same arithmetic, so the same verdict).
+/// Parameter i is held at 0 when u_i <= 1e-12 (its multiplier is grad_i),
+/// else at 1 when 1 - u_i <= 1e-12 (multiplier -grad_i), else free (its
+/// basis vector is -e_i / sqrt(2)).
+bool IsKktOnUnitBox(const double* ref, const double* grad, int pd, double tolerance) {
+  const double norm = 1.0 / std::sqrt(2.0);
+  for (int i = 0; i < pd; ++i) {
+    if (ref[i] <= 1e-12) {
+      if (grad[i] < -tolerance) return false;
+    } else if (1.0 - ref[i] <= 1e-12) {
+      if (-grad[i] < -tolerance) return false;
+    } else if (std::abs(-norm * grad[i]) > tolerance) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, const double* ref, double size) {
   const CellShape& shape = cell.shape;
   const int pd = shape.paramDim();
@@ -762,6 +794,7 @@ bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, co
   // A tolerance that still overflows would accept any point: not KKT then.)
   const double tolerance = 1e-7 * std::sqrt(jac2) * std::sqrt(r2) + 1e-12 * size * size;
   if (!std::isfinite(tolerance)) return false;
+  if (IsLineFactorCell(shape)) return IsKktOnUnitBox(ref, grad, pd, tolerance);
   ActiveSet active;
   for (int f = 0; f < shape.numFactors(); ++f) {
     double lambda[4];

@@ -189,4 +189,67 @@ TEST(LocalSolve, FaceSolvesFarFromTheOriginConverge) {
   EXPECT_LT(iterations, 15 * kCells);
 }
 
+
+/// The KKT test of cells of line factors (lines, quads, hexes) against the
+/// conditions written from their definition on the unit box, with the
+/// Jacobian of the independent multinomial evaluation: a free parameter's
+/// gradient component within the tolerance (its face basis vector is
+/// e_i / sqrt 2), a parameter held at 0 with a gradient not below -tolerance,
+/// one held at 1 with a gradient not above +tolerance. Places inside, on
+/// faces and at corners, queries at their own foot (stationary) and off it.
+TEST(IsKktPoint, MatchesTheBoxConditionsOnCellsOfLineFactors) {
+  std::mt19937_64 rng(20261125);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int stationary = 0, rejected = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const CellType type = trial % 3 == 0 ? CellType::Line : trial % 3 == 1 ? CellType::Quad : CellType::Hex;
+    const RefCell cell = RandomCurvedCell(type, 2, trial % 2 == 1, 3, rng);
+    const int pd = cell.paramDim();
+    double ref[3] = {0, 0, 0};
+    for (int i = 0; i < pd; ++i) {
+      const double pick = unit(rng);
+      ref[i] = pick < 0.2 ? 0.0 : pick < 0.4 ? 1.0 : unit(rng);
+    }
+    RefJet jet;
+    RefEvaluateJet(cell, ref, 1, &jet);
+    // The point: the map there plus a random offset (small, so that some
+    // places are nearly stationary), or exactly the map there (stationary).
+    double point[3];
+    const double offset = trial % 4 == 0 ? 0.0 : 0.3 * cell.size() * unit(rng);
+    for (int k = 0; k < 3; ++k) point[k] = jet.x[k] + offset * (2.0 * unit(rng) - 1.0);
+    invmap::kernels::MapJet kernelJet;
+    for (int k = 0; k < 3; ++k) {
+      kernelJet.x[k] = jet.x[k];
+      for (int i = 0; i < 3; ++i) kernelJet.d1[k][i] = jet.d1[k][i];
+    }
+    double grad[3] = {0, 0, 0}, r2 = 0.0, jac2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double r = jet.x[k] - point[k];
+      r2 += r * r;
+      for (int i = 0; i < pd; ++i) {
+        grad[i] += jet.d1[k][i] * r;
+        jac2 += jet.d1[k][i] * jet.d1[k][i];
+      }
+    }
+    const double tolerance = 1e-7 * std::sqrt(jac2) * std::sqrt(r2) + 1e-12 * cell.size() * cell.size();
+    bool expected = true;
+    for (int i = 0; i < pd; ++i) {
+      if (ref[i] == 0.0) {
+        expected = expected && grad[i] >= -tolerance;
+      } else if (ref[i] == 1.0) {
+        expected = expected && grad[i] <= tolerance;
+      } else {
+        expected = expected && std::abs(grad[i]) / std::sqrt(2.0) <= tolerance;
+      }
+    }
+    const bool kkt = invmap::kernels::IsKktPoint(cell.view(), kernelJet, point, ref, cell.size());
+    ASSERT_EQ(kkt, expected) << "trial " << trial << " ref (" << ref[0] << ", " << ref[1] << ", " << ref[2] << ")";
+    stationary += kkt ? 1 : 0;
+    rejected += kkt ? 0 : 1;
+  }
+  // Both verdicts occur, the boundary ones too.
+  EXPECT_GT(stationary, 150);
+  EXPECT_GT(rejected, 150);
+}
+
 }  // namespace
