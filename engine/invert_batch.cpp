@@ -239,6 +239,18 @@ struct PointSearch {
     if (Consider(cell, r) && scratch.models[slot].known) bestModel = slot;
   }
 
+  /// The cell the warm start predicts (engine/warm_start.h) first: the
+  /// answer of most points, and its distance bounds the rest of the search
+  /// from the start. Returns the cell solved, or -1.
+  std::int64_t SolveWarmCell() {
+    if (warmCell < 0 || store.inRegion(warmCell) ||
+        CellBoxDistance2(store.solver(warmCell), p, store.dimension()) > best * best) {
+      return -1;
+    }
+    SolveCell(warmCell);
+    return warmCell;
+  }
+
   /// Item `i` of the BVH, an affine simplex, in closed form from the
   /// vertices `simplices` keeps in leaf order: CellSolver::Solve's answer
   /// for the cell without reading it. (Solve's box test is left out, the
@@ -404,6 +416,12 @@ void SearchCandidates(PointSearch& search) {
     }
   }
   if (search.inside) return;
+  // The predicted cell first when it is one of the candidates left (not a
+  // lane's: those are solved already).
+  std::int64_t seeded = -1;
+  for (const int c : searched) {
+    if (search.IsCell(candidates[c].cell, search.warmCell)) seeded = search.SolveWarmCell();
+  }
   const auto later = [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a > b; };
   std::make_heap(heap.begin(), heap.end(), later);
   while (!heap.empty()) {
@@ -411,6 +429,7 @@ void SearchCandidates(PointSearch& search) {
     const auto [lowerBound2, c] = heap.back();
     heap.pop_back();
     if (lowerBound2 > search.best * search.best) break;
+    if (search.IsCell(candidates[c].cell, seeded)) continue;
     search.Solve(candidates[c].cell);
   }
 }
@@ -461,14 +480,7 @@ void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplice
     search.TryInside(item);
   }
   if (search.inside) return;
-  // The previous point's cell first: neighbours in Morton order usually share
-  // it, and its distance bounds the traversal from the start.
-  std::int64_t seeded = -1;
-  if (search.warmCell >= 0 && !search.store.inRegion(search.warmCell) &&
-      CellBoxDistance2(search.store.solver(search.warmCell), search.p, dim) <= search.best * search.best) {
-    search.SolveCell(search.warmCell);
-    seeded = search.warmCell;
-  }
+  const std::int64_t seeded = search.SolveWarmCell();
   // Depth first over the wide tree, nearest child first; an entry is
   // skipped when its lower bound (recorded when it was pushed) no longer
   // beats the best distance.
