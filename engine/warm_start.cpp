@@ -70,15 +70,6 @@ bool SolveFree(const double (*model)[3], const double* rhs, int paramDim, const 
   return std::isfinite(step[0]) && std::isfinite(step[1]) && std::isfinite(step[2]);
 }
 
-/// True when every factor of the cell is an interval: its reference domain
-/// is the unit box, one bound pair per parameter.
-bool IsBoxCell(const kernels::CellShape& shape) {
-  for (int f = 0; f < shape.numFactors(); ++f) {
-    if (shape.factor(f).dim != 1) return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 void PredictStart(const CellStore& store, const WarmStart& warm, const double* p, std::int64_t* cell, double* ref) {
@@ -89,7 +80,7 @@ void PredictStart(const CellStore& store, const WarmStart& warm, const double* p
   if (std::equal(p, p + dim, warm.point)) return;
   const kernels::CellShape& shape = store.solver(warm.cell).cell().shape;
   const int paramDim = shape.paramDim();
-  const bool box = IsBoxCell(shape);
+  const bool box = shape.isBox();
   double model[3][3], gaussNewton[3][3], rhs[3] = {0, 0, 0};
   StepModels(warm, paramDim, dim, p, model, gaussNewton);
   for (int i = 0; i < paramDim; ++i) {

@@ -56,6 +56,14 @@ class CellShape {
   CellShape ScaledDegree(int factor) const;
   /// True when every degree is in [0, kMaxDegree].
   bool IsValid() const;
+  /// True when every factor is an interval (lines, quads, hexes): the
+  /// reference domain is the unit box, parameter i the i-th factor's.
+  bool isBox() const {
+    for (int f = 0; f < numFactors_; ++f) {
+      if (factors_[f].dim != 1) return false;
+    }
+    return true;
+  }
 
   /// Number of simplex factors of a cell type.
   static int NumFactorsOf(CellType type);

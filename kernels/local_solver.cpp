@@ -467,10 +467,7 @@ FastOutcome LineFactorNewtonFor(const CellView& cell, const double* point, const
                                 const ActiveSet& active, double* ref, JetCache* jets, bool* exclusionPending,
                                 int* iter, LocalSolveResult* result) {
   const CellShape& shape = cell.shape;
-  if (options.affine) return FastOutcome::Handover;
-  for (int f = 0; f < shape.numFactors(); ++f) {
-    if (shape.factor(f).dim != 1) return FastOutcome::Handover;
-  }
+  if (options.affine || !shape.isBox()) return FastOutcome::Handover;
   const int pd = shape.paramDim();
   if (pd == 2 && cell.ambientDim == 3) {
     return LineFactorNewton<2, 3>(cell, point, options, active, ref, jets, exclusionPending, iter, result);
@@ -746,14 +743,6 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
 
 namespace {
 
-/// True when every factor of the cell is an interval (lines, quads, hexes).
-bool IsLineFactorCell(const CellShape& shape) {
-  for (int f = 0; f < shape.numFactors(); ++f) {
-    if (shape.factor(f).dim != 1) return false;
-  }
-  return true;
-}
-
 /// IsKktPoint's test for a cell of line factors, whose parameters are its
 /// factors' coordinates: the general test below with its face basis and
 /// multipliers written out (the same arithmetic, so the same verdict).
@@ -794,7 +783,7 @@ bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, co
   // A tolerance that still overflows would accept any point: not KKT then.)
   const double tolerance = 1e-7 * std::sqrt(jac2) * std::sqrt(r2) + 1e-12 * size * size;
   if (!std::isfinite(tolerance)) return false;
-  if (IsLineFactorCell(shape)) return IsKktOnUnitBox(ref, grad, pd, tolerance);
+  if (shape.isBox()) return IsKktOnUnitBox(ref, grad, pd, tolerance);
   ActiveSet active;
   for (int f = 0; f < shape.numFactors(); ++f) {
     double lambda[4];
