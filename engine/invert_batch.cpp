@@ -298,16 +298,17 @@ struct PointSearch {
     // the nearest control point's.
     const int pd = store.solver(cell).cell().shape.paramDim();
     if (pd != 2 || store.solver(bestCell).cell().shape.paramDim() != 2) return false;
-    double u[2], clampedBy[2];
+    double clampedBy = 0.0;  // how far the clamp moved parameter `across` (patch units)
     int clamped = 0, across = -1;
     for (int i = 0; i < pd; ++i) {
-      u[i] = from.paramLo[i] + from.paramScale[i] * bestResult.ref[i];
-      start[i] = std::clamp((u[i] - to.paramLo[i]) / to.paramScale[i], 0.0, 1.0);
+      const double u = from.paramLo[i] + from.paramScale[i] * bestResult.ref[i];
+      const double inCell = (u - to.paramLo[i]) / to.paramScale[i];
+      start[i] = std::clamp(inCell, 0.0, 1.0);
       if (!std::isfinite(start[i])) return false;
-      clampedBy[i] = to.paramLo[i] + to.paramScale[i] * start[i] - u[i];
-      if (clampedBy[i] != 0.0) {
+      if (start[i] != inCell) {
         ++clamped;
         across = i;
+        clampedBy = (start[i] - inCell) * to.paramScale[i];
       }
     }
     if (clamped != 1 || bestModel < 0) return true;
@@ -316,8 +317,8 @@ struct PointSearch {
     const double(*h)[3] = scratch.models[bestModel].hessian;
     const int along = 1 - across;
     if (!(h[along][along] > 0.0)) return true;
-    const double slide = -h[along][across] / h[along][along] * from.paramScale[along] / from.paramScale[across] *
-                         clampedBy[across];
+    const double slide =
+        -h[along][across] / h[along][along] * from.paramScale[along] / from.paramScale[across] * clampedBy;
     const double slideRef = slide / to.paramScale[along];
     if (std::abs(slideRef) <= 0.5) start[along] = std::clamp(start[along] + slideRef, 0.0, 1.0);
     return true;

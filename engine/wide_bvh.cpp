@@ -252,6 +252,7 @@ void WideBvh::ChildDistances2(const WideNode& node, const WidePoint& point, doub
     // Written so that NaN gives 0: with bounds beyond the float range the
     // slack is infinite, and a zero gap is still a valid bound.
     const Float4 shrunk = Max(below, above) - point.slack[k];
+    // Squared in double: a gap near the float range would overflow in float.
     const Double4 gap = __builtin_convertvector(shrunk > 0.0f ? shrunk : 0.0f, Double4);
     box += gap * gap;
   }
