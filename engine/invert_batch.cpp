@@ -312,15 +312,17 @@ struct PointSearch {
       }
     }
     if (clamped != 1 || bestModel < 0) return true;
-    // Least value of the model's quadratic, in patch parameters, on the
-    // line where parameter `across` is held at the edge.
-    const double(*h)[3] = scratch.models[bestModel].hessian;
+    // The model's least value (in the best cell's reference coordinates)
+    // with parameter `across` held at the edge.
+    bool held[3] = {false, false, false};
+    held[across] = true;
+    double step[3] = {0, 0, 0};
+    step[across] = clampedBy / from.paramScale[across];
+    const double rhs[3] = {0, 0, 0};
+    if (!SolveFree(scratch.models[bestModel].hessian, rhs, pd, held, step)) return true;
     const int along = 1 - across;
-    if (!(h[along][along] > 0.0)) return true;
-    const double slide =
-        -h[along][across] / h[along][along] * from.paramScale[along] / from.paramScale[across] * clampedBy;
-    const double slideRef = slide / to.paramScale[along];
-    if (std::abs(slideRef) <= 0.5) start[along] = std::clamp(start[along] + slideRef, 0.0, 1.0);
+    const double slide = step[along] * from.paramScale[along] / to.paramScale[along];
+    if (std::abs(slide) <= 0.5) start[along] = std::clamp(start[along] + slide, 0.0, 1.0);
     return true;
   }
 

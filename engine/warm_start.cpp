@@ -35,10 +35,8 @@ void StepModels(const WarmStart& warm, int paramDim, int dim, const double* p, d
   }
 }
 
-/// Solves model step = rhs for the parameters not `held` (the held ones
-/// keep their `step`, which moves the right-hand side), in closed form for
-/// the free block of at most 3 x 3. False when that block is not positive
-/// definite (by its leading minors) or the step is not finite.
+}  // namespace
+
 bool SolveFree(const double (*model)[3], const double* rhs, int paramDim, const bool* held, double* step) {
   int free[3], m = 0;
   for (int i = 0; i < paramDim; ++i) {
@@ -70,7 +68,6 @@ bool SolveFree(const double (*model)[3], const double* rhs, int paramDim, const 
   return std::isfinite(step[0]) && std::isfinite(step[1]) && std::isfinite(step[2]);
 }
 
-}  // namespace
 
 void PredictStart(const CellStore& store, const WarmStart& warm, const double* p, std::int64_t* cell, double* ref) {
   *cell = warm.cell;

@@ -33,4 +33,12 @@ struct WarmStart {
 /// bit for bit), the start is `warm` itself.
 void PredictStart(const CellStore& store, const WarmStart& warm, const double* p, std::int64_t* cell, double* ref);
 
+/// Solves model step = rhs (paramDim x paramDim, row-major in 3 x 3) for the
+/// parameters not `held`; the held ones keep their `step`, which moves the
+/// right-hand side. Closed form for the free block of at most 3 x 3. False
+/// when that block is not positive definite (by its leading minors) or the
+/// step is not finite. With rhs = 0 and a local model's Hessian: the model's
+/// least value with the held parameters displaced by their step.
+bool SolveFree(const double (*model)[3], const double* rhs, int paramDim, const bool* held, double* step);
+
 }  // namespace invmap::engine

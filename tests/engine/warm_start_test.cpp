@@ -295,5 +295,40 @@ TEST(WarmStartTest, AStepPastThePatchEdgeIsHeldOnTheEdge) {
   EXPECT_GT(moved, trials / 10);
 }
 
+/// The least value of a convex quadratic with some parameters held: at that
+/// point the gradient along the free ones vanishes (checked directly).
+TEST(WarmStartTest, SolveFreeFindsTheLeastValueWithHeldParameters) {
+  const double model[3][3] = {{4.0, 1.0, 0.5}, {1.0, 3.0, -0.7}, {0.5, -0.7, 2.0}};
+  const double rhs[3] = {0.3, -0.2, 0.1};
+  for (int paramDim = 1; paramDim <= 3; ++paramDim) {
+    for (int mask = 0; mask < (1 << paramDim); ++mask) {
+      bool held[3] = {false, false, false};
+      double step[3] = {0, 0, 0};
+      for (int i = 0; i < paramDim; ++i) {
+        held[i] = (mask >> i) & 1;
+        if (held[i]) step[i] = 0.25 * (i + 1);
+      }
+      const double heldStep[3] = {step[0], step[1], step[2]};
+      ASSERT_TRUE(engine::SolveFree(model, rhs, paramDim, held, step));
+      for (int i = 0; i < paramDim; ++i) {
+        if (held[i]) {
+          EXPECT_EQ(step[i], heldStep[i]);
+          continue;
+        }
+        double residual = -rhs[i];
+        for (int j = 0; j < paramDim; ++j) residual += model[i][j] * step[j];
+        EXPECT_NEAR(residual, 0.0, 1e-14) << "paramDim " << paramDim << " mask " << mask << " row " << i;
+      }
+    }
+  }
+  // A free block that is not positive definite has no least value.
+  const double saddle[3][3] = {{1.0, 0.0, 0.0}, {0.0, -1.0, 0.0}, {0.0, 0.0, 1.0}};
+  const bool none[3] = {false, false, false};
+  double step[3] = {0, 0, 0};
+  EXPECT_FALSE(engine::SolveFree(saddle, rhs, 2, none, step));
+  const bool secondHeld[3] = {false, true, false};
+  EXPECT_TRUE(engine::SolveFree(saddle, rhs, 2, secondHeld, step));
+}
+
 }  // namespace
 }  // namespace invmap::testing
