@@ -40,19 +40,28 @@ MortonGrid MakeMortonGrid(const double lo[3], const double hi[3]);
 /// Returns kNoCode when a coordinate is NaN or infinite.
 std::uint64_t MortonKey(const MortonGrid& grid, double x, double y, double z);
 
-/// Sorts `count` points by Morton key on the grid of the box [lo, hi] (e.g.
-/// the geometry's bounds) and returns the permutation that lists them in that
-/// order: pointNew2Old[newIndex] = index of the point in the input arrays.
-/// Ties between equal keys are broken by the input index, so the permutation
-/// is unique: Seq and Par, and any thread count, give the same result.
-/// Non-finite points have key kNoCode and come last, in input order.
+/// Bits a sort element gives the input index (the fewest that hold every
+/// index below `count`); the Morton key's leading 64 - SortIndexBits(count)
+/// bits are what SpatialSort orders by.
+int SortIndexBits(std::int64_t count);
+
+/// Sorts `count` points by the leading bits of their Morton key on the grid
+/// of the box [lo, hi] (e.g. the geometry's bounds): the key with its low
+/// SortIndexBits(count) bits cleared, 44 bits of 63 for a million points,
+/// which still tell apart points 1/26000 of the box apart. Returns the
+/// permutation that lists the points in that order: pointNew2Old[newIndex] =
+/// index of the point in the input arrays. Ties are broken by the input
+/// index, so the permutation is unique: Seq and Par, and any thread count,
+/// give the same result. Non-finite points have key kNoCode and come last,
+/// in input order.
 /// @param x, y       coordinates, `count` values each (structure of arrays).
 /// @param z          Optional: `count` z coordinates; null for 2D points (z = 0).
 /// @param pointNew2Old output, resized to `count`; previous content discarded.
-/// @param keysNew    Optional: resized to `count` and filled with the sorted keys,
-///                   keysNew[i] = key of point pointNew2Old[i]; null to skip.
+/// @param keysNew    Optional: resized to `count` and filled with the keys sorted
+///                   by: keysNew[i] = the key of point pointNew2Old[i] with its
+///                   low SortIndexBits(count) bits cleared; null to skip.
 /// @param maxThreads Par only: upper limit on threads; 0 = caller's task arena.
-/// Memory: two temporary arrays of 16 bytes per point (the radix sort's).
+/// Memory: two temporary arrays of 8 bytes per point (the radix sort's).
 void SpatialSort(ExecutionPolicy policy, const double* x, const double* y, const double* z,
                  std::int64_t count, const double lo[3], const double hi[3],
                  std::vector<std::int64_t>* pointNew2Old, std::vector<std::uint64_t>* keysNew,

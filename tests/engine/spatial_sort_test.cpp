@@ -114,13 +114,15 @@ void ExpectValidSort(const Points& pts, bool planar, const double lo[3], const d
   ASSERT_EQ(static_cast<std::int64_t>(pointNew2Old.size()), n);
   ASSERT_EQ(static_cast<std::int64_t>(keysNew.size()), n);
   std::vector<int> seen(static_cast<std::size_t>(n), 0);
+  // The sort orders by the key's leading bits; the index takes the rest.
+  const std::uint64_t indexMask = (std::uint64_t{1} << SortIndexBits(n)) - 1;
   for (std::int64_t i = 0; i < n; ++i) {
     const std::int64_t old = pointNew2Old[i];
     ASSERT_GE(old, 0);
     ASSERT_LT(old, n);
     ++seen[old];
     const double p[3] = {pts.x[old], pts.y[old], planar ? 0.0 : pts.z[old]};
-    EXPECT_EQ(keysNew[i], ReferenceKey(lo, hi, p)) << "sorted position " << i;
+    EXPECT_EQ(keysNew[i], ReferenceKey(lo, hi, p) & ~indexMask) << "sorted position " << i;
     if (i > 0) {
       EXPECT_LE(keysNew[i - 1], keysNew[i]) << "sorted position " << i;
       if (keysNew[i - 1] == keysNew[i]) {
@@ -163,6 +165,43 @@ TEST(SpatialSort, PlanarPointsWithoutZ) {
   SpatialSort(ExecutionPolicy::Par, pts.x.data(), pts.y.data(), nullptr,
               static_cast<std::int64_t>(pts.x.size()), lo, hi, &pointNew2Old, &keysNew);
   ExpectValidSort(pts, true, lo, hi, pointNew2Old, keysNew);
+}
+
+TEST(SpatialSort, IndexBitsHoldEveryIndex) {
+  EXPECT_EQ(SortIndexBits(0), 0);
+  EXPECT_EQ(SortIndexBits(1), 0);
+  EXPECT_EQ(SortIndexBits(2), 1);
+  EXPECT_EQ(SortIndexBits(3), 2);
+  EXPECT_EQ(SortIndexBits(std::int64_t{1} << 20), 20);
+  EXPECT_EQ(SortIndexBits((std::int64_t{1} << 20) + 1), 21);
+}
+
+TEST(SpatialSort, TiesInTheLeadingBitsKeepInputOrder) {
+  // A cluster a billionth of the box wide: its points share the key's
+  // leading bits, so they keep their input order; one point far from the
+  // cluster and a NaN show the order across keys still holds.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> offset(0.0, 1e-9);
+  Points pts;
+  for (int i = 0; i < 5000; ++i) {
+    pts.x.push_back(0.25 + offset(rng));
+    pts.y.push_back(0.25 + offset(rng));
+    pts.z.push_back(0.25 + offset(rng));
+  }
+  pts.x[10] = 0.1;
+  pts.y[20] = kNan;
+  const double lo[3] = {0.0, 0.0, 0.0};
+  const double hi[3] = {1.0, 1.0, 1.0};
+  std::vector<std::int64_t> pointNew2Old;
+  std::vector<std::uint64_t> keysNew;
+  SpatialSort(ExecutionPolicy::Par, pts.x.data(), pts.y.data(), pts.z.data(),
+              static_cast<std::int64_t>(pts.x.size()), lo, hi, &pointNew2Old, &keysNew);
+  ExpectValidSort(pts, false, lo, hi, pointNew2Old, keysNew);
+  ASSERT_EQ(pointNew2Old.size(), pts.x.size());
+  EXPECT_EQ(pointNew2Old.front(), 10);
+  EXPECT_EQ(pointNew2Old.back(), 20);
+  EXPECT_EQ(pointNew2Old[1], 0);
+  EXPECT_EQ(pointNew2Old[pts.x.size() - 2], static_cast<std::int64_t>(pts.x.size()) - 1);
 }
 
 TEST(SpatialSort, SeqAndParAreIdentical) {
