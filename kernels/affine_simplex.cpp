@@ -12,6 +12,13 @@ double Dot(int n, const double* a, const double* b) {
   return s;
 }
 
+/// out = u x v (3 coordinates; 2D vectors have a zero third one).
+void Cross(const double* u, const double* v, double* out) {
+  out[0] = u[1] * v[2] - u[2] * v[1];
+  out[1] = u[2] * v[0] - u[0] * v[2];
+  out[2] = u[0] * v[1] - u[1] * v[0];
+}
+
 /// Closest point on segment ab: returns t in [0, 1] (point a + t (b - a)).
 double SegmentParameter(int n, const double* a, const double* b, const double* p) {
   double ab[3], ap[3];
@@ -35,12 +42,28 @@ double Evaluate(int n, const double* a, const double* b, const double* c, double
   return d2;
 }
 
-/// Closest point on triangle abc as (s, t): Ericson's region tests
-/// (Real-Time Collision Detection, 5.1.5), then the edges when the triangle
-/// is degenerate (no interior region to speak of).
+/// Closest point on triangle abc as (s, t). First the vertices' regions
+/// (Ericson, Real-Time Collision Detection 5.1.5: a vertex is the answer when
+/// the point lies in its normal cone, told by two dot products each); then
+/// the projection onto the plane when it lies in the triangle, else the
+/// nearest point of the edges whose side the projection lies beyond.
+///
+/// The projection comes from triple products with the normal n = ab x ac:
+/// t = n . (ab x ap) / |n|^2, then s from t along ab. The Gram-matrix
+/// formulas (Ericson's edge and face regions, the normal equations) lose
+/// digits as 1 / sin^2 of the triangle's smallest angle: on a sliver of
+/// height 1e-7 of its length they moved the closest point of a point lying
+/// on it by 1e-4 of the length. These keep the point within a few roundings
+/// of the triangle's size; the error left, from the direction of n, only
+/// moves a point above the triangle along its plane, where the distance is
+/// stationary. Where even that is too much (sin of the angle at a below
+/// 1e-4) or n is lost to rounding (collinear vertices), all three edges are
+/// measured as well and the nearest answer kept: every candidate is a point
+/// of the triangle, and the edges alone are off by at most the sliver's
+/// height.
 void TriangleParameters(int n, const double* a, const double* b, const double* c, const double* p, double* s,
                         double* t) {
-  double ab[3], ac[3], ap[3], bp[3], cp[3];
+  double ab[3] = {0, 0, 0}, ac[3] = {0, 0, 0}, ap[3] = {0, 0, 0}, bp[3] = {0, 0, 0}, cp[3] = {0, 0, 0};
   for (int k = 0; k < n; ++k) {
     ab[k] = b[k] - a[k];
     ac[k] = c[k] - a[k];
@@ -48,57 +71,51 @@ void TriangleParameters(int n, const double* a, const double* b, const double* c
     bp[k] = p[k] - b[k];
     cp[k] = p[k] - c[k];
   }
-  const double d1 = Dot(n, ab, ap), d2 = Dot(n, ac, ap);
+  const double d1 = Dot(3, ab, ap), d2 = Dot(3, ac, ap);
   if (d1 <= 0.0 && d2 <= 0.0) {
     *s = *t = 0.0;
     return;
   }
-  const double d3 = Dot(n, ab, bp), d4 = Dot(n, ac, bp);
+  const double d3 = Dot(3, ab, bp), d4 = Dot(3, ac, bp);
   if (d3 >= 0.0 && d4 <= d3) {
     *s = 1.0;
     *t = 0.0;
     return;
   }
-  const double d5 = Dot(n, ab, cp), d6 = Dot(n, ac, cp);
+  const double d5 = Dot(3, ab, cp), d6 = Dot(3, ac, cp);
   if (d6 >= 0.0 && d5 <= d6) {
     *s = 0.0;
     *t = 1.0;
     return;
   }
-  const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-  const double area2 = va + vb + vc;  // (twice the area)^2 up to rounding
-  const double scale = Dot(n, ab, ab) * Dot(n, ac, ac);
-  if (area2 > 1e-14 * scale) {
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-      *s = d1 / (d1 - d3);
-      *t = 0.0;
-      return;
-    }
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-      *s = 0.0;
-      *t = d2 / (d2 - d6);
-      return;
-    }
-    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-      const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-      *s = 1.0 - w;
-      *t = w;
-      return;
-    }
-    *s = vb / area2;
-    *t = vc / area2;
-    return;
-  }
-  // Degenerate: the closest point lies on one of the edges.
-  double best = -1.0, closest[3];
-  const double tab = SegmentParameter(n, a, b, p), tac = SegmentParameter(n, a, c, p), tbc = SegmentParameter(n, b, c, p);
-  const double candidates[3][2] = {{tab, 0.0}, {0.0, tac}, {1.0 - tbc, tbc}};
-  for (const auto& st : candidates) {
-    const double d = Evaluate(n, a, b, c, st[0], st[1], p, closest);
+  double normal[3], abXap[3];
+  Cross(ab, ac, normal);
+  Cross(ab, ap, abXap);
+  const double nn = Dot(3, normal, normal), g11 = Dot(3, ab, ab);
+  const double tPlane = Dot(3, normal, abXap) / nn;
+  const double sPlane = (d1 - tPlane * Dot(3, ab, ac)) / g11;
+  const bool inside = sPlane >= 0.0 && tPlane >= 0.0 && sPlane + tPlane <= 1.0;
+  *s = sPlane;
+  *t = tPlane;
+  const bool wellShaped = nn > kWellShapedSin2 * g11 * Dot(3, ac, ac);
+  if (inside && wellShaped) return;
+  double closest[3];
+  double best = inside ? Evaluate(n, a, b, c, sPlane, tPlane, p, closest) : -1.0;
+  // The edges as (s, t) = origin + u (direction) over u in [0, 1]; on a
+  // well-shaped triangle only those the projection lies beyond.
+  const bool beyond[3] = {!wellShaped || tPlane < 0.0, !wellShaped || sPlane < 0.0,
+                          !wellShaped || sPlane + tPlane > 1.0};
+  const double* const from[3] = {a, a, b};
+  const double* const to[3] = {b, c, c};
+  for (int e = 0; e < 3; ++e) {
+    if (!beyond[e]) continue;
+    const double u = SegmentParameter(n, from[e], to[e], p);
+    const double st[3][2] = {{u, 0.0}, {0.0, u}, {1.0 - u, u}};
+    const double d = Evaluate(n, a, b, c, st[e][0], st[e][1], p, closest);
     if (best < 0.0 || d < best) {
       best = d;
-      *s = st[0];
-      *t = st[1];
+      *s = st[e][0];
+      *t = st[e][1];
     }
   }
 }

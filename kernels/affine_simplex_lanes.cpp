@@ -26,20 +26,26 @@ constexpr double kDegenerate = 1e-14;
 
 /// Triangle (a, a + e1, a + e2) on lanes [0, count): (s, t) and squared
 /// distance. The closest point is the projection onto the plane when it
-/// lies in the triangle, otherwise the nearest of the three edges.
+/// lies in the triangle, otherwise the nearest of the three edges. The
+/// projection is ClosestPointOnSimplex's (triple products with the normal,
+/// t first, then s along e1), which keeps its digits on thin triangles; the
+/// triangle's angle at a is above ClosestPointOnSimplex's threshold for
+/// trusting it (Degenerate below leaves the others to the scalar solver).
 void TriangleLanes(const Vec& a, const Vec& e1, const Vec& e2, const double* x, const double* y, const double* z,
                    int count, double* sOut, double* tOut, double* d2Out, bool* boundaryOut) {
   const double g11 = Dot(e1, e1), g12 = Dot(e1, e2), g22 = Dot(e2, e2);
-  const double inverseDet = 1.0 / (g11 * g22 - g12 * g12);
+  const Vec n = Cross(e1, e2);
+  const double inverseNn = 1.0 / Dot(n, n), inverseG11 = 1.0 / g11;
   const Vec f = Sub(e2, e1);
   const double ff = Dot(f, f);
   for (int l = 0; l < count; ++l) {
     const double wx = x[l] - a.x, wy = y[l] - a.y, wz = z[l] - a.z;
     const double r1 = e1.x * wx + e1.y * wy + e1.z * wz;
     const double r2 = e2.x * wx + e2.y * wy + e2.z * wz;
-    // Projection onto the plane.
-    const double s = (g22 * r1 - g12 * r2) * inverseDet;
-    const double t = (g11 * r2 - g12 * r1) * inverseDet;
+    // Projection onto the plane: t = n . (e1 x w) / |n|^2, s from t.
+    const double e1wX = e1.y * wz - e1.z * wy, e1wY = e1.z * wx - e1.x * wz, e1wZ = e1.x * wy - e1.y * wx;
+    const double t = (n.x * e1wX + n.y * e1wY + n.z * e1wZ) * inverseNn;
+    const double s = (r1 - t * g12) * inverseG11;
     const bool inside = s >= 0 && t >= 0 && s + t <= 1;
     const double px = wx - s * e1.x - t * e2.x, py = wy - s * e1.y - t * e2.y, pz = wz - s * e1.z - t * e2.z;
     const double dPlane = px * px + py * py + pz * pz;
@@ -141,9 +147,9 @@ bool Degenerate(int dim, int ambientDim, const double* const* v) {
   if (dim == 1) return !(Dot(e1, e1) > 0);
   const Vec e2 = Sub(Load(v[2], ambientDim), a);
   if (dim == 2) {
-    const double g11 = Dot(e1, e1), g22 = Dot(e2, e2), g12 = Dot(e1, e2);
+    const double g11 = Dot(e1, e1), g22 = Dot(e2, e2);
     const Vec f = Sub(e2, e1);
-    return !(g11 * g22 - g12 * g12 > kDegenerate * g11 * g22) || !(Dot(f, f) > 0);
+    return !(Dot(Cross(e1, e2), Cross(e1, e2)) > kWellShapedSin2 * g11 * g22) || !(Dot(f, f) > 0);
   }
   const Vec e3 = Sub(Load(v[3], 3), a);
   const double volume = std::fabs(Dot(e1, Cross(e2, e3)));

@@ -4,7 +4,11 @@
 // by the reference's own box tree.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "invmap/invmap.h"
 #include "tests/support/closest_reference.h"
@@ -66,6 +70,70 @@ TEST(TriangleMeshTest, PlanarMesh2D) {
   mix.far = 5000;
   mix.inside = 5000;
   RunMesh("planar 2D mesh", g, mix, 903, 0, {});
+}
+
+TEST(TriangleMeshTest, PointsOnSliversAmongManyTriangles) {
+  // Slivers (the third vertex 1e-5 to 1e-9 of the length off the opposite
+  // edge) among well-shaped triangles: enough of them near every point that
+  // its search runs the BVH traversal, not only the bucket's lanes. Each
+  // query point lies on a sliver (inside it or on an edge), so its distance
+  // is zero up to rounding, whichever triangle holds it.
+  std::mt19937_64 rng(904);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Patch mesh;
+  mesh.kind = Patch::Kind::Mesh;
+  mesh.cell = CellType::Tri;
+  std::vector<double> queries;
+  const auto addVertex = [&](const Vec3& v) {
+    mesh.points.insert(mesh.points.end(), v.begin(), v.end());
+    return static_cast<std::int64_t>(mesh.points.size() / 3 - 1);
+  };
+  for (int i = 0; i < 400; ++i) {
+    const Vec3 a{{unit(rng), unit(rng), unit(rng)}};
+    const Vec3 along = RandomDirection(3, rng);
+    Vec3 across = RandomDirection(3, rng);
+    const double dot = along[0] * across[0] + along[1] * across[1] + along[2] * across[2];
+    for (int k = 0; k < 3; ++k) across[k] -= dot * along[k];
+    const double norm = std::sqrt(across[0] * across[0] + across[1] * across[1] + across[2] * across[2]);
+    const double length = 0.3 * unit(rng) + 0.05;
+    const double height = length * std::pow(10.0, -5.0 - 4.0 * unit(rng));
+    const double at = 0.05 + 0.9 * unit(rng);
+    Vec3 b, c;
+    for (int k = 0; k < 3; ++k) {
+      b[k] = a[k] + length * along[k];
+      c[k] = a[k] + at * length * along[k] + height * across[k] / norm;
+    }
+    const std::int64_t ia = addVertex(a), ib = addVertex(b), ic = addVertex(c);
+    mesh.cells.insert(mesh.cells.end(), {ia, ib, ic});
+    // A point inside the sliver, and the midpoints of its edges.
+    double w1 = unit(rng), w2 = unit(rng);
+    if (w1 + w2 > 1) w1 = 1 - w1, w2 = 1 - w2;
+    for (int k = 0; k < 3; ++k) queries.push_back(a[k] + w1 * (b[k] - a[k]) + w2 * (c[k] - a[k]));
+    for (const auto& [from, to] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+      for (int k = 0; k < 3; ++k) queries.push_back(0.5 * (from[k] + to[k]));
+    }
+    // Well-shaped neighbours around it.
+    for (int j = 0; j < 10; ++j) {
+      Vec3 v[3];
+      for (Vec3& corner : v) {
+        for (int k = 0; k < 3; ++k) corner[k] = a[k] + 0.2 * (unit(rng) - 0.5);
+      }
+      mesh.cells.insert(mesh.cells.end(), {addVertex(v[0]), addVertex(v[1]), addVertex(v[2])});
+    }
+  }
+  Geometry g;
+  g.patches.push_back(mesh);
+  BuildResult built = Manifold::Build(g);
+  ASSERT_TRUE(built.error.empty()) << built.error;
+  const std::size_t n = queries.size() / 3;
+  Results results;
+  std::string message;
+  ASSERT_EQ(built.manifold.Invert(PointsView::Interleaved(queries.data(), n, 3), {}, &results, &message), Error::Ok)
+      << message;
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_EQ(results.status[i], Status::Found) << "point " << i;
+    EXPECT_LE(results.distance[i], 1e-14) << "point " << i << " (sliver " << i / 4 << ")";
+  }
 }
 
 }  // namespace
