@@ -18,6 +18,7 @@
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 #include "io/json_sax.h"
+#include "kernels/cell_shape.h"
 
 namespace invmap::io {
 namespace {
@@ -501,6 +502,11 @@ void GeometryHandler::ListScalar(const Scalar& v) {
     if (!v.AsInteger(&integer)) Fail(Here(), ElementPath() + ": expected an integer, found " + Describe(v));
     if (integer < 1 || integer > std::numeric_limits<int>::max()) {
       Fail(Here(), ElementPath() + ": " + std::to_string(integer) + ", expected a positive integer");
+    }
+    // Checked here too (the engine checks it again) so that the message names the line.
+    if (field_ == Field::Degrees && integer > kernels::kMaxDegree) {
+      Fail(Here(), ElementPath() + ": " + std::to_string(integer) + ", expected 1 to " +
+                       std::to_string(kernels::kMaxDegree) + " (the highest degree invmap supports)");
     }
     (field_ == Field::Degrees ? patch.degrees : patch.counts).push_back(static_cast<int>(integer));
   }

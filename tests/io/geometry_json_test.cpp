@@ -395,6 +395,8 @@ const BadPatch kBadPatches[] = {
      7, "patches[0].control_points: 3 points, expected 4 (counts 2 x 2)"},
     {"ZeroDegree", 3, "{\"kind\": \"bspline\",\n \"degrees\": [0]}", 7,
      "patches[0].degrees[0]: 0, expected a positive integer"},
+    {"DegreeAboveTheCap", 3, "{\"kind\": \"bezier\", \"cell\": \"tri\",\n \"degrees\": [9]}", 7,
+     "patches[0].degrees[0]: 9, expected 1 to 8 (the highest degree invmap supports)"},
     {"FractionalCount", 3, "{\"kind\": \"bspline\", \"degrees\": [1],\n \"counts\": [2.5]}", 7,
      "patches[0].counts[0]: expected an integer, found 2.5"},
     {"DegreeArray", 3, "{\"kind\": \"bspline\",\n \"degrees\": [[1]]}", 7,
@@ -434,7 +436,7 @@ const BadPatch kBadPatches[] = {
     {"AbsurdBezierDegree", 3,
      "{\"kind\": \"bezier\", \"cell\": \"hex\", \"degrees\": [2000000000, 2000000000, 2000000000],\n"
      " \"control_points\": [[0, 0, 0]]}",
-     7, "patches[0].control_points: 1 points, expected 8"},
+     6, "patches[0].degrees[0]: 2000000000, expected 1 to 8"},
     {"TetCellIn2D", 2, "{\"kind\": \"bezier\",\n \"cell\": \"tet\", \"degrees\": [1], \"control_points\": []}", 7,
      "patches[0].cell: a tet cell needs dimension 3"},
     // Meshes.
