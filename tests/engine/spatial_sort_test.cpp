@@ -145,26 +145,29 @@ void ExpectValidSort(const Points& pts, bool planar, const double lo[3], const d
   }
 }
 
+/// Sorts `pts` (planar: without z) on the box [lo, hi], checks the result
+/// against the definition and returns the permutation.
+std::vector<std::int64_t> SortAndCheck(const Points& pts, bool planar, const double lo[3], const double hi[3]) {
+  std::vector<std::int64_t> pointNew2Old;
+  std::vector<std::uint64_t> keysNew;
+  SpatialSort(ExecutionPolicy::Par, pts.x.data(), pts.y.data(), planar ? nullptr : pts.z.data(),
+              static_cast<std::int64_t>(pts.x.size()), lo, hi, &pointNew2Old, &keysNew);
+  ExpectValidSort(pts, planar, lo, hi, pointNew2Old, keysNew);
+  return pointNew2Old;
+}
+
 TEST(SpatialSort, PermutationSortedWithInvalidLast) {
   const Points pts = RandomPoints(100000, 2);
   const double lo[3] = {0.0, 0.0, 0.0};
   const double hi[3] = {1.0, 1.0, 1.0};
-  std::vector<std::int64_t> pointNew2Old;
-  std::vector<std::uint64_t> keysNew;
-  SpatialSort(ExecutionPolicy::Par, pts.x.data(), pts.y.data(), pts.z.data(),
-              static_cast<std::int64_t>(pts.x.size()), lo, hi, &pointNew2Old, &keysNew);
-  ExpectValidSort(pts, false, lo, hi, pointNew2Old, keysNew);
+  SortAndCheck(pts, false, lo, hi);
 }
 
 TEST(SpatialSort, PlanarPointsWithoutZ) {
   const Points pts = RandomPoints(30000, 3);
   const double lo[3] = {0.0, 0.0, 0.0};
   const double hi[3] = {1.0, 1.0, 0.0};
-  std::vector<std::int64_t> pointNew2Old;
-  std::vector<std::uint64_t> keysNew;
-  SpatialSort(ExecutionPolicy::Par, pts.x.data(), pts.y.data(), nullptr,
-              static_cast<std::int64_t>(pts.x.size()), lo, hi, &pointNew2Old, &keysNew);
-  ExpectValidSort(pts, true, lo, hi, pointNew2Old, keysNew);
+  SortAndCheck(pts, true, lo, hi);
 }
 
 TEST(SpatialSort, IndexBitsHoldEveryIndex) {
@@ -192,11 +195,7 @@ TEST(SpatialSort, TiesInTheLeadingBitsKeepInputOrder) {
   pts.y[20] = kNan;
   const double lo[3] = {0.0, 0.0, 0.0};
   const double hi[3] = {1.0, 1.0, 1.0};
-  std::vector<std::int64_t> pointNew2Old;
-  std::vector<std::uint64_t> keysNew;
-  SpatialSort(ExecutionPolicy::Par, pts.x.data(), pts.y.data(), pts.z.data(),
-              static_cast<std::int64_t>(pts.x.size()), lo, hi, &pointNew2Old, &keysNew);
-  ExpectValidSort(pts, false, lo, hi, pointNew2Old, keysNew);
+  const std::vector<std::int64_t> pointNew2Old = SortAndCheck(pts, false, lo, hi);
   ASSERT_EQ(pointNew2Old.size(), pts.x.size());
   EXPECT_EQ(pointNew2Old.front(), 10);
   EXPECT_EQ(pointNew2Old.back(), 20);

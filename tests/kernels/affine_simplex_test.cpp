@@ -209,50 +209,53 @@ std::string Describe(const Case& c) {
 /// place of the coordinates (the query point's own rounding included).
 double Tolerance(const Case& c) { return 64 * 2.220446e-16 * (std::abs(c.center) + 2 * c.size); }
 
-TEST(ClosestPointOnSimplex, TrianglesFromWellShapedToSlivers) {
-  std::mt19937_64 rng(20261125);
+/// Calls check(c, triangle, vertices, ambient dimension, queries) for
+/// `trials` random triangles of every case that rounding left a triangle.
+template <typename Check>
+void ForEachTriangle(std::uint64_t seed, int trials, const Check& check) {
+  std::mt19937_64 rng(seed);
   for (const Case& c : Cases()) {
-    for (int trial = 0; trial < 20; ++trial) {
+    for (int trial = 0; trial < trials; ++trial) {
       const Triangle t = RandomTriangle(rng, c.shape, c.height, c.size, c.center, c.planar);
-      const int ambient = c.planar ? 2 : 3;
       const double* v[3] = {t.v[0].data(), t.v[1].data(), t.v[2].data()};
-      for (const Query& q : QueriesFor(t, rng, c.size, c.planar)) {
-        double ref[3], closest[3] = {0, 0, 0};
-        bool onBoundary = false;
-        const double d2 = ClosestPointOnSimplex(2, ambient, v, q.p.data(), ref, closest, &onBoundary);
-        ExpectAnswer(t, q, ref[0], ref[1], d2, closest, Tolerance(c), Describe(c));
-      }
+      const std::vector<Query> queries = QueriesFor(t, rng, c.size, c.planar);
+      if (!queries.empty()) check(c, t, v, c.planar ? 2 : 3, queries);
     }
   }
 }
 
-TEST(ClosestPointsOnSimplexLanes, TrianglesFromWellShapedToSlivers) {
-  std::mt19937_64 rng(7);
-  for (const Case& c : Cases()) {
-    for (int trial = 0; trial < 10; ++trial) {
-      const Triangle t = RandomTriangle(rng, c.shape, c.height, c.size, c.center, c.planar);
-      const int ambient = c.planar ? 2 : 3;
-      const double* v[3] = {t.v[0].data(), t.v[1].data(), t.v[2].data()};
-      const std::vector<Query> queries = QueriesFor(t, rng, c.size, c.planar);
-      if (queries.empty()) continue;  // rounding made the vertices collinear
-      // More lanes than one chunk, so the chunking is exercised as well.
-      std::vector<Query> lanes;
-      while (static_cast<int>(lanes.size()) <= kSimplexLaneChunk) lanes.insert(lanes.end(), queries.begin(), queries.end());
-      const int n = static_cast<int>(lanes.size());
-      std::vector<double> coord[3], ref[2], dist2(n);
-      for (auto& axis : coord) axis.resize(n);
-      for (auto& axis : ref) axis.resize(n);
-      std::unique_ptr<bool[]> onBoundary(new bool[n]);
-      for (int l = 0; l < n; ++l)
-        for (int k = 0; k < 3; ++k) coord[k][l] = lanes[l].p[k];
-      const double* const coords[3] = {coord[0].data(), coord[1].data(), coord[2].data()};
-      double* const refs[3] = {ref[0].data(), ref[1].data(), nullptr};
-      ClosestPointsOnSimplexLanes(2, ambient, v, coords, n, refs, dist2.data(), onBoundary.get());
-      for (int l = 0; l < n; ++l) {
-        ExpectAnswer(t, lanes[l], ref[0][l], ref[1][l], dist2[l], nullptr, Tolerance(c), Describe(c));
-      }
+TEST(ClosestPointOnSimplex, TrianglesFromWellShapedToSlivers) {
+  ForEachTriangle(20261125, 20, [](const Case& c, const Triangle& t, const double* const* v, int ambient,
+                                   const std::vector<Query>& queries) {
+    for (const Query& q : queries) {
+      double ref[3], closest[3] = {0, 0, 0};
+      bool onBoundary = false;
+      const double d2 = ClosestPointOnSimplex(2, ambient, v, q.p.data(), ref, closest, &onBoundary);
+      ExpectAnswer(t, q, ref[0], ref[1], d2, closest, Tolerance(c), Describe(c));
     }
-  }
+  });
+}
+
+TEST(ClosestPointsOnSimplexLanes, TrianglesFromWellShapedToSlivers) {
+  ForEachTriangle(7, 10, [](const Case& c, const Triangle& t, const double* const* v, int ambient,
+                            const std::vector<Query>& queries) {
+    // More lanes than one chunk, so the chunking is exercised as well.
+    std::vector<Query> lanes;
+    while (static_cast<int>(lanes.size()) <= kSimplexLaneChunk) lanes.insert(lanes.end(), queries.begin(), queries.end());
+    const int n = static_cast<int>(lanes.size());
+    std::vector<double> coord[3], ref[2], dist2(n);
+    for (auto& axis : coord) axis.resize(n);
+    for (auto& axis : ref) axis.resize(n);
+    std::unique_ptr<bool[]> onBoundary(new bool[n]);
+    for (int l = 0; l < n; ++l)
+      for (int k = 0; k < 3; ++k) coord[k][l] = lanes[l].p[k];
+    const double* const coords[3] = {coord[0].data(), coord[1].data(), coord[2].data()};
+    double* const refs[3] = {ref[0].data(), ref[1].data(), nullptr};
+    ClosestPointsOnSimplexLanes(2, ambient, v, coords, n, refs, dist2.data(), onBoundary.get());
+    for (int l = 0; l < n; ++l) {
+      ExpectAnswer(t, lanes[l], ref[0][l], ref[1][l], dist2[l], nullptr, Tolerance(c), Describe(c));
+    }
+  });
 }
 
 }  // namespace
