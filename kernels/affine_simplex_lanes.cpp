@@ -147,9 +147,8 @@ bool Degenerate(int dim, int ambientDim, const double* const* v) {
   if (dim == 1) return !(Dot(e1, e1) > 0);
   const Vec e2 = Sub(Load(v[2], ambientDim), a);
   if (dim == 2) {
-    const double g11 = Dot(e1, e1), g22 = Dot(e2, e2);
-    const Vec f = Sub(e2, e1);
-    return !(Dot(Cross(e1, e2), Cross(e1, e2)) > kWellShapedSin2 * g11 * g22) || !(Dot(f, f) > 0);
+    const Vec n = Cross(e1, e2), f = Sub(e2, e1);
+    return !(Dot(n, n) > kWellShapedSin2 * Dot(e1, e1) * Dot(e2, e2)) || !(Dot(f, f) > 0);
   }
   const Vec e3 = Sub(Load(v[3], 3), a);
   const double volume = std::fabs(Dot(e1, Cross(e2, e3)));
