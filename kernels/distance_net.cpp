@@ -38,8 +38,15 @@ void DistanceNets::Build(const CellView& cell, const double* center) {
     MultiplyNets(base, nk, base, weightNet, nets_.data() + static_cast<size_t>(size_) * (k + 1));
   }
   MultiplyNets(base, weightNet, base, weightNet, nets_.data() + static_cast<size_t>(size_) * (ambientDim_ + 1));
-  scale_ = std::sqrt(*std::max_element(nn, nn + size_));
-  wwRoot_ = std::sqrt(*std::max_element(ww(), ww() + size_));
+  radius_ = 0.0;
+  for (int c = 0; c < n; ++c) {
+    double r2 = 0.0;
+    for (int k = 0; k < ambientDim_; ++k) {
+      const double d = cell.points[static_cast<size_t>(c) * ambientDim_ + k] - center_[k];
+      r2 += d * d;
+    }
+    radius_ = std::max(radius_, std::sqrt(r2));
+  }
 }
 
 void DistanceNets::SquaredDistanceNumerator(const double* point, double* q) const {
@@ -74,9 +81,15 @@ void DistanceNets::SquaredDistanceNumerator(const double* point, double* q) cons
 double DistanceNets::RoundingSlack(const double* point) const {
   double local2 = 0.0;
   for (int k = 0; k < ambientDim_; ++k) local2 += (point[k] - center_[k]) * (point[k] - center_[k]);
-  const double magnitude = scale_ + std::sqrt(local2) * wwRoot_;
-  // Each coefficient is a short sum of products of these magnitudes; the
-  // subdivision steps are convex combinations and add rounding of the same order.
+  // The coefficients' products all have positive factors (Bernstein
+  // coefficients, weights), so |NN_i| <= R^2 WW_i and |NW_i| <= R WW_i for
+  // the control points' radius R: each term of q_i, and its rounding, is at
+  // most (R + |p - c|)^2 WW_i, whatever the weights. The subdivision steps are
+  // convex combinations of q and WW alike and keep that. Divided by WW_i, the
+  // quotients' rounding does not grow with the weights' range (a slack in
+  // units of q did: weights of 1e15 made it 1e16, and no part of the cell
+  // could ever be excluded).
+  const double magnitude = radius_ + std::sqrt(local2);
   return 64.0 * std::numeric_limits<double>::epsilon() * magnitude * magnitude;
 }
 

@@ -44,7 +44,8 @@ class DistanceNets {
   void SquaredDistanceNumerator(const double* point, double* q) const;
   /// Heap memory of the nets, in bytes.
   std::size_t MemoryBytes() const { return nets_.capacity() * sizeof(double); }
-  /// Magnitude of the rounding error of q's coefficients for `point`.
+  /// Magnitude of the rounding error of the quotients q_i / WW_i (squared
+  /// distance units) for `point`, after any number of subdivisions.
   double RoundingSlack(const double* point) const;
 
  private:
@@ -53,10 +54,8 @@ class DistanceNets {
   int ambientDim_ = 3;
   bool rational_ = false;
   double center_[3] = {0, 0, 0};
-  // For the slack, as square roots (one per point is left to take): of the
-  // largest |N|^2 coefficient and of the largest WW coefficient.
-  double scale_ = 0.0;
-  double wwRoot_ = 0.0;
+  // For the slack: the largest distance of a control point from the center.
+  double radius_ = 0.0;
   std::vector<double> nets_;  // NN, NW_0 .. NW_{dim-1}, WW: size_ values each
 };
 

@@ -245,22 +245,47 @@ bool FullRankStep(const MapJet& jet, const double* r, int pd, double size, doubl
 /// region it leaves an error of about its square.
 constexpr double kFinalStep = 1e-6;
 
+/// The step lengths below which a move is negligible (kStepTolerance) and
+/// an unchecked Newton step is final (kFinalStep), at an iterate whose map
+/// has the jet `jet`. Both are meant for a map that moves about `size` per
+/// unit of reference coordinate; where it moves faster (|J| above size: a
+/// rational cell with weights many orders of magnitude apart crosses a
+/// whole control leg in 1e-15 of its parameter) they shrink in proportion,
+/// so that the mapped point still moves less than they allow.
+struct StepLimits {
+  double negligible = kStepTolerance;
+  double final = kFinalStep;
+};
+StepLimits StepLimitsAt(const MapJet& jet, int pd, int ad, double size) {
+  double jac2 = 0.0;
+  for (int k = 0; k < ad; ++k) {
+    for (int i = 0; i < pd; ++i) jac2 += jet.d1[k][i] * jet.d1[k][i];
+  }
+  StepLimits limits;
+  if (jac2 > size * size) {
+    const double shrink = size / std::sqrt(jac2);
+    limits.negligible *= shrink;
+    limits.final *= shrink;
+  }
+  return limits;
+}
+
 enum class StepOutcome { Moved, Blocked, Negligible, Rejected, Final };
 
 /// Armijo backtracking along the feasible part of `step`. On success moves
 /// `ref` (and enforces the blocking constraint when the whole feasible step
-/// was taken); Negligible when the accepted move is below kStepTolerance or
+/// was taken); Negligible when the accepted move is below limits.negligible or
 /// the decrease it promises is below `fNoise`, the rounding level of f (no
 /// evaluation could then tell a decrease from rounding). A short Newton step
-/// (`newton`, within the domain, at most kFinalStep) that promises only such
+/// (`newton`, within the domain, at most limits.final) that promises only such
 /// a decrease is in the quadratic convergence region: it is taken unchecked,
 /// and the outcome is Final. (A long step promising so little means a nearly
 /// singular Hessian, where the model cannot be trusted.)
 /// Trial points are evaluated to `trialOrder` into *trialJet, so after Moved
 /// it holds the map at the new `ref` for the next iteration.
 StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& active, double f, double fNoise,
-                       const Vector& g, const Vector& step, bool newton, JetOrder trialOrder, MapJet* trialJet,
-                       double* ref) {
+                       const StepLimits& limits, const Vector& g, const Vector& step, bool newton,
+                       JetOrder trialOrder, MapJet* trialJet, double* ref) {
   const CellShape& shape = cell.shape;
   const int pd = shape.paramDim();
   int blockFactor = -1, blockIndex = -1;
@@ -268,20 +293,20 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
   const double slope = 2.0 * g.dot(step);  // derivative of |r|^2 along the step
   if (!(slope < 0.0)) return StepOutcome::Rejected;
   const double length = step.norm();
-  if (blockFactor >= 0 && feasible * length <= kStepTolerance) {
+  if (blockFactor >= 0 && feasible * length <= limits.negligible) {
     // Already on that constraint's face (up to rounding): a descent step
     // that leaves the domain at once means the constraint becomes active.
     active.enforced[blockFactor] |= 1u << blockIndex;
     return StepOutcome::Blocked;
   }
-  if (newton && blockFactor < 0 && -slope <= fNoise && length <= kFinalStep) {
+  if (newton && blockFactor < 0 && -slope <= fNoise && length <= limits.final) {
     for (int i = 0; i < pd; ++i) ref[i] += step[i];
     return StepOutcome::Final;
   }
   double alpha = feasible;
   double trial[3];
   for (int halving = 0; halving < 60; ++halving) {
-    if (alpha * length <= kStepTolerance || -alpha * slope <= fNoise) return StepOutcome::Negligible;
+    if (alpha * length <= limits.negligible || -alpha * slope <= fNoise) return StepOutcome::Negligible;
     for (int i = 0; i < pd; ++i) trial[i] = ref[i] + alpha * step[i];
     EvaluateMap(cell, trial, trialOrder, trialJet);
     const double fTrial = SquaredDistance(*trialJet, point, cell.ambientDim);
@@ -444,14 +469,15 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
     }
     const double length = std::sqrt(length2);
     if (!inside) return FastOutcome::Handover;
-    if (-slope <= fNoise && length <= kFinalStep) {
+    const StepLimits limits = StepLimitsAt(jet, PD, AD, size);
+    if (-slope <= fNoise && length <= limits.final) {
       // In the quadratic region: the step is taken unchecked, and on a face
       // the multipliers of this iterate decide (as in the general loop).
       std::copy(trial, trial + PD, ref);
       jets->valid = false;
       return noRelease(grad, residualScale) ? FastOutcome::Converged : FastOutcome::Handover;
     }
-    if (length <= kStepTolerance || -slope <= fNoise) return FastOutcome::Handover;
+    if (length <= limits.negligible || -slope <= fNoise) return FastOutcome::Handover;
     EvaluateMap(cell, trial, JetOrder::Second, jets->trial);
     const double fTrial = SquaredDistance(*jets->trial, point, AD);
     if (!(fTrial <= f + 1e-4 * slope && fTrial < f)) return FastOutcome::Handover;
@@ -551,6 +577,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     }
     const double residualScale = gradTol * (size + std::sqrt(f));
     const double fNoise = RoundingOfF(point, r, ad, size, f);
+    const StepLimits limits = StepLimitsAt(jet, pd, ad, size);
 
     const Vector g = Eigen::Map<const Vector>(grad);
     // The common cases without the fallbacks' set-up: in the interior, the
@@ -573,7 +600,8 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       if (useFullRank ? FullRankStep(jet, r, pd, size, step)
                       : NewtonStepOver(jet, r, grad, freeCoords, freeCount, ad, step)) {
         const StepOutcome outcome =
-            LineSearch(cell, point, active, f, fNoise, g, Eigen::Map<const Vector>(step), true, need, jets.trial, ref);
+            LineSearch(cell, point, active, f, fNoise, limits, g, Eigen::Map<const Vector>(step), true, need,
+                       jets.trial, ref);
         if (outcome == StepOutcome::Moved) {
           jets.AcceptTrial(need, ref);
           continue;
@@ -669,7 +697,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
         bool moved = false, final = false;
         for (int c = 0; c < 2 && !moved && !final; ++c) {
           const StepOutcome outcome =
-              LineSearch(cell, point, active, f, fNoise, g, candidates[c], newton && c == 0, need, jets.trial, ref);
+              LineSearch(cell, point, active, f, fNoise, limits, g, candidates[c], newton && c == 0, need, jets.trial, ref);
           if (outcome == StepOutcome::Rejected || outcome == StepOutcome::Negligible) continue;
           if (outcome == StepOutcome::Moved) {
             jets.AcceptTrial(need, ref);
