@@ -126,16 +126,27 @@ void AppendRow(const std::vector<std::pair<int, double>>& row, std::vector<Hessi
 /// *nonFinite turns NaN when a row is infinite or NaN (a difference of
 /// coefficients near the overflow threshold): min and max would skip a NaN
 /// row, and an infinite one bounds nothing.
-template <int kTerms>
-void RunRange(const HessianRun& run, const double* f, double* lo, double* hi, double* nonFinite) {
+/// With `noise` (kNoisy), coefficient i of f carries rounding up to
+/// noise.scale * noise.weights[i], and each row's range is widened by its share.
+template <int kTerms, bool kNoisy>
+void RunRange(const HessianRun& run, const double* f, const NetNoise& noise, double* lo, double* hi,
+              double* nonFinite) {
   const int terms = kTerms > 0 ? kTerms : run.terms;
   const double* at = f + run.first;
+  const double* weights = kNoisy ? noise.weights + run.first : nullptr;
   double l = *lo, h = *hi, check = *nonFinite;
   for (int k = 0; k < run.length; ++k) {
     double v = 0.0;
     for (int t = 0; t < terms; ++t) v += run.weight[t] * at[k + run.offset[t]];
-    l = std::min(l, v);
-    h = std::max(h, v);
+    if constexpr (kNoisy) {
+      double spread = 0.0;
+      for (int t = 0; t < terms; ++t) spread += std::abs(run.weight[t]) * weights[k + run.offset[t]];
+      l = std::min(l, v - noise.scale * spread);
+      h = std::max(h, v + noise.scale * spread);
+    } else {
+      l = std::min(l, v);
+      h = std::max(h, v);
+    }
     check += v * 0.0;  // 0 for a finite row, NaN otherwise
   }
   *lo = l;
@@ -179,6 +190,57 @@ void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in
       }
     }
   }
+}
+
+double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, int* vi, int* vj) {
+  const NetLayout layout(shape);
+  const int n = NetSize(shape);
+  // steepest = w[high] / w[low], updated only when a pair beats it (products
+  // compare without dividing: this runs at every split of a rational cell).
+  double high = 1.0, low = 1.0;
+  *factor = 0;
+  *vi = 0;
+  *vj = 1;
+  const auto consider = [&](double a, double b, int f, int i, int j) {
+    const double big = std::max(a, b), small = std::min(a, b);
+    if (big * low > high * small) {
+      high = big;
+      low = small;
+      *factor = f;
+      *vi = i;
+      *vj = j;
+    }
+  };
+  for (int f = 0; f < layout.numFactors; ++f) {
+    const int dim = shape.factor(f).dim;
+    const int stride = layout.stride[f], count = layout.count[f];
+    if (dim == 1) {
+      // A line factor's only edge: neighbours are one stride apart.
+      for (int outer = 0; outer < n; outer += stride * count) {
+        for (int k = 0; k + 1 < count; ++k) {
+          const double* a = w + outer + k * stride;
+          for (int inner = 0; inner < stride; ++inner) consider(a[inner], a[inner + stride], f, 0, 1);
+        }
+      }
+      continue;
+    }
+    const SimplexIndex& index = *layout.index[f];
+    for (int c = 0; c < n; ++c) {
+      const int position = layout.Position(c, f);
+      const std::array<int, 4>& multi = index.multi(position);
+      // Each neighbour pair once: from c, move one unit from i to a later j.
+      for (int i = 0; i <= dim; ++i) {
+        if (multi[i] == 0) continue;
+        for (int j = i + 1; j <= dim; ++j) {
+          std::array<int, 4> next = multi;
+          --next[i];
+          ++next[j];
+          consider(w[c], w[c + (index.Position(next) - position) * stride], f, i, j);
+        }
+      }
+    }
+  }
+  return high / low;
 }
 
 void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, const double* netB, double* out) {
@@ -280,19 +342,18 @@ HessianStencil::HessianStencil(const CellShape& shape) : paramDim_(shape.paramDi
   }
 }
 
-bool HessianStencil::RowRange(const Entry& entry, const double* f, bool positive, double* lo, double* hi) {
+bool HessianStencil::RowRange(const Entry& entry, const double* f, const NetNoise& noise, bool positive,
+                              double* lo, double* hi) {
   double l = std::numeric_limits<double>::infinity(), h = -l, nonFinite = 0.0;
   for (const HessianRun& run : entry.runs) {
-    switch (run.terms) {
-      case 3:
-        RunRange<3>(run, f, &l, &h, &nonFinite);
-        break;
-      case 4:
-        RunRange<4>(run, f, &l, &h, &nonFinite);
-        break;
-      default:
-        RunRange<0>(run, f, &l, &h, &nonFinite);
-        break;
+    if (noise.weights) {
+      RunRange<0, true>(run, f, noise, &l, &h, &nonFinite);
+    } else if (run.terms == 3) {
+      RunRange<3, false>(run, f, noise, &l, &h, &nonFinite);
+    } else if (run.terms == 4) {
+      RunRange<4, false>(run, f, noise, &l, &h, &nonFinite);
+    } else {
+      RunRange<0, false>(run, f, noise, &l, &h, &nonFinite);
     }
     if (positive && l <= 0.0) return false;
   }
@@ -307,17 +368,17 @@ bool HessianStencil::RowRange(const Entry& entry, const double* f, bool positive
   return true;
 }
 
-bool HessianStencil::IsConvex(const double* f) const {
+bool HessianStencil::IsConvex(const double* f, const NetNoise& noise) const {
   double lo[3][3] = {}, hi[3][3] = {};
   // The diagonal first: a failing one ends the test before any mixed entry.
   for (int a = 0; a < paramDim_; ++a) {
     const Entry& entry = entries_[a][a];
     if (entry.runs.empty()) return false;  // not strictly convex along a
-    if (!RowRange(entry, f, true, &lo[a][a], &hi[a][a])) return false;
+    if (!RowRange(entry, f, noise, true, &lo[a][a], &hi[a][a])) return false;
   }
   for (int a = 0; a < paramDim_; ++a) {
     for (int b = a + 1; b < paramDim_; ++b) {
-      if (!entries_[a][b].runs.empty()) RowRange(entries_[a][b], f, false, &lo[a][b], &hi[a][b]);
+      if (!entries_[a][b].runs.empty()) RowRange(entries_[a][b], f, noise, false, &lo[a][b], &hi[a][b]);
     }
   }
   return IntervalMatrixIsPositive(paramDim_, lo, hi);
@@ -327,7 +388,7 @@ void HessianStencil::HessianRanges(const double* f, double lo[3][3], double hi[3
   for (int a = 0; a < paramDim_; ++a) {
     for (int b = a; b < paramDim_; ++b) {
       lo[a][b] = hi[a][b] = 0.0;
-      if (!entries_[a][b].runs.empty()) RowRange(entries_[a][b], f, false, &lo[a][b], &hi[a][b]);
+      if (!entries_[a][b].runs.empty()) RowRange(entries_[a][b], f, NetNoise{}, false, &lo[a][b], &hi[a][b]);
     }
   }
 }

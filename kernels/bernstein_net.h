@@ -23,6 +23,12 @@ void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, co
 /// `in` and `out` must not overlap.
 void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in, double* out);
 
+/// The edge (vi, vj) of factor `factor`'s simplex along which the positive
+/// net `w` changes by the largest ratio between neighbouring coefficients
+/// (multi-indices one unit moved from vi to vj), and that ratio (1 when `w`
+/// is constant; then the edge is (0, 1) of factor 0).
+double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, int* vi, int* vj);
+
 /// The net of the derivative along free coordinate `dir` (0-based, local to
 /// `factor`) of a scalar net; the result has that factor's degree lowered by
 /// one (`outShape`). Precondition: the factor's degree is at least 1.
@@ -45,6 +51,13 @@ struct HessianRun {
   double weight[kMaxTerms] = {};
 };
 
+/// Rounding carried by a net's coefficients: coefficient i is off by at most
+/// scale * weights[i]. No weights: the coefficients are taken as exact.
+struct NetNoise {
+  const double* weights = nullptr;
+  double scale = 0.0;
+};
+
 /// The second-derivative nets of every net of one shape, as runs of short
 /// difference rules on its coefficients, and the convexity test built on
 /// them. Shared by all cells of a shape (Get is thread-safe; immutable).
@@ -55,8 +68,9 @@ class HessianStencil {
   /// True when the function with net `f` is strictly convex on the whole
   /// domain of the net, proved from the intervals [lo_ab, hi_ab] of the
   /// second-derivative nets' coefficients (which hold every Hessian's
-  /// entries) by IntervalMatrixIsPositive.
-  bool IsConvex(const double* f) const;
+  /// entries) by IntervalMatrixIsPositive. With `noise`, each coefficient of
+  /// those nets is widened by the rounding its rule gathers from f's.
+  bool IsConvex(const double* f, const NetNoise& noise = NetNoise{}) const;
 
   /// The least and largest coefficient of every second-derivative net of
   /// `f` (entries a <= b of lo and hi; entries of identically zero nets
@@ -71,10 +85,12 @@ class HessianStencil {
   struct Entry {
     std::vector<HessianRun> runs;
   };
-  /// Min and max of the rows of `entry` ([-inf, +inf] when a row is not
-  /// finite); false as soon as a row is <= 0 or not finite when `positive`
-  /// is asked for (a diagonal entry that already fails).
-  static bool RowRange(const Entry& entry, const double* f, bool positive, double* lo, double* hi);
+  /// Min and max of the rows of `entry`, each widened by its rounding under
+  /// `noise` ([-inf, +inf] when a row is not finite); false as soon as a row
+  /// is <= 0 or not finite when `positive` is asked for (a diagonal entry
+  /// that already fails).
+  static bool RowRange(const Entry& entry, const double* f, const NetNoise& noise, bool positive, double* lo,
+                       double* hi);
 
   int paramDim_ = 0;
   Entry entries_[3][3];  // a <= b only

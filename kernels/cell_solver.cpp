@@ -145,6 +145,13 @@ bool WeightsNearlyEqual(const CellView& cell) {
   return *most <= 1.05 * *least;
 }
 
+/// WW coefficients further apart than this ratio make a rational cell's
+/// weights unbalanced: its certificates then see past the rounding of each
+/// coefficient, and neighbouring coefficients of a subdomain's WW net this
+/// far apart choose the direction of its split (see CellSolver::Search). Far
+/// above the ratios of ordinary NURBS (a torus's WW spans a factor of 4).
+constexpr double kUnbalancedWeights = 16.0;
+
 /// Slots of the workspace: allocation by index, since growing the pool moves it.
 class SlotPool {
  public:
@@ -225,6 +232,12 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
     nets_.Build(cell, center);
     stencil_ = &HessianStencil::Get(nets_.shape());
     if (WeightsNearlyEqual(cell)) curvature_ = std::make_unique<const CurvatureBounds>(nets_, *stencil_);
+    if (nets_.rational()) {
+      // Subdomains' WW coefficients are convex combinations of the cell's:
+      // none spans a wider range.
+      const auto [least, most] = std::minmax_element(nets_.ww(), nets_.ww() + nets_.size());
+      unbalancedWeights_ = *most > kUnbalancedWeights * *least;
+    }
   }
 }
 
@@ -289,15 +302,16 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     const CellSolver* solver;
     const double* point;
     double level;
+    double slack;
     double* q;
-  } exclusion{this, point, 0.0, q};
+  } exclusion{this, point, 0.0, slack, q};
   if (q && pd > 1) {
     exclusion.level = ExclusionLevel(bound2, tau, slack);
     options.exclusionLevel = exclusion.level;
     options.exclusionContext = &exclusion;
     options.confirmExclusion = [](const void* context) {
       const Exclusion& e = *static_cast<const Exclusion*>(context);
-      return e.solver->ExcessIsConvex(e.point, e.level, e.q);
+      return e.solver->ExcessIsConvex(e.point, e.level, e.slack, e.q);
     };
   }
   options.model = model;
@@ -331,12 +345,23 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   return result;
 }
 
-bool CellSolver::ExcessIsConvex(const double* point, double level, double* q) const {
+bool CellSolver::ExcessIsConvex(const double* point, double level, double slack, double* q) const {
   if (curvature_ && curvature_->ProvesConvex(point, level)) return true;
   const int n = nets_.size();
   const double* ww = nets_.rational() ? nets_.ww() : nullptr;
   for (int i = 0; i < n; ++i) q[i] -= level * (ww ? ww[i] : 1.0);
-  return stencil_->IsConvex(q);
+  return stencil_->IsConvex(q, RoundingNoise(ww, slack));
+}
+
+NetNoise CellSolver::RoundingNoise(const double* ww, double slack) const {
+  // A polynomial net's rounding is the same for every coefficient, a tiny
+  // share of f*: a convexity it fakes errs by rounding of the answer itself.
+  // So does a rational net's while its WW coefficients (and with them the
+  // rounding, slack WW_i: see RoundingSlack) stay within a small factor.
+  // Where they span orders of magnitude, the rounding of the heavy
+  // coefficients swamps what the light ones say: the tests must see past it.
+  if (!ww || !unbalancedWeights_) return NetNoise{};
+  return NetNoise{ww, slack};
 }
 
 void CellSolver::SolveAffineSimplex(const double* point, CellSolveResult* result) const {
@@ -527,10 +552,11 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
     const double* q = slot + kHeaderSize;
     const double* ww = rational ? q + n : nullptr;
     for (int i = 0; i < n; ++i) f[i] = q[i] - best->squaredDistance * (ww ? ww[i] : 1.0);
-    if (stencil.IsConvex(f)) return true;
+    const NetNoise noise = RoundingNoise(ww, slack);
+    if (stencil.IsConvex(f, noise)) return true;
     int side[3];
     return faceCertificate && ConstrainedSides(cell_.shape, slot, best->ref, side) &&
-           IsMinimalOnFace(netShape, f, side);
+           IsMinimalOnFace(netShape, f, noise, side);
   };
   auto lowerBound = [&](double* slot) {
     const double* q = slot + kHeaderSize;
@@ -605,7 +631,13 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
       continue;
     }
     int factor = 0, vi = 0, vj = 1;
-    ChooseSplit(cell_.shape, pool[s], paramScale_, &factor, &vi, &vj);
+    // Min q_i / WW_i is a weighted mean bound: where WW's coefficients
+    // differ by orders of magnitude (weights far apart) it stays loose
+    // however small the subdomain gets in other directions. Splitting where
+    // they change most brings them together first.
+    const bool unbalanced = unbalancedWeights_ && SteepestRatioEdge(netShape, pool[s] + kHeaderSize + n, &factor,
+                                                                    &vi, &vj) > kUnbalancedWeights;
+    if (!unbalanced) ChooseSplit(cell_.shape, pool[s], paramScale_, &factor, &vi, &vj);
     for (int child = 0; child < 2; ++child) {
       const int keep = child == 0 ? vi : vj;
       const int move = child == 0 ? vj : vi;

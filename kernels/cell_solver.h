@@ -163,8 +163,14 @@ class CellSolver {
   /// True when g = q - level WW is convex over the whole cell, where the
   /// local solve's tangent plane (LocalSolveResult::aboveLevel) then bounds
   /// it from below. `q`: the q net of `point`, overwritten with g's net
-  /// unless the curvature bounds alone prove it.
-  bool ExcessIsConvex(const double* point, double level, double* q) const;
+  /// unless the curvature bounds alone prove it; `slack`: the nets'
+  /// RoundingSlack at `point`.
+  bool ExcessIsConvex(const double* point, double level, double slack, double* q) const;
+
+  /// The rounding the convexity and face certificates must see past in a net
+  /// of q - c WW: for a rational cell of unbalanced weights (`ww` its WW
+  /// net), slack WW_i; none otherwise.
+  NetNoise RoundingNoise(const double* ww, double slack) const;
 
   /// Lower bound of the squared distance from `point` to the cell: the
   /// smallest Bernstein coefficient ratio of the squared distance (exact for
@@ -196,6 +202,8 @@ class CellSolver {
   static constexpr double kHullSlack = 1e-9;
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
+  /// Rational cells whose WW coefficients span more than kUnbalancedWeights.
+  bool unbalancedWeights_ = false;
   /// Curved cells whose weights are nearly equal (null otherwise: most
   /// cells of large meshes are affine, and a pointer keeps their solvers small).
   std::unique_ptr<const CurvatureBounds> curvature_;

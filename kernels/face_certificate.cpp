@@ -34,7 +34,7 @@ bool HasFaceCertificate(const CellShape& shape) {
   return shape.type() == CellType::Line || shape.type() == CellType::Quad || shape.type() == CellType::Hex;
 }
 
-bool IsMinimalOnFace(const CellShape& shape, const double* f, const int* side) {
+bool IsMinimalOnFace(const CellShape& shape, const double* f, const NetNoise& noise, const int* side) {
   const int dims = shape.numFactors();
   int size[3] = {1, 1, 1}, stride[3] = {1, 1, 1};
   for (int d = 0; d < dims; ++d) size[d] = shape.factor(d).degree + 1;
@@ -49,12 +49,14 @@ bool IsMinimalOnFace(const CellShape& shape, const double* f, const int* side) {
     if (size[d] < 2) return false;
     // Coefficient differences along d: the derivative net, up to its
     // positive factor. Away from face t_d = 0 f must not decrease, away
-    // from t_d = 1 not increase; strictly, so rounding cannot fake it.
+    // from t_d = 1 not increase; strictly and beyond the coefficients'
+    // rounding, so rounding cannot fake it.
     const int s = stride[d];
     for (int i = 0; i < n; ++i) {
       if ((i / s) % size[d] == size[d] - 1) continue;
+      const double rounding = noise.weights ? noise.scale * (noise.weights[i + s] + noise.weights[i]) : 0.0;
       const double difference = f[i + s] - f[i];
-      if (side[d] == 0 ? !(difference > 0.0) : !(difference < 0.0)) return false;
+      if (side[d] == 0 ? !(difference > rounding) : !(difference < -rounding)) return false;
     }
   }
   if (!constrained) return false;
@@ -69,7 +71,7 @@ bool IsMinimalOnFace(const CellShape& shape, const double* f, const int* side) {
     }
   }
   if (freeCount == 0) return true;  // F is the vertex x*, where f = 0
-  double face[kMaxFaceNet];
+  double face[kMaxFaceNet], faceWeights[kMaxFaceNet];
   const int n0 = size[freeDims[0]];
   const int n1 = freeCount > 1 ? size[freeDims[1]] : 1;
   for (int j = 0; j < n1; ++j) {
@@ -77,11 +79,13 @@ bool IsMinimalOnFace(const CellShape& shape, const double* f, const int* side) {
       int index = base + i * stride[freeDims[0]];
       if (freeCount > 1) index += j * stride[freeDims[1]];
       face[i + n0 * j] = f[index];
+      if (noise.weights) faceWeights[i + n0 * j] = noise.weights[index];
     }
   }
   const CellShape faceShape = freeCount == 1 ? CellShape(CellType::Line, {n0 - 1, 0, 0})
                                              : CellShape(CellType::Quad, {n0 - 1, n1 - 1, 0});
-  return FaceStencil(faceShape).IsConvex(face);
+  const NetNoise faceNoise{noise.weights ? faceWeights : nullptr, noise.scale};
+  return FaceStencil(faceShape).IsConvex(face, faceNoise);
 }
 
 }  // namespace invmap::kernels

@@ -5,6 +5,7 @@
 // where the distance is not convex but is monotone across the subdomain.
 #pragma once
 
+#include "kernels/bernstein_net.h"
 #include "kernels/cell_shape.h"
 
 namespace invmap::kernels {
@@ -21,7 +22,8 @@ bool HasFaceCertificate(const CellShape& shape);
 /// has the sign that makes f grow away from its face (so f is at least its
 /// value on the face F where they meet), and f restricted to F is convex
 /// (so, x* being stationary in F's free directions, f >= f(x*) = 0 on F); a
-/// vertex F needs nothing more. False when nothing is constrained.
-bool IsMinimalOnFace(const CellShape& shape, const double* f, const int* side);
+/// vertex F needs nothing more. False when nothing is constrained. Every
+/// sign is proved beyond the rounding `noise` of f's coefficients.
+bool IsMinimalOnFace(const CellShape& shape, const double* f, const NetNoise& noise, const int* side);
 
 }  // namespace invmap::kernels

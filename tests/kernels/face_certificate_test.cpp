@@ -17,6 +17,7 @@ namespace {
 using invmap::kernels::CellShape;
 using invmap::kernels::CellType;
 using invmap::kernels::IsMinimalOnFace;
+using invmap::kernels::NetNoise;
 using invmap::testing::ForGrid;
 using invmap::testing::Net;
 
@@ -65,7 +66,7 @@ TEST(FaceCertificate, AcceptedNetsAreAtLeastTheirMinimumOnTheFace) {
     int side[3] = {-1, -1, -1};
     for (int d = 0; d < dims; ++d) side[d] = sideOf(rng);
     const Net net = RandomSeparableNet(rng, dims, side);
-    if (!IsMinimalOnFace(net.Shape(), net.c.data(), side)) {
+    if (!IsMinimalOnFace(net.Shape(), net.c.data(), NetNoise{}, side)) {
       ++rejected;
       continue;
     }
@@ -110,16 +111,22 @@ TEST(FaceCertificate, ParabolaOnAnEdgeIsCertified) {
   }
   const CellShape quad(CellType::Quad, {2, 2, 0});
   const int onEdge[3] = {0, -1, -1};
-  EXPECT_TRUE(IsMinimalOnFace(quad, c.data(), onEdge));
+  EXPECT_TRUE(IsMinimalOnFace(quad, c.data(), NetNoise{}, onEdge));
+  // The differences across the edge are 1/2: rounding of 1e-16 per unit
+  // weight leaves them proved with light weights, not next to one of 1e16.
+  std::vector<double> weights(c.size(), 1.0);
+  EXPECT_TRUE(IsMinimalOnFace(quad, c.data(), NetNoise{weights.data(), 1e-16}, onEdge));
+  weights[4] = 1e16;
+  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), NetNoise{weights.data(), 1e-16}, onEdge));
   // Decreasing away from t_0 = 1: wrong side.
   const int wrongSide[3] = {1, -1, -1};
-  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), wrongSide));
+  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), NetNoise{}, wrongSide));
   // The corner (0, 0) is not where f is least along t_1.
   const int corner[3] = {0, 0, -1};
-  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), corner));
+  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), NetNoise{}, corner));
   // Nothing constrained: the convexity certificate's job, not this one's.
   const int none[3] = {-1, -1, -1};
-  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), none));
+  EXPECT_FALSE(IsMinimalOnFace(quad, c.data(), NetNoise{}, none));
 }
 
 TEST(FaceCertificate, NonConvexFaceIsRejected) {
@@ -130,7 +137,7 @@ TEST(FaceCertificate, NonConvexFaceIsRejected) {
     for (int i = 0; i < 3; ++i) c.push_back(a[i] + b[j]);
   }
   const int onEdge[3] = {0, -1, -1};
-  EXPECT_FALSE(IsMinimalOnFace(CellShape(CellType::Quad, {2, 2, 0}), c.data(), onEdge));
+  EXPECT_FALSE(IsMinimalOnFace(CellShape(CellType::Quad, {2, 2, 0}), c.data(), NetNoise{}, onEdge));
 }
 
 }  // namespace

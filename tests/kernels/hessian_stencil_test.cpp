@@ -7,16 +7,23 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <random>
 #include <vector>
 
 #include "kernels/bernstein_net.h"
+#include "kernels/simplex_index.h"
 #include "tests/support/finite_differences.h"
 #include "tests/support/tensor_net.h"
 
 namespace {
 
+using invmap::kernels::CellShape;
+using invmap::kernels::CellType;
 using invmap::kernels::HessianStencil;
+using invmap::kernels::NetNoise;
+using invmap::kernels::SimplexIndex;
+using invmap::kernels::SteepestRatioEdge;
 using invmap::testing::FiniteDifferenceHessian;
 using invmap::testing::ForGrid;
 using invmap::testing::Net;
@@ -114,6 +121,52 @@ TEST(HessianStencil, AcceptedNetsAreConvexEverywhere) {
   }
   EXPECT_GT(accepted, 100);
   EXPECT_GT(rejected, 100);
+}
+
+TEST(HessianStencil, ConvexityWithinTheRoundingIsNotProved) {
+  // A curve net (degree 4) whose second differences are 1e-3 (rows of
+  // 12e-3 with the factor p (p - 1)), convex; its rounding is scale * weights:
+  // a light coefficient next to heavy ones, as in a rational cell's WW net
+  // spanning 1e14. Rows that gather more rounding than their value (24e14 *
+  // 1e-16 here) prove nothing; with uniform light weights they do.
+  std::vector<double> net;
+  for (int i = 0; i <= 4; ++i) net.push_back(0.0005 * i * i);
+  const HessianStencil& stencil = HessianStencil::Get(CellShape(CellType::Line, {4, 0, 0}));
+  ASSERT_TRUE(stencil.IsConvex(net.data()));
+  const std::vector<double> light(5, 1.0);
+  EXPECT_TRUE(stencil.IsConvex(net.data(), NetNoise{light.data(), 1e-16}));
+  const std::vector<double> unbalanced = {1.0, 1.0, 1e14, 1.0, 1.0};
+  EXPECT_FALSE(stencil.IsConvex(net.data(), NetNoise{unbalanced.data(), 1e-16}));
+}
+
+TEST(SteepestRatioEdge, FindsTheDirectionWhereWeightsChangeMost) {
+  // A quad net of degrees (2, 2): ratios of 3 along u, 100 along v.
+  const CellShape quad(CellType::Quad, {2, 2, 0});
+  std::vector<double> w;
+  for (int j = 0; j <= 2; ++j) {
+    for (int i = 0; i <= 2; ++i) w.push_back(std::pow(3.0, i) * std::pow(100.0, j));
+  }
+  int factor = -1, vi = -1, vj = -1;
+  EXPECT_DOUBLE_EQ(SteepestRatioEdge(quad, w.data(), &factor, &vi, &vj), 100.0);
+  EXPECT_EQ(factor, 1);
+  EXPECT_EQ(vi, 0);
+  EXPECT_EQ(vj, 1);
+  // A quadratic triangle net, positions (a1, a2) = (0,0) (1,0) (2,0) (0,1)
+  // (1,1) (0,2): only the coefficient at (1,1) is heavy; its neighbours
+  // across edge (1, 2) of the simplex are (2,0) and (0,2), across (0, 1)
+  // and (0, 2) the others; the largest jump decides.
+  const CellShape tri(CellType::Tri, {2, 0, 0});
+  const SimplexIndex& index = SimplexIndex::Get(2, 2);
+  std::vector<double> tw(6, 1.0);
+  tw[index.Position(1, 1)] = 50.0;
+  tw[index.Position(2, 0)] = 0.5;  // vertex 1: the (1,1)-(2,0) jump, along edge (1, 2), is the largest
+  EXPECT_DOUBLE_EQ(SteepestRatioEdge(tri, tw.data(), &factor, &vi, &vj), 100.0);
+  EXPECT_EQ(factor, 0);
+  EXPECT_EQ(vi, 1);
+  EXPECT_EQ(vj, 2);
+  // Constant weights: ratio 1.
+  const std::vector<double> flat(9, 2.0);
+  EXPECT_DOUBLE_EQ(SteepestRatioEdge(quad, flat.data(), &factor, &vi, &vj), 1.0);
 }
 
 }  // namespace
