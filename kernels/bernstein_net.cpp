@@ -192,25 +192,15 @@ void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in
   }
 }
 
-double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, int* vi, int* vj) {
+namespace {
+
+/// Calls visit(a, b, factor, i, j) once for every pair of neighbouring
+/// coefficients a, b of a net on `shape`: their multi-indices in factor
+/// `factor` differ by one unit moved from barycentric index i to j > i.
+template <typename Visit>
+void ForEachNeighbourPair(const CellShape& shape, Visit visit) {
   const NetLayout layout(shape);
   const int n = NetSize(shape);
-  // steepest = w[high] / w[low], updated only when a pair beats it (products
-  // compare without dividing: this runs at every split of a rational cell).
-  double high = 1.0, low = 1.0;
-  *factor = 0;
-  *vi = 0;
-  *vj = 1;
-  const auto consider = [&](double a, double b, int f, int i, int j) {
-    const double big = std::max(a, b), small = std::min(a, b);
-    if (big * low > high * small) {
-      high = big;
-      low = small;
-      *factor = f;
-      *vi = i;
-      *vj = j;
-    }
-  };
   for (int f = 0; f < layout.numFactors; ++f) {
     const int dim = shape.factor(f).dim;
     const int stride = layout.stride[f], count = layout.count[f];
@@ -218,8 +208,8 @@ double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, i
       // A line factor's only edge: neighbours are one stride apart.
       for (int outer = 0; outer < n; outer += stride * count) {
         for (int k = 0; k + 1 < count; ++k) {
-          const double* a = w + outer + k * stride;
-          for (int inner = 0; inner < stride; ++inner) consider(a[inner], a[inner + stride], f, 0, 1);
+          const int first = outer + k * stride;
+          for (int a = first; a < first + stride; ++a) visit(a, a + stride, f, 0, 1);
         }
       }
       continue;
@@ -228,19 +218,56 @@ double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, i
     for (int c = 0; c < n; ++c) {
       const int position = layout.Position(c, f);
       const std::array<int, 4>& multi = index.multi(position);
-      // Each neighbour pair once: from c, move one unit from i to a later j.
       for (int i = 0; i <= dim; ++i) {
         if (multi[i] == 0) continue;
         for (int j = i + 1; j <= dim; ++j) {
           std::array<int, 4> next = multi;
           --next[i];
           ++next[j];
-          consider(w[c], w[c + (index.Position(next) - position) * stride], f, i, j);
+          visit(c, c + (index.Position(next) - position) * stride, f, i, j);
         }
       }
     }
   }
+}
+
+}  // namespace
+
+double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, int* vi, int* vj) {
+  // steepest = high / low, updated only when a pair beats it (products
+  // compare without dividing: this runs at every split of a rational cell).
+  double high = 1.0, low = 1.0;
+  *factor = 0;
+  *vi = 0;
+  *vj = 1;
+  ForEachNeighbourPair(shape, [&](int a, int b, int f, int i, int j) {
+    const double big = std::max(w[a], w[b]), small = std::min(w[a], w[b]);
+    if (big * low > high * small) {
+      high = big;
+      low = small;
+      *factor = f;
+      *vi = i;
+      *vj = j;
+    }
+  });
   return high / low;
+}
+
+double SteepestDifferenceEdge(const CellShape& shape, const double* values, int* factor, int* vi, int* vj) {
+  double steepest = 0.0;
+  *factor = 0;
+  *vi = 0;
+  *vj = 1;
+  ForEachNeighbourPair(shape, [&](int a, int b, int f, int i, int j) {
+    const double difference = std::abs(values[a] - values[b]);
+    if (difference > steepest) {
+      steepest = difference;
+      *factor = f;
+      *vi = i;
+      *vj = j;
+    }
+  });
+  return steepest;
 }
 
 void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, const double* netB, double* out) {

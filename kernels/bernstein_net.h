@@ -29,6 +29,10 @@ void SplitNet(const CellShape& shape, int factor, int i, int j, const double* in
 /// is constant; then the edge is (0, 1) of factor 0).
 double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, int* vi, int* vj);
 
+/// The same for the largest absolute difference between neighbouring
+/// coefficients of `values` (0 and edge (0, 1) of factor 0 when constant).
+double SteepestDifferenceEdge(const CellShape& shape, const double* values, int* factor, int* vi, int* vj);
+
 /// The net of the derivative along free coordinate `dir` (0-based, local to
 /// `factor`) of a scalar net; the result has that factor's degree lowered by
 /// one (`outShape`). Precondition: the factor's degree is at least 1.

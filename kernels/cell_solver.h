@@ -11,6 +11,7 @@
 #include "kernels/curvature_bounds.h"
 #include "kernels/distance_net.h"
 #include "kernels/local_solver.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::kernels {
 
@@ -204,6 +205,10 @@ class CellSolver {
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
   /// Rational cells whose WW coefficients span more than kUnbalancedWeights.
   bool unbalancedWeights_ = false;
+  /// The search's deepest bisection and its budget of subdomains:
+  /// kMaxDepth and kMaxSubdomains, more for unbalanced weights.
+  int maxDepth_ = kMaxDepth;
+  int maxSubdomains_ = kMaxSubdomains;
   /// Curved cells whose weights are nearly equal (null otherwise: most
   /// cells of large meshes are affine, and a pointer keeps their solvers small).
   std::unique_ptr<const CurvatureBounds> curvature_;

@@ -23,6 +23,7 @@ using invmap::kernels::CellType;
 using invmap::kernels::HessianStencil;
 using invmap::kernels::NetNoise;
 using invmap::kernels::SimplexIndex;
+using invmap::kernels::SteepestDifferenceEdge;
 using invmap::kernels::SteepestRatioEdge;
 using invmap::testing::FiniteDifferenceHessian;
 using invmap::testing::ForGrid;
@@ -167,6 +168,16 @@ TEST(SteepestRatioEdge, FindsTheDirectionWhereWeightsChangeMost) {
   // Constant weights: ratio 1.
   const std::vector<double> flat(9, 2.0);
   EXPECT_DOUBLE_EQ(SteepestRatioEdge(quad, flat.data(), &factor, &vi, &vj), 1.0);
+  // Differences rather than ratios: steps of 5 along u beat the 1, 2 along v.
+  std::vector<double> values;
+  for (int j = 0; j <= 2; ++j) {
+    for (int i = 0; i <= 2; ++i) values.push_back(5.0 * i + j * j);
+  }
+  EXPECT_DOUBLE_EQ(SteepestDifferenceEdge(quad, values.data(), &factor, &vi, &vj), 5.0);
+  EXPECT_EQ(factor, 0);
+  values[8] += 10.0;  // (2, 2): now 13 above (2, 1) along v, 15 above (1, 2) along u
+  EXPECT_DOUBLE_EQ(SteepestDifferenceEdge(quad, values.data(), &factor, &vi, &vj), 15.0);
+  EXPECT_EQ(factor, 0);
 }
 
 }  // namespace
