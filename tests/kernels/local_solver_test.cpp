@@ -190,6 +190,31 @@ TEST(LocalSolve, FaceSolvesFarFromTheOriginConverge) {
 }
 
 
+TEST(LocalSolve, StepsAsShortAsTheMapNeedsOnAHeavyWeightCurve) {
+  // A rational cubic with weights (1, W, 1, 1): for small t it runs along the
+  // leg (0,0)-(1,2) as x(t) = 3 W t / (1 + 3 W t) (1, 2) (up to O(t)), so the
+  // point (1/2, 1) is the curve's at t ~ 1 / (3 W), 3.3e-16 for W = 1e15:
+  // steps of 1e-16 there move the point by a tenth of the cell, and a solve
+  // that took them for negligible stopped at t = 0, 1.1 away.
+  for (const double heavy : {1e6, 1e10, 1e15}) {
+    RefCell cell;
+    cell.type = CellType::Line;
+    cell.degrees = {3, 0, 0};
+    cell.ambientDim = 2;
+    cell.points = {0, 0, 1, 2, 2, -1, 3, 2};
+    cell.weights = {1, heavy, 1, 1};
+    const double point[2] = {0.5, 1.0};
+    for (const double start : {0.0, 10.0 / heavy, 1e-3}) {
+      LocalSolveOptions options;
+      options.size = cell.size();
+      options.checkKkt = true;
+      const auto result = LocalSolve(cell.view(), point, &start, options);
+      EXPECT_LT(std::sqrt(result.squaredDistance), 1e-9 * cell.size()) << "weight " << heavy << ", start " << start;
+      EXPECT_NEAR(result.ref[0] * 3 * heavy, 1.0, 1e-3) << "weight " << heavy << ", start " << start;
+    }
+  }
+}
+
 /// The KKT test of cells of line factors (lines, quads, hexes) against the
 /// conditions written from their definition on the unit box, with the
 /// Jacobian of the independent multinomial evaluation: a free parameter's
