@@ -504,6 +504,55 @@ TEST(CellSolverInput, NonFiniteQueriesAreInvalidInput) {
   }
 }
 
+TEST(CellSolverWeights, ScalingAllWeightsChangesNothing) {
+  // Multiplying every weight by the same factor leaves the cell's points as
+  // they are: the answers and their certification must not change either.
+  // (The rounding slack was once in units of q, which grows with the
+  // weights squared: at a factor of 1e15 nothing could be excluded and the
+  // search ran out of subdomains.)
+  SolveWorkspace ws;
+  int failures = 0;
+  for (CellType type : {CellType::Line, CellType::Quad, CellType::Tri}) {
+    std::mt19937_64 rng(MixSeed(91 + static_cast<int>(type)));
+    const RefCell cell = RandomCurvedCell(type, 3, true, 3, rng);
+    RefCell scaled = cell;
+    for (double& w : scaled.weights) w *= 1e15;
+    const CellSolver solver(cell.view()), scaledSolver(scaled.view());
+    for (int i = 0; i < 200; ++i) {
+      const Query q = RandomQuery(cell, kQueryKinds[i % 10], rng);
+      const CellSolveResult a = solver.Solve(q.point.data(), nullptr, &ws);
+      const CellSolveResult b = scaledSolver.Solve(q.point.data(), nullptr, &ws);
+      const bool same = std::fabs(a.distance - b.distance) <= kRelTol * solver.size();
+      const bool certified = (a.status == PointStatus::NotCertified) == (b.status == PointStatus::NotCertified);
+      if ((!same || !certified) && failures++ < kMaxReportedFailures) {
+        ADD_FAILURE() << kernels::CellTypeName(type) << ": distance " << a.distance << " (status "
+                      << static_cast<int>(a.status) << "), weights x 1e15: " << b.distance << " (status "
+                      << static_cast<int>(b.status) << ")";
+      }
+    }
+  }
+  EXPECT_EQ(failures, 0);
+}
+
+TEST(CellSolverWeights, HeavyWeightCurveIsSolvedAndCertified) {
+  // Weights (1, 1e15, 1, 1): the point (1/2, 1) lies on the curve at t =
+  // 1 / (3e15). Before: 1.118 away at t = 0.64 of the next cell, or t = 0.
+  RefCell cell;
+  cell.type = CellType::Line;
+  cell.degrees = {3, 0, 0};
+  cell.ambientDim = 2;
+  cell.points = {0, 0, 1, 2, 2, -1, 3, 2};
+  cell.weights = {1, 1e15, 1, 1};
+  const CellSolver solver(cell.view());
+  SolveWorkspace ws;
+  const std::array<double, 2> points[] = {{0.5, 1.0}, {0.25, 0.5}, {0.9, 1.8}};
+  for (const auto& point : points) {
+    const CellSolveResult r = solver.Solve(point.data(), nullptr, &ws);
+    EXPECT_LT(r.distance, 1e-9 * solver.size()) << point[0] << ", " << point[1];
+    EXPECT_EQ(r.status, PointStatus::Converged) << point[0] << ", " << point[1];
+  }
+}
+
 TEST(CellSolverWarmStart, GivesTheSameAnswer) {
   SolveWorkspace ws;
   int failures = 0;
