@@ -8,6 +8,7 @@
 #include "kernels/affine_simplex.h"
 #include "kernels/affine_simplex_lanes.h"
 #include "kernels/cell_bounds.h"
+#include "kernels/cell_charts.h"
 #include "kernels/cramer.h"
 #include "kernels/face_certificate.h"
 #include "kernels/simplex_index.h"
@@ -248,6 +249,7 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
         // product: a bicubic with one weight 1e10 to 1e50 times the others
         // examined 2,800 to 24,000 subdomains a point on average (measured).
         maxSubdomains_ *= kUnbalancedBudget;
+        charts_ = std::make_unique<const CellCharts>(cell);
       }
     }
   }
@@ -327,7 +329,7 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     };
   }
   options.model = model;
-  LocalSolveResult best = LocalSolve(cell_, point, start, options);
+  LocalSolveResult best = LocalSolveCharted(point, start, options);
   result.iterations = best.iterations;
   if (best.aboveLevel) {
     result.status = PointStatus::Farther;
@@ -354,6 +356,35 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   } else {
     result.status = best.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
   }
+  return result;
+}
+
+LocalSolveResult CellSolver::LocalSolveCharted(const double* point, const double* start,
+                                               const LocalSolveOptions& options) const {
+  if (!charts_) return LocalSolve(cell_, point, start, options);
+  // The chart of the start's largest coordinates, then, if the answer lies
+  // where others are largest, once more from there. (Without an answer
+  // model: its derivatives would be the chart's.)
+  LocalSolveOptions charted = options;
+  charted.model = nullptr;
+  if (options.model) options.model->known = false;
+  Barycentric at = charts_->ToBarycentric(0, start);
+  int chart = -1;
+  LocalSolveResult result;
+  int iterations = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const int next = charts_->ChartFor(at);
+    if (next == chart) break;
+    chart = next;
+    double chartStart[3] = {0, 0, 0};
+    charts_->FromBarycentric(chart, at, chartStart);
+    result = LocalSolve(charts_->view(chart), point, chartStart, charted);
+    iterations += result.iterations;
+    at = charts_->ToBarycentric(chart, result.ref);
+    if (result.aboveLevel) break;
+  }
+  result.iterations = iterations;
+  charts_->FromBarycentric(0, at, result.ref);
   return result;
 }
 
@@ -529,7 +560,7 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
   options.affine = affine_;
   options.size = size_;
   options.stopAtBoundary = true;
-  const LocalSolveResult local = LocalSolve(cell_, point, start, options);
+  const LocalSolveResult local = LocalSolveCharted(point, start, options);
   result->iterations = local.iterations;
   const double tau = kDistanceTolerance * size_;
   if (!(local.squaredDistance <= tau * tau)) return false;
@@ -626,11 +657,14 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
       LocalSolveOptions options;
       options.size = size_;
       options.checkKkt = true;
-      const LocalSolveResult local = LocalSolve(cell_, point, center, options);
+      const LocalSolveResult local = LocalSolveCharted(point, center, options);
       *iterations += local.iterations;
       if (local.squaredDistance < best->squaredDistance) {
         *best = local;
         bestIsKkt = best->kkt;
+        // As in Solve: a distance within tau of zero cannot be beaten by
+        // more than tau (no bound can exclude the rest of a cell the point lies on).
+        if (best->squaredDistance <= tau * tau) break;
       }
       if (pool[s][kLowerBound] >= pruneLevel() || certifiedAround(pool[s])) {
         pool.Free(s);

@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "kernels/cell_charts.h"
 #include "kernels/cell_map.h"
 #include "kernels/curvature_bounds.h"
 #include "kernels/distance_net.h"
@@ -168,6 +169,11 @@ class CellSolver {
   /// RoundingSlack at `point`.
   bool ExcessIsConvex(const double* point, double level, double slack, double* q) const;
 
+  /// LocalSolve on this cell; for unbalanced weights in the chart that
+  /// resolves the start, and the answer's, best (kernels/cell_charts.h). The
+  /// answer's ref is in the cell's own reference coordinates.
+  LocalSolveResult LocalSolveCharted(const double* point, const double* start, const LocalSolveOptions& options) const;
+
   /// The rounding the convexity and face certificates must see past in a net
   /// of q - c WW: for a rational cell of unbalanced weights (`ww` its WW
   /// net), slack WW_i; none otherwise.
@@ -209,6 +215,8 @@ class CellSolver {
   /// kMaxDepth and kMaxSubdomains, more for unbalanced weights.
   int maxDepth_ = kMaxDepth;
   int maxSubdomains_ = kMaxSubdomains;
+  /// Unbalanced weights only: the cell re-rooted at every choice of vertices.
+  std::unique_ptr<const CellCharts> charts_;
   /// Curved cells whose weights are nearly equal (null otherwise: most
   /// cells of large meshes are affine, and a pointer keeps their solvers small).
   std::unique_ptr<const CurvatureBounds> curvature_;
