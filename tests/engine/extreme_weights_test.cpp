@@ -91,18 +91,11 @@ std::vector<Real> SampleParameters(int decades, int logCount, int uniformCount) 
   return t;
 }
 
-/// The reference's answer: a distance (of a point of the patch, so at least
-/// the true minimum) and how finely double parameters resolve the patch
-/// there: the sum over parameters of |dx/dt| times the spacing of doubles
-/// at t. Next to t = 1 a heavy weight's patch can move 1e12 times its size
-/// per unit of t, and 1.1e-16 of t there is 1e-4 of the patch: no double
-/// parameter comes closer.
-struct Reference {
-  Real distance;
-  double resolution;
-};
-
-/// Spacing of doubles at t, and |dx/dt| there by a central difference.
+/// How finely double parameters resolve the patch at `at`: the sum over
+/// parameters of |dx/dt| (a central difference) times the spacing of
+/// doubles at t. Next to t = 1 a heavy weight's patch can move 1e12 times
+/// its size per unit of t, and 1.1e-16 of t there is 1e-4 of the patch: the
+/// parameters reported there (in the cell's own coordinates) say no more.
 double Resolution(const RationalPatch& patch, const Real* at) {
   double resolution = 0;
   for (int d = 0; d < patch.paramDim; ++d) {
@@ -121,8 +114,9 @@ double Resolution(const RationalPatch& patch, const Real* at) {
 }
 
 /// The sampled parameters' nearest to `q`, polished by a pattern search
-/// whose steps start at the local sample spacing.
-Reference ReferenceAnswer(const RationalPatch& patch, const std::vector<Real>& samples, const double* q) {
+/// whose steps start at the local sample spacing: the distance of a point of
+/// the patch, at least the true minimum.
+Real ReferenceDistance(const RationalPatch& patch, const std::vector<Real>& samples, const double* q) {
   const int n = static_cast<int>(samples.size());
   int bestI = 0, bestJ = 0;
   Real best = patch.Distance(q, samples[0], 0);
@@ -162,7 +156,7 @@ Reference ReferenceAnswer(const RationalPatch& patch, const std::vector<Real>& s
       if (std::max(step[0], step[1]) < 1e-300L) break;
     }
   }
-  return {best, Resolution(patch, at)};
+  return best;
 }
 
 /// Points around the patch: near its control legs (where the heavy weight
@@ -186,9 +180,9 @@ std::vector<double> QueriesAround(const RationalPatch& patch, int count, std::ui
 }
 
 /// Inverts `q` on `patch` and checks every answer against the reference:
-/// never farther than it (beyond 1e-9 of the patch's size and what double
-/// parameters resolve there), and the point reported is the patch's point at
-/// the reported parameters.
+/// never farther than it (beyond 1e-9 of the patch's size), and the point
+/// reported is the patch's point at the reported parameters (as far as
+/// those resolve it).
 void CheckAgainstReference(const RationalPatch& patch, const std::vector<double>& q, const std::string& name) {
   const BuildResult built = Manifold::Build(patch.ToGeometry());
   ASSERT_TRUE(built.error.empty()) << built.error;
@@ -211,8 +205,7 @@ void CheckAgainstReference(const RationalPatch& patch, const std::vector<double>
   for (std::size_t i = 0; i < n && failures < 10; ++i) {
     const double* point = q.data() + i * patch.dim;
     ASSERT_EQ(results.status[i], Status::Found) << name << " point " << i;
-    const Reference reference = ReferenceAnswer(patch, samples, point);
-    const double best = static_cast<double>(reference.distance);
+    const double best = static_cast<double>(ReferenceDistance(patch, samples, point));
     const double u = results.params[3 * i], v = patch.paramDim > 1 ? results.params[3 * i + 1] : 0.0;
     const Real reported[2] = {u, v};
     const double atParams = static_cast<double>(patch.Distance(point, u, v));
