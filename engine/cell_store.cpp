@@ -62,6 +62,11 @@ std::string CheckWeights(const std::vector<double>& weights, std::size_t expecte
       msg << "weights[" << i << "]: not a finite positive number (" << weights[i] << ")";
       return msg.str();
     }
+    if (weights[i] > kernels::kMaxWeight || weights[i] < 1.0 / kernels::kMaxWeight) {
+      std::ostringstream msg;
+      msg << "weights[" << i << "]: " << weights[i] << " is outside [1e-50, 1e50] (the range invmap supports)";
+      return msg.str();
+    }
   }
   return {};
 }

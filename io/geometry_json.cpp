@@ -495,6 +495,9 @@ void GeometryHandler::ListScalar(const Scalar& v) {
     if (!std::isfinite(w) || !(w > 0.0)) {
       Fail(Here(), ElementPath() + ": weight " + FormatNumber(w) + " is not positive");
     }
+    if (w > kernels::kMaxWeight || w < 1.0 / kernels::kMaxWeight) {
+      Fail(Here(), ElementPath() + ": weight " + FormatNumber(w) + " is outside [1e-50, 1e50] (the range invmap supports)");
+    }
     patch.weights.push_back(w);
   } else {
     // degrees or counts: positive integers that fit in an int.

@@ -16,6 +16,10 @@ constexpr int kMaxFactors = 3;
 constexpr int kMaxDim = 3;
 /// Largest supported degree per factor.
 constexpr int kMaxDegree = 8;
+/// Weights of rational cells lie in [1 / kMaxWeight, kMaxWeight]: their
+/// squares and products in the distance nets stay far from overflow and
+/// underflow, and the tests hold ratios up to kMaxWeight^2 = 1e100.
+constexpr double kMaxWeight = 1e50;
 
 /// One simplex factor of a cell: its dimension, its polynomial degree and the
 /// offset of its free coordinates inside the cell's parameter vector.

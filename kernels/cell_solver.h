@@ -73,7 +73,8 @@ struct ResultLane {
 class CellSolver {
  public:
   /// Precondition: cell.shape.IsValid(), ambientDim in {2, 3} and
-  /// paramDim <= ambientDim, positive weights, finite control points.
+  /// paramDim <= ambientDim, weights in [1 / kMaxWeight, kMaxWeight],
+  /// finite control points.
   explicit CellSolver(const CellView& cell);
   /// An empty solver, to be assigned; Solve must not be called on it.
   CellSolver() = default;

@@ -222,14 +222,17 @@ void CheckAgainstReference(const RationalPatch& patch, const std::vector<double>
   }
 }
 
-/// The cubic of the QA report: knots' first span of a clamped B-spline
-/// whose second control point carries `heavy`, as a Bezier cell.
+/// A cubic like the QA report's whose second control point weighs `heavy`
+/// times the others, as a Bezier cell. All weights are scaled by
+/// 1 / sqrt(heavy) (the same curve): the ratio 1e100 then stays within the
+/// weights invmap accepts, [1e-50, 1e50].
 RationalPatch CurveWithHeavyWeight(Real heavy) {
   RationalPatch c;
   c.paramDim = 1;
   c.dim = 2;
   c.points = {{0, 0, 0}, {1, 2, 0}, {2, -1, 0}, {3, 2, 0}};
-  c.weights = {1, heavy, 1, 1};
+  const Real light = 1 / std::sqrt(heavy);
+  c.weights = {light, heavy * light, light, light};
   return c;
 }
 

@@ -562,6 +562,10 @@ std::vector<MalformedCase> MalformedCases() {
   add("negative weight", p, "weights");
   p = ValidBezierTri(3), p.weights = {1, kInf, 1};
   add("infinite weight", p, "weights");
+  p = ValidBezierTri(3), p.weights = {1, 1e51, 1};
+  add("weight above the supported range", p, "weights[1]: 1e+51 is outside [1e-50, 1e50]");
+  p = ValidBezierTri(3), p.weights = {1e-51, 1, 1};
+  add("weight below the supported range", p, "weights[0]: 1e-51 is outside [1e-50, 1e50]");
   p = ValidBezierTri(3), p.weights = {1, 1};
   add("weights of the wrong length", p, "weights");
   p = ValidMesh(), p.cells[4] = 4;

@@ -414,6 +414,10 @@ const BadPatch kBadPatches[] = {
      "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [2], \"knots\": [[0, 0, 1, 1]],\n"
      " \"control_points\": [[0, 0], [1, 0]],\n \"weights\": [1, 0]}",
      8, "patches[0].weights[1]: weight 0 is not positive"},
+    {"HugeWeight", 2,
+     "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1], \"control_points\": [[0, 0], [1, 0]],\n"
+     " \"weights\": [1,\n 1e300]}",
+     8, "patches[0].weights[1]: weight 1e+300 is outside [1e-50, 1e50] (the range invmap supports)"},
     {"NegativeWeight", 2,
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1], \"control_points\": [[0, 0], [1, 0]],\n"
      " \"weights\": [-0.5, 1]}",
