@@ -152,7 +152,8 @@ bool WeightsNearlyEqual(const CellView& cell) {
 /// with a larger budget. Far above the ratios of ordinary NURBS (a torus's
 /// WW spans a factor of 4).
 constexpr double kUnbalancedWeights = 16.0;
-/// Unbalanced cells' search budget, in units of kMaxSubdomains.
+/// Unbalanced cells' search budget and hard seeds, in units of
+/// kMaxSubdomains and kHardSeeds.
 constexpr int kUnbalancedBudget = 8;
 
 /// Slots of the workspace: allocation by index, since growing the pool moves it.
@@ -249,6 +250,11 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
         // product: a bicubic with one weight 1e10 to 1e50 times the others
         // examined 2,800 to 24,000 subdomains a point on average (measured).
         maxSubdomains_ *= kUnbalancedBudget;
+        // Seeds too: a bound stays loose across a heavy weight's layer, and
+        // a local solve from inside it (in its chart) is what finds a basin
+        // there (QA's rational tets at 1e12: an inside point reported 0.004
+        // off, an answer depending on the batch's other points).
+        maxHardSeeds_ *= kUnbalancedBudget;
         charts_ = std::make_unique<const CellCharts>(cell);
       }
     }
@@ -651,7 +657,7 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
     // tie or a degenerate piece (a collapsed edge, where the local minima of
     // the parameters form a continuum): from then on every subdomain also
     // seeds a local solve, which finds basins its center value cannot show.
-    const bool seed = examined > kHardSearch && hardSeeds < kHardSeeds;
+    const bool seed = examined > kHardSearch && hardSeeds < maxHardSeeds_;
     hardSeeds += seed ? 1 : 0;
     if (fCenter < best->squaredDistance || seed) {
       LocalSolveOptions options;

@@ -212,10 +212,11 @@ class CellSolver {
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
   /// Rational cells whose WW coefficients span more than kUnbalancedWeights.
   bool unbalancedWeights_ = false;
-  /// The search's deepest bisection and its budget of subdomains:
-  /// kMaxDepth and kMaxSubdomains, more for unbalanced weights.
+  /// The search's deepest bisection, its budget of subdomains and of hard
+  /// seeds: kMaxDepth, kMaxSubdomains and kHardSeeds, more for unbalanced weights.
   int maxDepth_ = kMaxDepth;
   int maxSubdomains_ = kMaxSubdomains;
+  int maxHardSeeds_ = kHardSeeds;
   /// Unbalanced weights only: the cell re-rooted at every choice of vertices.
   std::unique_ptr<const CellCharts> charts_;
   /// Curved cells whose weights are nearly equal (null otherwise: most
