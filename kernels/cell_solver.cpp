@@ -347,6 +347,7 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   // A distance within tau of zero cannot be beaten by more than tau.
   if (!affine_ && best.squaredDistance > tau * tau) {
     const double localRef[3] = {best.ref[0], best.ref[1], best.ref[2]};
+    if (charts_) SeedFaceLayers(point, &best, &result.iterations);
     certified = Search(point, bound2, slack, &best, &result.iterations, ws);
     // A nearer minimum the search found has no model here.
     if (model && !std::equal(localRef, localRef + pd, best.ref)) model->known = false;
@@ -392,6 +393,32 @@ LocalSolveResult CellSolver::LocalSolveCharted(const double* point, const double
   result.iterations = iterations;
   charts_->FromBarycentric(0, at, result.ref);
   return result;
+}
+
+void CellSolver::SeedFaceLayers(const double* point, LocalSolveResult* best, int* iterations) const {
+  // The answer moved onto each face of each factor (that barycentric
+  // coordinate set to zero, the others scaled up to sum one): in its chart
+  // the coordinate is free, so the solve can enter the face's layer, where
+  // a heavy weight's reach ends and the search's bounds stay loose longest.
+  // (Faces of two factors at once found nothing more on QA's cases.)
+  LocalSolveOptions options;
+  options.size = size_;
+  options.checkKkt = true;
+  const Barycentric at = charts_->ToBarycentric(0, best->ref);
+  for (int f = 0; f < cell_.shape.numFactors(); ++f) {
+    const int dim = cell_.shape.factor(f).dim;
+    for (int k = 0; k <= dim; ++k) {
+      const double others = 1.0 - at.lambda[f][k];
+      if (!(others > 0.0)) continue;
+      Barycentric onFace = at;
+      for (int i = 0; i <= dim; ++i) onFace.lambda[f][i] = i == k ? 0.0 : at.lambda[f][i] / others;
+      double start[3] = {0, 0, 0};
+      charts_->FromBarycentric(0, onFace, start);
+      const LocalSolveResult local = LocalSolveCharted(point, start, options);
+      *iterations += local.iterations;
+      if (local.squaredDistance < best->squaredDistance) *best = local;
+    }
+  }
 }
 
 bool CellSolver::ExcessIsConvex(const double* point, double level, double slack, double* q) const {

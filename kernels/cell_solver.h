@@ -175,6 +175,10 @@ class CellSolver {
   /// answer's ref is in the cell's own reference coordinates.
   LocalSolveResult LocalSolveCharted(const double* point, const double* start, const LocalSolveOptions& options) const;
 
+  /// Unbalanced cells: local solves from `best` moved onto each face of each
+  /// factor; keeps any nearer answer.
+  void SeedFaceLayers(const double* point, LocalSolveResult* best, int* iterations) const;
+
   /// The rounding the convexity and face certificates must see past in a net
   /// of q - c WW: for a rational cell of unbalanced weights (`ww` its WW
   /// net), slack WW_i; none otherwise.
