@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "kernels/active_set.h"
 #include "kernels/simplex_index.h"
 
 namespace invmap::kernels {
@@ -62,14 +63,8 @@ int CellCharts::ChartFor(const Barycentric& b) const {
 Barycentric CellCharts::ToBarycentric(int chart, const double* ref) const {
   Barycentric b;
   for (int f = 0; f < shape_.numFactors(); ++f) {
-    const SimplexFactor& fac = shape_.factor(f);
-    double* lambda = b.lambda[f];
-    lambda[0] = 1.0;
-    for (int i = 0; i < fac.dim; ++i) {
-      lambda[i + 1] = ref[fac.offset + i];
-      lambda[0] -= ref[fac.offset + i];
-    }
-    std::swap(lambda[0], lambda[Origin(chart, f)]);
+    FactorBarycentric(shape_, f, ref, b.lambda[f]);
+    std::swap(b.lambda[f][0], b.lambda[f][Origin(chart, f)]);
   }
   return b;
 }
