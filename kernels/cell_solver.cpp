@@ -11,6 +11,7 @@
 #include "kernels/cell_charts.h"
 #include "kernels/cramer.h"
 #include "kernels/face_certificate.h"
+#include "kernels/layer_newton.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
@@ -387,12 +388,30 @@ LocalSolveResult CellSolver::LocalSolveCharted(const double* point, const double
     charts_->FromBarycentric(chart, at, chartStart);
     result = LocalSolve(charts_->view(chart), point, chartStart, charted);
     iterations += result.iterations;
+    if (!result.converged && !result.aboveLevel && !options.stopAtBoundary) {
+      result = LayerPolish(charts_->view(chart), point, result, charted, &iterations);
+    }
     at = charts_->ToBarycentric(chart, result.ref);
     if (result.aboveLevel) break;
   }
   result.iterations = iterations;
   charts_->FromBarycentric(0, at, result.ref);
   return result;
+}
+
+LocalSolveResult CellSolver::LayerPolish(const CellView& chart, const double* point, const LocalSolveResult& stalled,
+                                         const LocalSolveOptions& options, int* iterations) const {
+  // A solve that ran into its iteration cap inside a heavy weight's layer
+  // is crawling along a curved valley (kernels/layer_newton.h): Newton in
+  // the layer's logarithms reaches its floor, and a local solve from there
+  // confirms the point (a KKT point, a face it lies on).
+  double ref[3] = {stalled.ref[0], stalled.ref[1], stalled.ref[2]};
+  const int layerIterations = LayerNewton(chart, point, size_, ref);
+  if (layerIterations == 0) return stalled;
+  *iterations += layerIterations;
+  LocalSolveResult polished = LocalSolve(chart, point, ref, options);
+  *iterations += polished.iterations;
+  return polished.squaredDistance <= stalled.squaredDistance ? polished : stalled;
 }
 
 void CellSolver::SeedFaceLayers(const double* point, LocalSolveResult* best, int* iterations) const {

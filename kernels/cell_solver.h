@@ -175,6 +175,12 @@ class CellSolver {
   /// answer's ref is in the cell's own reference coordinates.
   LocalSolveResult LocalSolveCharted(const double* point, const double* start, const LocalSolveOptions& options) const;
 
+  /// Unbalanced cells: `stalled`, a local solve in `chart` that hit its
+  /// iteration cap, carried on by LayerNewton and polished by LocalSolve with
+  /// `options`; the nearer of the two. Adds the iterations to *iterations.
+  LocalSolveResult LayerPolish(const CellView& chart, const double* point, const LocalSolveResult& stalled,
+                               const LocalSolveOptions& options, int* iterations) const;
+
   /// Unbalanced cells: local solves from `best` moved onto each face of each
   /// factor; keeps any nearer answer.
   void SeedFaceLayers(const double* point, LocalSolveResult* best, int* iterations) const;
