@@ -388,7 +388,8 @@ LocalSolveResult CellSolver::LocalSolveCharted(const double* point, const double
     charts_->FromBarycentric(chart, at, chartStart);
     result = LocalSolve(charts_->view(chart), point, chartStart, charted);
     iterations += result.iterations;
-    if (!result.converged && !result.aboveLevel && !options.stopAtBoundary) {
+    const bool stalled = !result.converged || (charted.checkKkt && !result.kkt);
+    if (stalled && !result.aboveLevel && !options.stopAtBoundary) {
       result = LayerPolish(charts_->view(chart), point, result, charted, &iterations);
     }
     at = charts_->ToBarycentric(chart, result.ref);
@@ -401,8 +402,9 @@ LocalSolveResult CellSolver::LocalSolveCharted(const double* point, const double
 
 LocalSolveResult CellSolver::LayerPolish(const CellView& chart, const double* point, const LocalSolveResult& stalled,
                                          const LocalSolveOptions& options, int* iterations) const {
-  // A solve that ran into its iteration cap inside a heavy weight's layer
-  // is crawling along a curved valley (kernels/layer_newton.h): Newton in
+  // A solve that ran into its iteration cap (or stopped on steps too short
+  // to matter, short of a KKT point) inside a heavy weight's layer is
+  // crawling along a curved valley (kernels/layer_newton.h): Newton in
   // the layer's logarithms reaches its floor, and a local solve from there
   // confirms the point (a KKT point, a face it lies on).
   double ref[3] = {stalled.ref[0], stalled.ref[1], stalled.ref[2]};

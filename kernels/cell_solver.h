@@ -176,7 +176,7 @@ class CellSolver {
   LocalSolveResult LocalSolveCharted(const double* point, const double* start, const LocalSolveOptions& options) const;
 
   /// Unbalanced cells: `stalled`, a local solve in `chart` that hit its
-  /// iteration cap, carried on by LayerNewton and polished by LocalSolve with
+  /// iteration cap or stopped short of a KKT point, carried on by LayerNewton and polished by LocalSolve with
   /// `options`; the nearer of the two. Adds the iterations to *iterations.
   LocalSolveResult LayerPolish(const CellView& chart, const double* point, const LocalSolveResult& stalled,
                                const LocalSolveOptions& options, int* iterations) const;

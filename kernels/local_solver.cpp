@@ -771,20 +771,109 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
 
 namespace {
 
+/// The scales of IsKktPoint's tests, one per direction of the parameters.
+struct KktScale {
+  const MapJet& jet;
+  int ambientDim, paramDim;
+  double residual;  ///< |r|
+  double size;
+
+  /// |J v|: how far the map moves per unit of the parameter step v.
+  double MappedLength(const double* v) const {
+    double length2 = 0.0;
+    for (int k = 0; k < ambientDim; ++k) {
+      double moved = 0.0;
+      for (int i = 0; i < paramDim; ++i) moved += jet.d1[k][i] * v[i];
+      length2 += moved * moved;
+    }
+    return std::sqrt(length2);
+  }
+  /// A converged solve leaves a derivative r . J v near rounding; a point
+  /// that is not stationary along v has one of the order of |J v| |r|
+  /// (`mappedLength` = |J v|). Each direction by its own scale: in a heavy
+  /// weight's layer one column of J can be 1e12 times another, and a shared
+  /// scale would pass any slope along the other. (Square roots apart: the
+  /// squares overflow long before either factor. A tolerance that still
+  /// overflows accepts nothing.)
+  double Tolerance(double mappedLength) const {
+    const double tolerance = 1e-7 * mappedLength * residual + 1e-12 * size * size;
+    return std::isfinite(tolerance) ? tolerance : -1.0;
+  }
+  /// True when a coordinate of `value` (<= 1e-12) along whose direction the
+  /// map moves `length` per unit lies on its face: the map there is within
+  /// 1e-12 of the cell's size of the face's. (A coordinate of 1e-13 next to
+  /// a weight of 1e12 is a point of its own, not rounding off the face.)
+  bool OnFace(double value, double length) const { return value <= 1e-12 && value * length <= 1e-12 * size; }
+};
+
+/// True when the gradient `grad` vanishes on the free face of `face` up to
+/// the tolerances of `scale`: along directions of the face whose images
+/// under J are orthogonal (the longest first, the others with its part
+/// removed), each judged by its own mapped length. The face basis's own
+/// columns mix parameters: next to a heavy weight one column of J can be
+/// 1e12 times another, and a column holding a share of it would lend the
+/// test that scale along directions the map hardly stretches.
+bool IsStationaryOnFace(const FaceBasis& face, const double* grad, const KktScale& scale) {
+  const int m = face.columns;
+  double along[3][3] = {};  // along[c]: direction c of the face, reduced coordinates
+  double image[3][3] = {};  // J T along[c]
+  for (int c = 0; c < m; ++c) {
+    along[c][c] = 1.0;
+    for (int k = 0; k < scale.ambientDim; ++k) {
+      for (int i = 0; i < scale.paramDim; ++i) image[c][k] += scale.jet.d1[k][i] * face.t[i][c];
+    }
+  }
+  const auto length2 = [&](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
+  bool placed[3] = {false, false, false};
+  for (int step = 0; step < m; ++step) {
+    int longest = -1;
+    for (int c = 0; c < m; ++c) {
+      if (!placed[c] && (longest < 0 || length2(image[c]) > length2(image[longest]))) longest = c;
+    }
+    placed[longest] = true;
+    const double norm2 = length2(image[longest]);
+    if (!(norm2 > 0.0)) break;  // the rest does not move the map at all
+    for (int c = 0; c < m; ++c) {
+      if (placed[c]) continue;
+      double share = 0.0;
+      for (int k = 0; k < 3; ++k) share += image[longest][k] * image[c][k];
+      share /= norm2;
+      for (int k = 0; k < 3; ++k) {
+        image[c][k] -= share * image[longest][k];
+        along[c][k] -= share * along[longest][k];
+      }
+    }
+  }
+  for (int c = 0; c < m; ++c) {
+    const double norm = std::sqrt(length2(along[c]));
+    double slope = 0.0;
+    for (int i = 0; i < scale.paramDim; ++i) {
+      double direction = 0.0;
+      for (int j = 0; j < m; ++j) direction += face.t[i][j] * along[c][j];
+      slope += direction * grad[i];
+    }
+    if (std::abs(slope) / norm > scale.Tolerance(std::sqrt(length2(image[c])) / norm)) return false;
+  }
+  return true;
+}
+
 /// IsKktPoint's test for a cell of line factors, whose parameters are its
 /// factors' coordinates: the general test below with its face basis and
 /// multipliers written out (the same arithmetic, so the same verdict).
-/// Parameter i is held at 0 when u_i <= 1e-12 (its multiplier is grad_i),
-/// else at 1 when 1 - u_i <= 1e-12 (multiplier -grad_i), else free (its
-/// basis vector is -e_i / sqrt(2)).
-bool IsKktOnUnitBox(const double* ref, const double* grad, int pd, double tolerance) {
+/// Parameter i is held at 0 when it is on that face (KktScale::OnFace; its
+/// multiplier is grad_i), else at 1 when 1 - u_i is (multiplier -grad_i),
+/// else free (its basis vector is -e_i / sqrt(2)).
+bool IsKktOnUnitBox(const double* ref, const double* grad, const KktScale& scale) {
   const double norm = 1.0 / std::sqrt(2.0);
-  for (int i = 0; i < pd; ++i) {
-    if (ref[i] <= 1e-12) {
-      if (grad[i] < -tolerance) return false;
-    } else if (1.0 - ref[i] <= 1e-12) {
-      if (-grad[i] < -tolerance) return false;
-    } else if (std::abs(-norm * grad[i]) > tolerance) {
+  for (int i = 0; i < scale.paramDim; ++i) {
+    double column2 = 0.0;
+    for (int k = 0; k < scale.ambientDim; ++k) column2 += scale.jet.d1[k][i] * scale.jet.d1[k][i];
+    const double length = std::sqrt(column2);
+    if (scale.OnFace(ref[i], length)) {
+      if (grad[i] < -scale.Tolerance(length)) return false;
+    } else if (scale.OnFace(1.0 - ref[i], length)) {
+      if (-grad[i] < -scale.Tolerance(length)) return false;
+    } else if (std::abs(-norm * grad[i]) > scale.Tolerance(norm * length)) {
       return false;
     }
   }
@@ -796,42 +885,59 @@ bool IsKktOnUnitBox(const double* ref, const double* grad, int pd, double tolera
 bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, const double* ref, double size) {
   const CellShape& shape = cell.shape;
   const int pd = shape.paramDim();
-  double grad[3] = {0, 0, 0}, r2 = 0.0, jac2 = 0.0;
+  double grad[3] = {0, 0, 0}, r2 = 0.0;
   for (int k = 0; k < cell.ambientDim; ++k) {
     const double r = jet.x[k] - point[k];
     r2 += r * r;
-    for (int i = 0; i < pd; ++i) {
-      grad[i] += jet.d1[k][i] * r;
-      jac2 += jet.d1[k][i] * jet.d1[k][i];
-    }
+    for (int i = 0; i < pd; ++i) grad[i] += jet.d1[k][i] * r;
   }
-  // A converged solve leaves a residual gradient near rounding; a point that
-  // is not stationary has one of the order of |J| |r|.
-  // (Square roots apart: jac2 * r2 overflows long before either factor.
-  // A tolerance that still overflows would accept any point: not KKT then.)
-  const double tolerance = 1e-7 * std::sqrt(jac2) * std::sqrt(r2) + 1e-12 * size * size;
-  if (!std::isfinite(tolerance)) return false;
-  if (shape.isBox()) return IsKktOnUnitBox(ref, grad, pd, tolerance);
+  const KktScale scale{jet, cell.ambientDim, pd, std::sqrt(r2), size};
+  if (shape.isBox()) return IsKktOnUnitBox(ref, grad, scale);
   ActiveSet active;
   for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& factor = shape.factor(f);
     double lambda[4];
     FactorBarycentric(shape, f, ref, lambda);
-    const int dim = shape.factor(f).dim;
-    for (int k = 0; k <= dim; ++k) {
-      if (lambda[k] <= 1e-12) active.enforced[f] |= 1u << k;
+    // lambda_k moves along parameter k - 1; lambda_0 along all of the
+    // factor's (the largest of their lengths: the face is held less often).
+    double lengths[4] = {0, 0, 0, 0};
+    for (int i = 0; i < factor.dim; ++i) {
+      double unit[3] = {0, 0, 0};
+      unit[factor.offset + i] = 1.0;
+      lengths[i + 1] = scale.MappedLength(unit);
+      lengths[0] = std::max(lengths[0], lengths[i + 1]);
     }
-    if (active.enforced[f] == (1u << (dim + 1)) - 1) active.enforced[f] &= ~1u;
+    for (int k = 0; k <= factor.dim; ++k) {
+      if (scale.OnFace(lambda[k], lengths[k])) active.enforced[f] |= 1u << k;
+    }
+    if (active.enforced[f] == (1u << (factor.dim + 1)) - 1) active.enforced[f] &= ~1u;
   }
   FaceBasis face;
   BuildFaceBasis(shape, active, &face);
-  for (int c = 0; c < face.columns; ++c) {
-    double reduced = 0.0;
-    for (int i = 0; i < pd; ++i) reduced += face.t[i][c] * grad[i];
-    if (std::abs(reduced) > tolerance) return false;
-  }
+  if (!IsStationaryOnFace(face, grad, scale)) return false;
   for (int f = 0; f < shape.numFactors(); ++f) {
-    for (int k = 0; k <= shape.factor(f).dim; ++k) {
-      if ((active.enforced[f] & (1u << k)) && ReleaseDerivative(shape, active, f, k, grad) < -tolerance) return false;
+    const SimplexFactor& factor = shape.factor(f);
+    for (int k = 0; k <= factor.dim; ++k) {
+      if (!(active.enforced[f] & (1u << k))) continue;
+      // Releasing lambda_k moves it up and a free lambda_j down. On the
+      // face, where the point is stationary, every free j gives the same
+      // derivative up to the tolerance: the one whose direction the map
+      // stretches least judges it most finely (a free coordinate next to a
+      // heavy weight would lend the test its scale).
+      double slope = 0.0, tolerance = -1.0;
+      for (int j = 0; j <= factor.dim; ++j) {
+        if (active.enforced[f] & (1u << j)) continue;
+        double release[3] = {0, 0, 0};
+        if (k > 0) release[factor.offset + k - 1] += 1.0;
+        if (j > 0) release[factor.offset + j - 1] -= 1.0;
+        const double candidate = scale.Tolerance(scale.MappedLength(release));
+        if (tolerance < 0.0 || candidate < tolerance) {
+          tolerance = candidate;
+          slope = 0.0;
+          for (int i = 0; i < pd; ++i) slope += release[i] * grad[i];
+        }
+      }
+      if (slope < -tolerance) return false;
     }
   }
   return true;

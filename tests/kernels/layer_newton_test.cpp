@@ -3,8 +3,9 @@
 // an mpmath reference. At each query the cell's closest point lies within
 // 1e-5 to 1e-26 of a face or edge, where the map depends on a product of
 // small coordinates; the active-set solve alone stopped short along that
-// valley (up to 0.013 farther than the reference) and the search ran out of
-// budget. The reference answers are kept as witnesses: points of the cell
+// valley (up to 0.013 farther than the reference), or stopped at a point the
+// KKT test passed only because one column of the Jacobian, 1e12 times the
+// others, set its scale, and the search ran out of budget or certified it. The reference answers are kept as witnesses: points of the cell
 // (reference coordinates), evaluated here by the test's own multinomial
 // evaluator, so invmap may never be farther than they are.
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include "kernels/cell_charts.h"
 #include "kernels/cell_solver.h"
 #include "kernels/layer_newton.h"
+#include "kernels/local_solver.h"
 #include "tests/support/reference_cell.h"
 
 namespace {
@@ -25,6 +27,7 @@ using invmap::kernels::CellSolver;
 using invmap::kernels::CellSolveResult;
 using invmap::kernels::CellType;
 using invmap::kernels::EvaluateMap;
+using invmap::kernels::IsKktPoint;
 using invmap::kernels::JetOrder;
 using invmap::kernels::LayerNewton;
 using invmap::kernels::MapJet;
@@ -91,6 +94,20 @@ std::vector<LayerCase> Cases() {
                      1.0236459263149393}),
        {{{0.40156006484460677, 0.4968398149286389, 0.4499076056347601},
          {0.5404854958723293, 1.9292254658992355e-10, 0.4595145039347482}}}},
+      {"weight 1.2e12 on the edge (1, 2)",
+       QuadraticTet({0.0436608947306162, -0.06268231709513204, 0.11260575145918914, 0.6348150120515912,
+                     -0.09386921923800645, -0.1087174201237522, 1.1027663219674761, 0.16617107698578393,
+                     -0.079102958800942, -0.1373422748678252, 0.6458978192896021, 0.06854403008474988,
+                     0.43007872727584007, 0.3595892091863875, 0.01385585641418282, 0.05177385290878122,
+                     1.1821888005775274, -0.16903149128323017, 0.0018747750149840092, 0.10192055080676231,
+                     0.5058233630024864, 0.6023452943997605, 0.11896902911790103, 0.26558800036042374,
+                     -0.11897252709965658, 0.3670582345019495, 0.13336118697828014, 0.3256806301067556,
+                     -0.19821617191108695, 1.1300908330445374},
+                    {0.7908005146798045, 1.3803860700551176, 1.1329033225295324, 1.2863592151772871,
+                     1230483290197.4136, 1.3130902029011577, 1.1276876386595107, 1.2469607296925207,
+                     1.086026960179615, 1.218570871192179}),
+       {{{0.12521639344535207, 0.5108344136847568, -0.04390944612560828},
+         {6.50536231965167e-13, 0.4579138638414771, 6.938859192090564e-27}}}},
       {"weight 1.1e12 on the edge (2, 3)",
        QuadraticTet({-0.01183467016128198, -0.06359222778854555, 0.23564388408368767, 0.3389878669732578,
                      0.16257822799531646, 0.03687735484361603, 0.8788800334141488, 0.11828854734812869,
@@ -162,6 +179,24 @@ TEST(LayerNewton, CrossesAHyperbolicValleyInAFewSteps) {
   EXPECT_GE(back[1], 0.0);
   EXPECT_EQ(back[2], 0.0);
   EXPECT_LE(back[0] + back[1] + back[2], 1.0);
+}
+
+TEST(LayerNewton, TheKktTestSeesTheSlopeAlongTheLayer) {
+  // The third case's query at the point where the solve used to stop: on
+  // the face r = 0, s = 6.4e-13 from the face s = 0 but, next to a weight
+  // of 1.2e12, a point of its own (the map moves about 1e12 per unit of s).
+  // Along the layer the distance still falls, from 0.0746 there to QA's
+  // 0.0640 at t = 0.458; |dx/ds| |r|, 1e11, must not excuse that slope.
+  const LayerCase c = Cases()[2];
+  const Witnessed& w = c.queries[0];
+  const double stopped[3] = {6.390325971012592e-13, 0.3984899207991227, 0.0};
+  MapJet jet;
+  EvaluateMap(c.cell.view(), stopped, JetOrder::First, &jet);
+  EXPECT_FALSE(IsKktPoint(c.cell.view(), jet, w.query.data(), stopped, c.cell.size()));
+  // The witness is farther down that slope.
+  double witnessPoint[3];
+  RefEvaluate(c.cell, w.witness.data(), witnessPoint);
+  EXPECT_LT(Distance(witnessPoint, w.query.data()), Distance(jet.x, w.query.data()) - 0.01);
 }
 
 TEST(LayerNewton, LeavesAStartOutsideEveryLayerAlone) {

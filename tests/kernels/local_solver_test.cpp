@@ -218,10 +218,12 @@ TEST(LocalSolve, StepsAsShortAsTheMapNeedsOnAHeavyWeightCurve) {
 /// The KKT test of cells of line factors (lines, quads, hexes) against the
 /// conditions written from their definition on the unit box, with the
 /// Jacobian of the independent multinomial evaluation: a free parameter's
-/// gradient component within the tolerance (its face basis vector is
+/// gradient component within its tolerance (its face basis vector is
 /// e_i / sqrt 2), a parameter held at 0 with a gradient not below -tolerance,
-/// one held at 1 with a gradient not above +tolerance. Places inside, on
-/// faces and at corners, queries at their own foot (stationary) and off it.
+/// one held at 1 with a gradient not above +tolerance; parameter i's
+/// tolerance is 1e-7 |dx/du_i| |r| (for the basis vector's length) plus
+/// 1e-12 size^2. Places inside, on faces and at corners, queries at their own
+/// foot (stationary) and off it.
 TEST(IsKktPoint, MatchesTheBoxConditionsOnCellsOfLineFactors) {
   std::mt19937_64 rng(20261125);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -247,24 +249,25 @@ TEST(IsKktPoint, MatchesTheBoxConditionsOnCellsOfLineFactors) {
       kernelJet.x[k] = jet.x[k];
       for (int i = 0; i < 3; ++i) kernelJet.d1[k][i] = jet.d1[k][i];
     }
-    double grad[3] = {0, 0, 0}, r2 = 0.0, jac2 = 0.0;
+    double grad[3] = {0, 0, 0}, column2[3] = {0, 0, 0}, r2 = 0.0;
     for (int k = 0; k < 3; ++k) {
       const double r = jet.x[k] - point[k];
       r2 += r * r;
       for (int i = 0; i < pd; ++i) {
         grad[i] += jet.d1[k][i] * r;
-        jac2 += jet.d1[k][i] * jet.d1[k][i];
+        column2[i] += jet.d1[k][i] * jet.d1[k][i];
       }
     }
-    const double tolerance = 1e-7 * std::sqrt(jac2) * std::sqrt(r2) + 1e-12 * cell.size() * cell.size();
     bool expected = true;
     for (int i = 0; i < pd; ++i) {
+      const double slope = 1e-7 * std::sqrt(column2[i]) * std::sqrt(r2);
+      const double absolute = 1e-12 * cell.size() * cell.size();
       if (ref[i] == 0.0) {
-        expected = expected && grad[i] >= -tolerance;
+        expected = expected && grad[i] >= -(slope + absolute);
       } else if (ref[i] == 1.0) {
-        expected = expected && grad[i] <= tolerance;
+        expected = expected && grad[i] <= slope + absolute;
       } else {
-        expected = expected && std::abs(grad[i]) / std::sqrt(2.0) <= tolerance;
+        expected = expected && std::abs(grad[i]) / std::sqrt(2.0) <= slope / std::sqrt(2.0) + absolute;
       }
     }
     const bool kkt = invmap::kernels::IsKktPoint(cell.view(), kernelJet, point, ref, cell.size());
