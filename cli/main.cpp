@@ -12,6 +12,16 @@
 
 namespace {
 
+/// A number >= 0 (CLI::NonNegativeNumber would print its range up to
+/// DBL_MAX in full, 300 digits).
+const CLI::Validator kNonNegative(
+    [](const std::string& text) {
+      double value = 0.0;
+      if (!CLI::detail::lexical_cast(text, value) || !(value >= 0.0)) return "'" + text + "' is not a number >= 0";
+      return std::string();
+    },
+    "NUMBER >= 0");
+
 void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bool distanceRequired) {
   command->add_option("--geometry,-g", options->geometry, "geometry file (.json, .obj, .ply, .stl, .off, .msh)")
       ->required();
@@ -19,9 +29,9 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
   command->add_option("--output,-o", options->output, "output file; the format follows its extension")->required();
   auto* distance = command->add_option("--max-distance", options->maxDistance,
                                        "gap tolerance: points farther than this from every cell are not found");
-  distance->check(CLI::NonNegativeNumber);
+  distance->check(kNonNegative);
   if (distanceRequired) distance->required();
-  command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(kNonNegative);
   command->add_flag("--quiet,-q", options->quiet, "no progress bar and no summary");
 }
 
@@ -62,7 +72,7 @@ int main(int argc, char** argv) {
   generateCommand->add_option("--kind", generate.kind, "points: near, far, inside or box")
       ->check(CLI::IsMember({"near", "far", "inside", "box"}));
   generateCommand->add_option("--spread", generate.spread, "points, near: largest offset relative to the size")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   generateCommand->add_option("--seed", generate.seed, "random seed");
 
   invmap::cli::GridCommandOptions grid;
@@ -81,7 +91,7 @@ int main(int argc, char** argv) {
   gridFile->excludes(resolution);
   gridCommand->add_option("--max-cells", grid.maxCells, "stop refining at this many cells")
       ->check(CLI::Range(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
-  gridCommand->add_option("--threads", grid.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  gridCommand->add_option("--threads", grid.threads, "worker threads (default: all cores)")->check(kNonNegative);
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 

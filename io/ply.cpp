@@ -75,13 +75,13 @@ double DecodeValue(const char* p, PlyType type, bool bigEndian) {
 /// every list count (lists may be empty); ascii, one character and one
 /// separator per scalar or list count.
 std::int64_t MinRecordBytes(const PlyElement& element, PlyFormat format) {
+  // An ascii record is a line: a digit and its newline at least. (Counting
+  // two bytes per property would reject a file with one short line by its
+  // size, before the reader could name that line.)
+  if (format == PlyFormat::Ascii) return 2;
   std::int64_t bytes = 0;
   for (const PlyProperty& property : element.properties) {
-    if (format == PlyFormat::Ascii) {
-      bytes += 2;
-    } else {
-      bytes += PlyTypeSize(property.isList ? property.countType : property.type);
-    }
+    bytes += PlyTypeSize(property.isList ? property.countType : property.type);
   }
   return bytes;
 }

@@ -206,6 +206,15 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   EXPECT_EQ(Run("frobnicate", &log), 2);
   EXPECT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("t.xyz"), &log), 2)
       << "trim needs --max-distance";
+  // A negative or non-numeric option value: named in a short message.
+  for (const std::string value : {"-1", "abc", "nan"}) {
+    EXPECT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv") +
+                      " --max-distance " + value,
+                  &log),
+              2);
+    EXPECT_NE(log.find("'" + value + "' is not a number >= 0"), std::string::npos) << log;
+    EXPECT_LT(log.size(), 200u) << log;
+  }
   // Missing and malformed input: 3, with the file (and line) named, no output.
   EXPECT_EQ(Run("invert -g " + Path("missing.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3);
   EXPECT_NE(log.find("missing.json"), std::string::npos) << log;

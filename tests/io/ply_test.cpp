@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -278,7 +277,6 @@ TEST(PlyReader, RejectsBadHeaders) {
 TEST(PlyReader, RejectsHeadersThatPromiseMoreThanTheFileHolds) {
   // 4 billion vertices in a file of about 100 bytes: refused at once,
   // before any allocation, in every format.
-  const auto start = std::chrono::steady_clock::now();
   for (const char* format : {"binary_little_endian", "binary_big_endian", "ascii"}) {
     std::string content =
         std::string("ply\nformat ") + format + " 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n";
@@ -291,7 +289,6 @@ TEST(PlyReader, RejectsHeadersThatPromiseMoreThanTheFileHolds) {
       "element face 100\nproperty list uchar int vertex_indices\nend_header\n";
   content += std::string(16 + 99, '\0');
   ExpectBadPly(content, 0, "declares 100 'face' records");
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
 }
 
 TEST(PlyReader, RejectsBrokenData) {
