@@ -6,6 +6,7 @@ namespace invmap::engine {
 
 void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
   cells_.clear();
+  itemOfCell_.clear();
   paramDims_.clear();
   vertices_.clear();
   const std::vector<int>& items = bvh.Items();
@@ -18,11 +19,13 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
   const int dim = store.dimension();
   stride_ = maxVertices * dim;
   cells_.resize(items.size());
+  itemOfCell_.assign(static_cast<std::size_t>(store.size()), -1);
   paramDims_.assign(items.size(), 0);
   vertices_.assign(items.size() * static_cast<std::size_t>(stride_), 0.0);
   for (std::size_t i = 0; i < items.size(); ++i) {
     cells_[i] = store.affineSimplexCell(items[i]);
     if (cells_[i] < 0) continue;
+    itemOfCell_[cells_[i]] = static_cast<std::int32_t>(i);
     const kernels::CellSolver& solver = store.solver(cells_[i]);
     paramDims_[i] = static_cast<std::int8_t>(solver.cell().shape.paramDim());
     double* out = vertices_.data() + i * stride_;
@@ -33,7 +36,8 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
 }
 
 std::size_t SimplexItems::MemoryBytes() const {
-  return cells_.capacity() * sizeof(std::int64_t) + paramDims_.capacity() + vertices_.capacity() * sizeof(double);
+  return cells_.capacity() * sizeof(std::int64_t) + itemOfCell_.capacity() * sizeof(std::int32_t) +
+         paramDims_.capacity() + vertices_.capacity() * sizeof(double);
 }
 
 }  // namespace invmap::engine

@@ -29,16 +29,28 @@ class SimplexItems {
   bool empty() const { return cells_.empty(); }
   /// The cell of item `i` (BVH leaf order) when it is an affine simplex, else -1.
   std::int64_t cell(int i) const { return cells_.empty() ? -1 : cells_[i]; }
+  /// The item of `cell` when it is an affine simplex item, else -1.
+  int item(std::int64_t cell) const { return itemOfCell_.empty() ? -1 : itemOfCell_[cell]; }
   /// Parameter dimension (1, 2 or 3) of item `i`, an affine simplex.
   int paramDim(int i) const { return paramDims_[i]; }
   /// The vertices of item `i`, an affine simplex: paramDim(i) + 1 points of
   /// the ambient dimension, in the order of its reference vertices.
   const double* vertices(int i) const { return vertices_.data() + static_cast<std::size_t>(i) * stride_; }
+  /// Requests the memory of items [first, first + count) (a leaf's) from
+  /// the cache, for reading soon.
+  void Prefetch(int first, int count) const {
+    __builtin_prefetch(&cells_[first]);
+    __builtin_prefetch(&paramDims_[first]);
+    const char* begin = reinterpret_cast<const char*>(vertices(first));
+    const char* end = reinterpret_cast<const char*>(vertices(first + count));
+    for (const char* line = begin; line < end; line += 64) __builtin_prefetch(line);
+  }
   /// Heap memory of the copies, in bytes.
   std::size_t MemoryBytes() const;
 
  private:
   std::vector<std::int64_t> cells_;
+  std::vector<std::int32_t> itemOfCell_;  ///< per cell of the store: its item, or -1
   std::vector<std::int8_t> paramDims_;
   std::vector<double> vertices_;  ///< stride_ doubles per item
   int stride_ = 0;

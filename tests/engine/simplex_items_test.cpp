@@ -1,6 +1,6 @@
 // The affine simplices' vertices the search reads in BVH leaf order: every
 // item that is an affine segment, triangle or tetrahedron, and no other,
-// with exactly its cell's corner control points.
+// with exactly its cell's corner control points; and each such cell's item.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -28,6 +28,15 @@ engine::Bvh BuildBvhOver(const engine::CellStore& store) {
 TEST(SimplexItemsTest, HoldTheVerticesOfEveryAffineSimplexInLeafOrder) {
   Geometry g = MixedGeometry3();
   g.patches.push_back(BumpySphereMesh(8, 5, {0.3, -0.2, 0.1}, 0.7));
+  // A straight, uniformly parametrized polyline: its segments form one
+  // affine region (algorithm 6), searched as a block, not as items.
+  Patch line;
+  line.kind = Patch::Kind::BSpline;
+  line.degrees = {1};
+  line.knots = {{0, 0, 1, 2, 3, 3}};
+  line.counts = {4};
+  line.points = {2, 2, 2, 2.5, 2, 2, 3, 2, 2, 3.5, 2, 2};
+  g.patches.push_back(line);
   engine::CellStore store;
   ASSERT_EQ(store.Build(g, 1), "");
   const engine::Bvh bvh = BuildBvhOver(store);
@@ -40,6 +49,7 @@ TEST(SimplexItemsTest, HoldTheVerticesOfEveryAffineSimplexInLeafOrder) {
     const std::int64_t cell = store.isRegion(item) ? -1 : store.subdivisionCell(item);
     const bool isSimplex = cell >= 0 && store.solver(cell).isAffineSimplex();
     ASSERT_EQ(simplices.cell(i), isSimplex ? cell : -1) << "item " << i;
+    if (cell >= 0) EXPECT_EQ(simplices.item(cell), isSimplex ? i : -1) << "cell " << cell;
     if (!isSimplex) {
       ++others;
       continue;
@@ -53,6 +63,17 @@ TEST(SimplexItemsTest, HoldTheVerticesOfEveryAffineSimplexInLeafOrder) {
   }
   EXPECT_GT(affine, 8 * 5);
   EXPECT_GT(others, 0);
+  // Cells inside affine regions are no items of their own; every cell's
+  // origin knows its parametric dimension (the results report that many).
+  int inRegions = 0;
+  for (std::int64_t cell = 0; cell < store.size(); ++cell) {
+    if (store.inRegion(cell)) {
+      ++inRegions;
+      EXPECT_EQ(simplices.item(cell), -1) << "cell " << cell;
+    }
+    EXPECT_EQ(store.origin(cell).paramDim, store.solver(cell).cell().shape.paramDim()) << "cell " << cell;
+  }
+  EXPECT_EQ(inRegions, 3);
 }
 
 TEST(SimplexItemsTest, NoneWithoutAffineSimplices) {
@@ -62,6 +83,7 @@ TEST(SimplexItemsTest, NoneWithoutAffineSimplices) {
   simplices.Build(store, BuildBvhOver(store));
   EXPECT_TRUE(simplices.empty());
   EXPECT_EQ(simplices.cell(0), -1);
+  EXPECT_EQ(simplices.item(0), -1);
 }
 
 }  // namespace
