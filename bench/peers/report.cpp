@@ -51,6 +51,22 @@ std::string CsvField(const std::string& text) {
   return quoted + "\"";
 }
 
+/// invmap's row of `workload`, or nullptr.
+const InvmapRow* InvmapRowOf(const std::vector<InvmapRow>& invmapRows, const std::string& workload) {
+  for (const InvmapRow& row : invmapRows) {
+    if (row.workload == workload) return &row;
+  }
+  return nullptr;
+}
+
+/// The peer's time per point over invmap's oracle's (NaN without the
+/// workload's row): invmap's oracle ratio measured on the peer.
+double PeerOverOracle(const PeerRow& peer, const std::vector<InvmapRow>& invmapRows) {
+  const InvmapRow* invmap = InvmapRowOf(invmapRows, peer.workload);
+  if (!invmap || !(invmap->oracleSeconds > 0.0)) return std::nan("");
+  return (peer.seconds1 / peer.count) / (invmap->oracleSeconds / invmap->count);
+}
+
 }  // namespace
 
 std::string HumanRate(double rate) {
@@ -99,10 +115,11 @@ std::string MarkdownReport(const RunInfo& info, const std::vector<InvmapRow>& in
      << "Ratio = invmap's points/s over the peer's, both from this run. Agreement on the peer's N points: "
         "*peer farther* = the peer's distance exceeds invmap's by more than 1e-9 x the geometry's size (a local "
         "minimum, a missed boundary), *invmap farther* = the reverse (invmap wrong), *max diff* = largest "
-        "|distance difference|, *failed* = no answer from the peer.\n\n"
+        "|distance difference|, *failed* = no answer from the peer, *over oracle* = the peer's time per point over "
+        "invmap's oracle's (a solve on the known cell only, as in invmap's oracle ratio).\n\n"
      << "| workload | peer | N | set-up s | peer 1 thread | peer " << all << " | invmap/peer 1 thread | invmap/peer "
-     << all << " | peer farther | invmap farther | max diff | failed |\n"
-     << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+     << all << " | peer farther | invmap farther | max diff | failed | over oracle |\n"
+     << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const PeerRow& r : peerRows) {
     const double rate1 = r.count / r.seconds1;
     const bool threaded = r.secondsAll > 0;
@@ -112,7 +129,7 @@ std::string MarkdownReport(const RunInfo& info, const std::vector<InvmapRow>& in
        << Ratio(r.invmapRate1 / rate1) << " | " << Ratio(r.invmapRateAll / rateAll) << (threaded ? "" : "*")
        << " | " << Share(r.agreement.peerFarther, r.count) << " | " << Share(r.agreement.invmapFarther, r.count)
        << " | " << Format("%.1e", r.agreement.maxDifference) << " | " << Share(r.agreement.peerFailed, r.count)
-       << " |\n";
+       << " | " << Ratio(PeerOverOracle(r, invmapRows)) << " |\n";
   }
   md << "\n\\* the peer runs on 1 thread only; the ratio compares invmap on " << all
      << " with the peer on 1 thread.\n\n";
@@ -138,6 +155,8 @@ bool WriteCsv(const std::string& path, const RunInfo& info, const std::vector<In
          "threads,seconds_all_threads,points_per_second_all_threads,invmap_over_peer_1_thread,"
          "invmap_over_peer_all_threads,peer_farther,invmap_farther,max_difference,peer_failed,"
          "thread_mismatches,oracle_ratio\n";
+  // oracle_ratio: invmap's time per point over its oracle's; on a peer's
+  // row, the peer's time per point over the same oracle's.
   for (const InvmapRow& r : invmapRows) {
     out << info.date << "," << info.capacityStart << "," << info.capacityEnd << "," << CsvField(r.workload) << ",invmap," << r.cells << "," << r.size << "," << r.count
         << "," << r.buildSeconds << "," << r.seconds1 << "," << r.count / r.seconds1 << "," << info.allThreads << ","
@@ -148,20 +167,16 @@ bool WriteCsv(const std::string& path, const RunInfo& info, const std::vector<In
     const double rate1 = r.count / r.seconds1;
     const bool threaded = r.secondsAll > 0;
     const double rateAll = threaded ? r.count / r.secondsAll : rate1;
-    std::int64_t cells = 0;
-    double size = 0.0;
-    for (const InvmapRow& i : invmapRows) {
-      if (i.workload == r.workload) {
-        cells = i.cells;
-        size = i.size;
-      }
-    }
+    const InvmapRow* invmap = InvmapRowOf(invmapRows, r.workload);
+    const std::int64_t cells = invmap ? invmap->cells : 0;
+    const double size = invmap ? invmap->size : 0.0;
     out << info.date << "," << info.capacityStart << "," << info.capacityEnd << "," << CsvField(r.workload) << ","
         << CsvField(r.peer) << "," << cells << "," << size << ","
         << r.count << "," << r.setupSeconds << "," << r.seconds1 << "," << rate1 << "," << (threaded ? r.threads : 1)
         << "," << (threaded ? r.secondsAll : r.seconds1) << "," << rateAll << "," << r.invmapRate1 / rate1 << ","
         << r.invmapRateAll / rateAll << "," << r.agreement.peerFarther << "," << r.agreement.invmapFarther << ","
-        << r.agreement.maxDifference << "," << r.agreement.peerFailed << "," << r.threadMismatches << ",\n";
+        << r.agreement.maxDifference << "," << r.agreement.peerFailed << "," << r.threadMismatches << ","
+        << PeerOverOracle(r, invmapRows) << "\n";
   }
   return static_cast<bool>(out);
 }
