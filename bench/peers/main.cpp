@@ -60,7 +60,7 @@ void PrintHelp() {
       "  --scaling-csv F     CSV of the scaling study (default peers_scaling.csv)\n"
       "  --work-dir D        where the gmsh meshes are written (default peers_work)\n"
       "  --only NAME         only workloads whose geometry name contains NAME\n"
-      "                      (surface, torus, curve, trimesh, tets order 2, tets order 3)\n"
+      "                      (surface, torus, curve, trimesh, small trimesh, tets order 2, tets order 3)\n"
       "  --list-disagreements K  print up to K points per peer and workload where the distances disagree\n"
       "  --invmap-only       run invmap and its oracle but no peer (for profiling invmap)\n"
       "  --no-scaling        skip the scaling study\n"
