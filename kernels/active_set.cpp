@@ -44,14 +44,19 @@ void BuildFaceBasis(const CellShape& shape, const ActiveSet& active, FaceBasis* 
   }
 }
 
-double ReleaseDerivative(const CellShape& shape, const ActiveSet& active, int f, int k, const double* grad) {
+void ReleaseDirection(const CellShape& shape, const ActiveSet& active, int f, int k, double* step) {
   const SimplexFactor& fac = shape.factor(f);
   int k0 = 0;
   while (active.enforced[f] & (1u << k0)) ++k0;
-  double d = 0.0;
-  if (k > 0) d += grad[fac.offset + k - 1];
-  if (k0 > 0) d -= grad[fac.offset + k0 - 1];
-  return d;
+  step[0] = step[1] = step[2] = 0.0;
+  if (k > 0) step[fac.offset + k - 1] += 1.0;
+  if (k0 > 0) step[fac.offset + k0 - 1] -= 1.0;
+}
+
+double ReleaseDerivative(const CellShape& shape, const ActiveSet& active, int f, int k, const double* grad) {
+  double step[3];
+  ReleaseDirection(shape, active, f, k, step);
+  return step[0] * grad[0] + step[1] * grad[1] + step[2] * grad[2];
 }
 
 }  // namespace invmap::kernels

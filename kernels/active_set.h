@@ -45,10 +45,14 @@ struct FaceBasis {
 /// Builds the FaceBasis of `active`.
 void BuildFaceBasis(const CellShape& shape, const ActiveSet& active, FaceBasis* basis);
 
-/// Directional derivative of a function with parameter gradient `grad` when
-/// constraint k of factor f is released: moving along e_k - e_{k0} in
-/// barycentric space, k0 the factor's first free index. A negative value is
-/// the Lagrange multiplier saying the constraint should be released.
+/// The parameter step that releases constraint k of factor f: e_k - e_{k0}
+/// in barycentric space, k0 the factor's first free index, written in the
+/// cell's parameters (3 values, zero outside the factor).
+void ReleaseDirection(const CellShape& shape, const ActiveSet& active, int f, int k, double* step);
+
+/// Directional derivative of a function with parameter gradient `grad` along
+/// ReleaseDirection. A negative value is the Lagrange multiplier saying the
+/// constraint should be released.
 double ReleaseDerivative(const CellShape& shape, const ActiveSet& active, int f, int k, const double* grad);
 
 }  // namespace invmap::kernels

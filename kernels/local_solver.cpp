@@ -41,6 +41,115 @@ double RoundingOfF(const double* point, const double* r, int ambientDim, double 
   return 2.0 * std::sqrt(f) * rError + rError * rError;
 }
 
+/// |v| of 3 coordinates; where the sum of squares overflows or underflows
+/// (cells near the ends of the double range), summed in units of the
+/// largest coordinate instead.
+double Norm(const double* v) {
+  const double length2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  if (length2 > 1e-300 && length2 < 1e300) return std::sqrt(length2);
+  const double largest = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+  if (!(largest > 0.0) || !std::isfinite(largest)) return largest;
+  const double a = v[0] / largest, b = v[1] / largest, c = v[2] / largest;
+  return largest * std::sqrt(a * a + b * b + c * c);
+}
+
+/// The scale of the stationarity, release and KKT tests: a slope r . J v
+/// along a direction v of the parameters is judged against perLength times
+/// how far the map moves along v, |J v| (never less than kThinDirection
+/// times the cell's size). Each direction by its own scale: a direction the
+/// map stretches little (the thickness of a thin cell, the width of a narrow
+/// ribbon) or much (next to a heavy weight) would otherwise be judged by the
+/// cell's size, and a slope along a thickness of 1e-6 of it passed for
+/// stationary with the point 1e-8 of the size away (QA's thin hexes).
+struct DirectionScale {
+  const MapJet& jet;
+  int ambientDim, paramDim;
+  double perLength;    ///< Tolerance per unit of mapped length.
+  double floorLength;  ///< kThinDirection times the cell's size.
+
+  /// |J v|: how far the map moves per unit of the parameter step v.
+  double MappedLength(const double* v) const {
+    double moved[3] = {0, 0, 0};
+    for (int k = 0; k < ambientDim; ++k) {
+      for (int i = 0; i < paramDim; ++i) moved[k] += jet.d1[k][i] * v[i];
+    }
+    return Norm(moved);
+  }
+  /// |J e_i|: how far the map moves per unit of parameter i.
+  double ColumnLength(int i) const {
+    const double column[3] = {jet.d1[0][i], jet.d1[1][i], ambientDim > 2 ? jet.d1[2][i] : 0.0};
+    return Norm(column);
+  }
+  /// The tolerance of a slope along a direction the map moves `mappedLength`
+  /// per unit. (A product, not squares: those overflow long before either
+  /// factor; +infinity where even it does.)
+  double Tolerance(double mappedLength) const { return perLength * std::max(mappedLength, floorLength); }
+};
+
+/// True when the gradient `grad` vanishes on the free face of `face` up to
+/// the tolerances of `scale`: along directions of the face whose images
+/// under J are orthogonal (the longest first, the others with its part
+/// removed), each judged by its own mapped length. The face basis's own
+/// columns mix parameters: next to a heavy weight one column of J can be
+/// 1e12 times another, and a column holding a share of it would lend the
+/// test that scale along directions the map hardly stretches (in a thin
+/// cell, the thickness would take the length's scale).
+bool IsStationaryOnFace(const FaceBasis& face, const double* grad, const DirectionScale& scale) {
+  const int m = face.columns;
+  double along[3][3] = {};  // along[c]: direction c of the face, reduced coordinates
+  double image[3][3] = {};  // J T along[c], in units of `unit`
+  double largest = 0.0;
+  for (int c = 0; c < m; ++c) {
+    along[c][c] = 1.0;
+    for (int k = 0; k < scale.ambientDim; ++k) {
+      for (int i = 0; i < scale.paramDim; ++i) image[c][k] += scale.jet.d1[k][i] * face.t[i][c];
+      largest = std::max(largest, std::abs(image[c][k]));
+    }
+  }
+  // Near the ends of the double range, the images in units of a power of
+  // two near the largest (exact), so that their squares neither overflow
+  // nor underflow.
+  double unit = 1.0;
+  if ((largest > 1e150 || largest < 1e-150) && largest > 0.0 && std::isfinite(largest)) {
+    unit = std::ldexp(1.0, std::ilogb(largest));
+    for (int c = 0; c < m; ++c) {
+      for (double& x : image[c]) x /= unit;
+    }
+  }
+  const auto length2 = [&](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
+  bool placed[3] = {false, false, false};
+  for (int step = 0; step < m; ++step) {
+    int longest = -1;
+    for (int c = 0; c < m; ++c) {
+      if (!placed[c] && (longest < 0 || length2(image[c]) > length2(image[longest]))) longest = c;
+    }
+    placed[longest] = true;
+    const double norm2 = length2(image[longest]);
+    if (!(norm2 > 0.0)) break;  // the rest does not move the map at all
+    for (int c = 0; c < m; ++c) {
+      if (placed[c]) continue;
+      double share = 0.0;
+      for (int k = 0; k < 3; ++k) share += image[longest][k] * image[c][k];
+      share /= norm2;
+      for (int k = 0; k < 3; ++k) {
+        image[c][k] -= share * image[longest][k];
+        along[c][k] -= share * along[longest][k];
+      }
+    }
+  }
+  for (int c = 0; c < m; ++c) {
+    const double norm = std::sqrt(length2(along[c]));
+    double slope = 0.0;
+    for (int i = 0; i < scale.paramDim; ++i) {
+      double direction = 0.0;
+      for (int j = 0; j < m; ++j) direction += face.t[i][j] * along[c][j];
+      slope += direction * grad[i];
+    }
+    if (std::abs(slope) / norm > scale.Tolerance(unit * std::sqrt(length2(image[c])) / norm)) return false;
+  }
+  return true;
+}
+
 /// Largest step fraction in (0, 1] that keeps every free barycentric
 /// coordinate non-negative, and the constraint that blocks it (factor, index).
 double FeasibleFraction(const CellShape& shape, const ActiveSet& active, const double* ref, const double* step,
@@ -126,24 +235,6 @@ ActiveSet ActiveSetAt(const CellShape& shape, const double* ref) {
   return active;
 }
 
-/// |T^T grad| for the face basis T of the whole domain (no constraint
-/// enforced), without building T: per factor, the norm of the barycentric
-/// gradient (0, g_1, .., g_d) projected onto the zero-sum plane that the
-/// orthonormal basis spans, |G|^2 - (sum G)^2 / (d + 1).
-double InteriorReducedGradientNorm(const CellShape& shape, const double* grad) {
-  double norm2 = 0.0;
-  for (int f = 0; f < shape.numFactors(); ++f) {
-    const SimplexFactor& fac = shape.factor(f);
-    double sum = 0.0, sum2 = 0.0;
-    for (int i = 0; i < fac.dim; ++i) {
-      sum += grad[fac.offset + i];
-      sum2 += grad[fac.offset + i] * grad[fac.offset + i];
-    }
-    norm2 += std::max(0.0, sum2 - sum * sum / (fac.dim + 1));
-  }
-  return std::sqrt(norm2);
-}
-
 /// x = -H^-1 g for the leading m x m block of the symmetric H, by an LDL^T
 /// factorization (x[m..2] = 0). False unless that block is positive
 /// definite and x is finite and descends (x . g < 0).
@@ -199,22 +290,24 @@ bool NewtonStepOver(const MapJet& jet, const double* r, const double* grad, cons
 }
 
 /// Cells of line factors (lines, quads, hexes): the parameters whose factor
-/// has no enforced constraint, and the norm of the gradient reduced to them
-/// in BuildFaceBasis's orthonormal basis (each free factor's column is
-/// -e_i / sqrt(2)). Other cells: -1.
-int FreeLineParameters(const CellShape& shape, const ActiveSet& active, const double* grad, int* coords,
-                       double* reducedNorm) {
+/// has no enforced constraint. Other cells: -1.
+int FreeLineParameters(const CellShape& shape, const ActiveSet& active, int* coords) {
   int m = 0;
-  double norm2 = 0.0;
   for (int f = 0; f < shape.numFactors(); ++f) {
     if (shape.factor(f).dim != 1) return -1;
-    if (active.enforced[f] != 0) continue;
-    const int i = shape.factor(f).offset;
-    coords[m++] = i;
-    norm2 += 0.5 * grad[i] * grad[i];
+    if (active.enforced[f] == 0) coords[m++] = shape.factor(f).offset;
   }
-  *reducedNorm = std::sqrt(norm2);
   return m;
+}
+
+/// True when every parameter of `coords` (count of them) has a slope within
+/// its own tolerance: a cell of line factors, whose face directions are its
+/// free parameters, judged as IsKktPoint judges it.
+bool FreeParametersStationary(const int* coords, int count, const double* grad, const DirectionScale& scale) {
+  for (int a = 0; a < count; ++a) {
+    if (!(std::abs(grad[coords[a]]) <= scale.Tolerance(scale.ColumnLength(coords[a])))) return false;
+  }
+  return true;
 }
 
 /// The step -J^-1 r of a volume cell (pd = ambient dimension 2 or 3) by
@@ -410,7 +503,6 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
                              const ActiveSet& active, double* ref, JetCache* jets, bool* exclusionPending, int* iter,
                              LocalSolveResult* result) {
   const double size = options.size;
-  const double gradTol = kGradientTolerance * size;
   // Parameter i is factor i's: free, or held at 0 (constraint 1 enforced,
   // released toward +u_i) or at 1 (constraint 0, released toward -u_i).
   int freeCoords[3], m = 0;
@@ -422,10 +514,10 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
       releaseSign[i] = (active.enforced[i] & 2u) ? 1.0 : -1.0;
     }
   }
-  // True when no enforced constraint's multiplier is below -residualScale.
-  const auto noRelease = [&](const double* grad, double residualScale) {
+  // True when no enforced constraint's multiplier is below minus its tolerance.
+  const auto noRelease = [&](const double* grad, const double* tolerance) {
     for (int i = 0; i < PD; ++i) {
-      if (releaseSign[i] != 0.0 && releaseSign[i] * grad[i] < -residualScale) return false;
+      if (releaseSign[i] != 0.0 && releaseSign[i] * grad[i] < -tolerance[i]) return false;
     }
     return true;
   };
@@ -447,13 +539,13 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
     for (int i = 0; i < PD; ++i) {
       for (int k = 0; k < AD; ++k) grad[i] += jet.d1[k][i] * r[k];
     }
-    // The gradient reduced to the free face (see FreeLineParameters).
-    double reducedNorm2 = 0.0;
-    for (int a = 0; a < m; ++a) reducedNorm2 += 0.5 * grad[freeCoords[a]] * grad[freeCoords[a]];
-    const double residualScale = gradTol * (size + std::sqrt(f));
-    if (std::sqrt(reducedNorm2) <= residualScale) {
-      return noRelease(grad, residualScale) ? FastOutcome::Converged : FastOutcome::Handover;
-    }
+    // Each parameter's slope against its own tolerance (DirectionScale).
+    const DirectionScale scale{jet, AD, PD, kGradientTolerance * (size + std::sqrt(f)), kThinDirection * size};
+    double tolerance[3];
+    bool stationary = true;
+    for (int i = 0; i < PD; ++i) tolerance[i] = scale.Tolerance(scale.ColumnLength(i));
+    for (int a = 0; a < m; ++a) stationary = stationary && std::abs(grad[freeCoords[a]]) <= tolerance[freeCoords[a]];
+    if (stationary) return noRelease(grad, tolerance) ? FastOutcome::Converged : FastOutcome::Handover;
     const double fNoise = RoundingOfF(point, r, AD, size, f);
 
     double step[3];
@@ -475,7 +567,7 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
       // the multipliers of this iterate decide (as in the general loop).
       std::copy(trial, trial + PD, ref);
       jets->valid = false;
-      return noRelease(grad, residualScale) ? FastOutcome::Converged : FastOutcome::Handover;
+      return noRelease(grad, tolerance) ? FastOutcome::Converged : FastOutcome::Handover;
     }
     if (length <= limits.negligible || -slope <= fNoise) return FastOutcome::Handover;
     EvaluateMap(cell, trial, JetOrder::Second, jets->trial);
@@ -516,7 +608,6 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
   const int ad = cell.ambientDim;
   const bool fullRank = pd == ad;
   const double size = options.size;
-  const double gradTol = kGradientTolerance * size;
   const JetOrder order = options.affine ? JetOrder::First : JetOrder::Second;
 
   LocalSolveResult result;
@@ -575,7 +666,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     for (int i = 0; i < pd; ++i) {
       for (int k = 0; k < ad; ++k) grad[i] += jet.d1[k][i] * r[k];
     }
-    const double residualScale = gradTol * (size + std::sqrt(f));
+    const DirectionScale scale{jet, ad, pd, kGradientTolerance * (size + std::sqrt(f)), kThinDirection * size};
     const double fNoise = RoundingOfF(point, r, ad, size, f);
     const StepLimits limits = StepLimitsAt(jet, pd, ad, size);
 
@@ -587,15 +678,32 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     // square, or picks the free parameters). Anything else falls through.
     int freeCoords[3] = {0, 1, 2};
     int freeCount = 0;
-    double reducedNorm = 0.0;
-    if (releasedFactor < 0 && noneEnforced && (useFullRank || order == JetOrder::Second)) {
+    bool freeStationary = true;
+    // A cell of line factors is judged along its free parameters (-1: not one).
+    int lineCoords[3];
+    const int lineCount = FreeLineParameters(shape, active, lineCoords);
+    if (releasedFactor < 0 && noneEnforced && useFullRank) {
+      // J spans every direction: stationary where r itself is as small as
+      // each direction's test asks (a J too singular for the step below
+      // leaves the decision to the general path's test).
       freeCount = pd;
-      reducedNorm = InteriorReducedGradientNorm(shape, grad);
-    } else if (releasedFactor < 0 && !noneEnforced && order == JetOrder::Second) {
-      freeCount = std::max(0, FreeLineParameters(shape, active, grad, freeCoords, &reducedNorm));
+      freeStationary = std::sqrt(f) <= scale.perLength;
+    } else if (releasedFactor < 0 && noneEnforced && order == JetOrder::Second) {
+      freeCount = pd;
+      if (lineCount >= 0) {
+        freeStationary = FreeParametersStationary(lineCoords, lineCount, grad, scale);
+      } else {
+        FaceBasis whole;
+        BuildFaceBasis(shape, active, &whole);
+        freeStationary = IsStationaryOnFace(whole, grad, scale);
+      }
+    } else if (releasedFactor < 0 && !noneEnforced && order == JetOrder::Second && lineCount >= 0) {
+      freeCount = lineCount;
+      std::copy(lineCoords, lineCoords + lineCount, freeCoords);
+      freeStationary = FreeParametersStationary(freeCoords, freeCount, grad, scale);
     }
     bool finalOnFace = false;
-    if (freeCount > 0 && reducedNorm > residualScale) {
+    if (freeCount > 0 && !freeStationary) {
       double step[3];
       if (useFullRank ? FullRankStep(jet, r, pd, size, step)
                       : NewtonStepOver(jet, r, grad, freeCoords, freeCount, ad, step)) {
@@ -629,7 +737,11 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
       const int m = face.columns;
       const Matrix T = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&face.t[0][0]);
       const Vector gReduced = T.transpose() * g;
-      const bool stationary = m == 0 || gReduced.norm() <= residualScale;
+      // The common paths' test above already judged this face (the same
+      // iterate and active set) when it found it stationary.
+      const bool stationary = m == 0 || (freeCount > 0 && freeStationary) ||
+                              (lineCount >= 0 ? FreeParametersStationary(lineCoords, lineCount, grad, scale)
+                                              : IsStationaryOnFace(face, grad, scale));
       Vector step = Vector::Zero();
       if (!stationary) {
         Matrix jac = Matrix::Zero();  // rows: ambient coordinates, columns: parameters
@@ -715,18 +827,22 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
     }
 
     // Stationary on the current face: release the constraint whose
-    // multiplier is most negative, if any (algorithm 5, lines 33-45).
+    // multiplier is most negative, if any (algorithm 5, lines 33-45): among
+    // those below minus their own tolerance, the steepest per unit of
+    // mapped length (DirectionScale).
     int releaseFactor = -1, releaseIndex = -1;
-    double mostNegative = -residualScale;
+    double steepest = 0.0;
     for (int fac = 0; fac < shape.numFactors(); ++fac) {
       for (int k = 0; k <= shape.factor(fac).dim; ++k) {
         if (!(active.enforced[fac] & (1u << k))) continue;
-        const double mu = ReleaseDerivative(shape, active, fac, k, grad);
-        if (mu < mostNegative) {
-          mostNegative = mu;
-          releaseFactor = fac;
-          releaseIndex = k;
-        }
+        double direction[3];
+        ReleaseDirection(shape, active, fac, k, direction);
+        const double mu = direction[0] * grad[0] + direction[1] * grad[1] + direction[2] * grad[2];
+        const double length = std::max(scale.MappedLength(direction), scale.floorLength);
+        if (!(mu < -scale.Tolerance(length)) || !(mu / length < steepest)) continue;
+        steepest = mu / length;
+        releaseFactor = fac;
+        releaseIndex = k;
       }
     }
     if (releaseFactor >= 0 && releases < 4 * (pd + 1)) {
@@ -771,107 +887,25 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
 
 namespace {
 
-/// The scales of IsKktPoint's tests, one per direction of the parameters.
-struct KktScale {
-  const MapJet& jet;
-  int ambientDim, paramDim;
-  double residual;  ///< |r|
-  double size;
-
-  /// |J v|: how far the map moves per unit of the parameter step v.
-  double MappedLength(const double* v) const {
-    double length2 = 0.0;
-    for (int k = 0; k < ambientDim; ++k) {
-      double moved = 0.0;
-      for (int i = 0; i < paramDim; ++i) moved += jet.d1[k][i] * v[i];
-      length2 += moved * moved;
-    }
-    return std::sqrt(length2);
-  }
-  /// A converged solve leaves a derivative r . J v near rounding; a point
-  /// that is not stationary along v has one of the order of |J v| |r|
-  /// (`mappedLength` = |J v|). Each direction by its own scale: in a heavy
-  /// weight's layer one column of J can be 1e12 times another, and a shared
-  /// scale would pass any slope along the other. (Square roots apart: the
-  /// squares overflow long before either factor. A tolerance that still
-  /// overflows accepts nothing.)
-  double Tolerance(double mappedLength) const {
-    const double tolerance = 1e-7 * mappedLength * residual + 1e-12 * size * size;
-    return std::isfinite(tolerance) ? tolerance : -1.0;
-  }
-  /// True when a coordinate of `value` (<= 1e-12) along whose direction the
-  /// map moves `length` per unit lies on its face: the map there is within
-  /// 1e-12 of the cell's size of the face's. (A coordinate of 1e-13 next to
-  /// a weight of 1e12 is a point of its own, not rounding off the face.)
-  bool OnFace(double value, double length) const { return value <= 1e-12 && value * length <= 1e-12 * size; }
-};
-
-/// True when the gradient `grad` vanishes on the free face of `face` up to
-/// the tolerances of `scale`: along directions of the face whose images
-/// under J are orthogonal (the longest first, the others with its part
-/// removed), each judged by its own mapped length. The face basis's own
-/// columns mix parameters: next to a heavy weight one column of J can be
-/// 1e12 times another, and a column holding a share of it would lend the
-/// test that scale along directions the map hardly stretches.
-bool IsStationaryOnFace(const FaceBasis& face, const double* grad, const KktScale& scale) {
-  const int m = face.columns;
-  double along[3][3] = {};  // along[c]: direction c of the face, reduced coordinates
-  double image[3][3] = {};  // J T along[c]
-  for (int c = 0; c < m; ++c) {
-    along[c][c] = 1.0;
-    for (int k = 0; k < scale.ambientDim; ++k) {
-      for (int i = 0; i < scale.paramDim; ++i) image[c][k] += scale.jet.d1[k][i] * face.t[i][c];
-    }
-  }
-  const auto length2 = [&](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
-  bool placed[3] = {false, false, false};
-  for (int step = 0; step < m; ++step) {
-    int longest = -1;
-    for (int c = 0; c < m; ++c) {
-      if (!placed[c] && (longest < 0 || length2(image[c]) > length2(image[longest]))) longest = c;
-    }
-    placed[longest] = true;
-    const double norm2 = length2(image[longest]);
-    if (!(norm2 > 0.0)) break;  // the rest does not move the map at all
-    for (int c = 0; c < m; ++c) {
-      if (placed[c]) continue;
-      double share = 0.0;
-      for (int k = 0; k < 3; ++k) share += image[longest][k] * image[c][k];
-      share /= norm2;
-      for (int k = 0; k < 3; ++k) {
-        image[c][k] -= share * image[longest][k];
-        along[c][k] -= share * along[longest][k];
-      }
-    }
-  }
-  for (int c = 0; c < m; ++c) {
-    const double norm = std::sqrt(length2(along[c]));
-    double slope = 0.0;
-    for (int i = 0; i < scale.paramDim; ++i) {
-      double direction = 0.0;
-      for (int j = 0; j < m; ++j) direction += face.t[i][j] * along[c][j];
-      slope += direction * grad[i];
-    }
-    if (std::abs(slope) / norm > scale.Tolerance(std::sqrt(length2(image[c])) / norm)) return false;
-  }
-  return true;
-}
+/// True when a coordinate of `value` (<= 1e-12) along whose direction the
+/// map moves `length` per unit lies on its face: the map there is within
+/// 1e-12 of the cell's `size` of the face's. (A coordinate of 1e-13 next to
+/// a weight of 1e12 is a point of its own, not rounding off the face.)
+bool OnFace(double value, double length, double size) { return value <= 1e-12 && value * length <= 1e-12 * size; }
 
 /// IsKktPoint's test for a cell of line factors, whose parameters are its
 /// factors' coordinates: the general test below with its face basis and
 /// multipliers written out (the same arithmetic, so the same verdict).
-/// Parameter i is held at 0 when it is on that face (KktScale::OnFace; its
+/// Parameter i is held at 0 when it is on that face (OnFace; its
 /// multiplier is grad_i), else at 1 when 1 - u_i is (multiplier -grad_i),
 /// else free (its basis vector is -e_i / sqrt(2)).
-bool IsKktOnUnitBox(const double* ref, const double* grad, const KktScale& scale) {
+bool IsKktOnUnitBox(const double* ref, const double* grad, const DirectionScale& scale, double size) {
   const double norm = 1.0 / std::sqrt(2.0);
   for (int i = 0; i < scale.paramDim; ++i) {
-    double column2 = 0.0;
-    for (int k = 0; k < scale.ambientDim; ++k) column2 += scale.jet.d1[k][i] * scale.jet.d1[k][i];
-    const double length = std::sqrt(column2);
-    if (scale.OnFace(ref[i], length)) {
+    const double length = scale.ColumnLength(i);
+    if (OnFace(ref[i], length, size)) {
       if (grad[i] < -scale.Tolerance(length)) return false;
-    } else if (scale.OnFace(1.0 - ref[i], length)) {
+    } else if (OnFace(1.0 - ref[i], length, size)) {
       if (-grad[i] < -scale.Tolerance(length)) return false;
     } else if (std::abs(-norm * grad[i]) > scale.Tolerance(norm * length)) {
       return false;
@@ -891,8 +925,13 @@ bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, co
     r2 += r * r;
     for (int i = 0; i < pd; ++i) grad[i] += jet.d1[k][i] * r;
   }
-  const KktScale scale{jet, cell.ambientDim, pd, std::sqrt(r2), size};
-  if (shape.isBox()) return IsKktOnUnitBox(ref, grad, scale);
+  // A converged solve leaves slopes r . J v near rounding; a point that is
+  // not stationary along v has one of the order of |J v| |r|. (Square roots
+  // apart: r2 times a squared length overflows long before either factor.
+  // A tolerance that still overflows would accept any point: not KKT then.)
+  const DirectionScale scale{jet, cell.ambientDim, pd, 1e-7 * std::sqrt(r2) + 1e-12 * size, kThinDirection * size};
+  if (!std::isfinite(scale.perLength)) return false;
+  if (shape.isBox()) return IsKktOnUnitBox(ref, grad, scale, size);
   ActiveSet active;
   for (int f = 0; f < shape.numFactors(); ++f) {
     const SimplexFactor& factor = shape.factor(f);
@@ -908,7 +947,7 @@ bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, co
       lengths[0] = std::max(lengths[0], lengths[i + 1]);
     }
     for (int k = 0; k <= factor.dim; ++k) {
-      if (scale.OnFace(lambda[k], lengths[k])) active.enforced[f] |= 1u << k;
+      if (OnFace(lambda[k], lengths[k], size)) active.enforced[f] |= 1u << k;
     }
     if (active.enforced[f] == (1u << (factor.dim + 1)) - 1) active.enforced[f] &= ~1u;
   }

@@ -5,9 +5,17 @@
 
 namespace invmap::kernels {
 
-/// Local solve: stop when the reduced gradient J^T r, projected on the free
-/// face, is below this times size * (size + |r|).
+/// Local solve: stop when the slope r . J v along every direction v of the
+/// free face is below this times |J v| (size + |r|): the residual's part
+/// along the face's image below this times (size + |r|).
 constexpr double kGradientTolerance = 1e-14;
+
+/// The stationarity, release and KKT tests judge a direction v of the
+/// parameters by |J v|, but never by less than this times size: a direction
+/// the map collapses (a pole, a cone's apex) keeps a tolerance, and a cell up
+/// to 1e9 times longer than it is thick is judged along its thickness by
+/// its thickness.
+constexpr double kThinDirection = 1e-9;
 
 /// Local solve: stop when a step moves the reference point by less than this
 /// (the unit domain's coordinates are resolved to about 1e-16).

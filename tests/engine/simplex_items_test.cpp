@@ -49,7 +49,9 @@ TEST(SimplexItemsTest, HoldTheVerticesOfEveryAffineSimplexInLeafOrder) {
     const std::int64_t cell = store.isRegion(item) ? -1 : store.subdivisionCell(item);
     const bool isSimplex = cell >= 0 && store.solver(cell).isAffineSimplex();
     ASSERT_EQ(simplices.cell(i), isSimplex ? cell : -1) << "item " << i;
-    if (cell >= 0) EXPECT_EQ(simplices.item(cell), isSimplex ? i : -1) << "cell " << cell;
+    if (cell >= 0) {
+      EXPECT_EQ(simplices.item(cell), isSimplex ? i : -1) << "cell " << cell;
+    }
     if (!isSimplex) {
       ++others;
       continue;

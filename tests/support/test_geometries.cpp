@@ -73,6 +73,9 @@ Patch BezierFrom(const RefCell& cell, CellType type, const Vec3& at) {
   return patch;
 }
 
+
+}  // namespace
+
 /// Mesh patch of linear cells of `type` over a structured nx x ny x nz grid
 /// of vertices f(i / nx, j / ny, k / nz) (tri and quad: nz = 0; line: ny =
 /// nz = 0), FE vertex order; tets split each cube into 6 (Kuhn), wedges
@@ -132,8 +135,6 @@ Patch GridMesh(CellType type, int dim, int nx, int ny, int nz, const std::functi
       }
   return patch;
 }
-
-}  // namespace
 
 // ---------------------------------------------------------------------------
 // Analytic shapes.

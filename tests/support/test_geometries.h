@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -93,6 +94,12 @@ Geometry BSplineVolumes();
 /// patch per element (hexes = true), or 4 x 4 x 3 cubes of 6 tets [2] each,
 /// all in one BezierCells patch.
 Geometry QuadraticMesh(bool hexes);
+
+/// Mesh patch of linear cells of `type` over a structured nx x ny x nz grid
+/// of vertices f(i / nx, j / ny, k / nz) (tri and quad: nz = 0; line: ny =
+/// nz = 0), FE vertex order; tets split each cube into 6 (Kuhn), wedges
+/// each quad prism into 2.
+Patch GridMesh(CellType type, int dim, int nx, int ny, int nz, const std::function<Vec3(double, double, double)>& f);
 
 /// A linear triangle mesh patch: a bumpy sphere (latitude-longitude grid
 /// with nLon x nLat quads, 2 triangles each, fans at the poles).
