@@ -38,15 +38,41 @@ MeshCellLayout LayoutOf(CellType type) {
   return {0, {}};
 }
 
-std::string CheckFinite(const std::vector<double>& values, const char* field, int stride) {
+std::string CheckCoordinates(const std::vector<double>& values, const char* field, int stride) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
       std::ostringstream msg;
       msg << field << "[" << i / stride << "]: coordinate " << i % stride << " is not finite";
       return msg.str();
     }
+    if (std::abs(values[i]) > kernels::kMaxCoordinate) {
+      std::ostringstream msg;
+      msg << field << "[" << i / stride << "]: coordinate " << i % stride << " is " << values[i]
+          << ", outside [-1e100, 1e100] (the range invmap supports)";
+      return msg.str();
+    }
   }
   return {};
+}
+
+/// The geometry's extent (the diagonal of its control points' box, `points`
+/// holding `dim` coordinates each): 0 (a single point) or at least kMinExtent.
+std::string CheckExtent(const std::vector<double>& points, int dim) {
+  double extent2 = 0.0;
+  for (int k = 0; k < dim && !points.empty(); ++k) {
+    double lo = points[k], hi = points[k];
+    for (std::size_t i = k; i < points.size(); i += dim) {
+      lo = std::min(lo, points[i]);
+      hi = std::max(hi, points[i]);
+    }
+    // In units of kMinExtent: the squares of lengths near it would underflow.
+    extent2 += ((hi - lo) / kernels::kMinExtent) * ((hi - lo) / kernels::kMinExtent);
+  }
+  if (extent2 == 0.0 || extent2 >= 1.0) return {};
+  std::ostringstream msg;
+  msg << "the geometry is " << std::sqrt(extent2) * kernels::kMinExtent
+      << " across (its box diagonal), below 1e-100 (the smallest extent invmap supports)";
+  return msg.str();
 }
 
 std::string CheckWeights(const std::vector<double>& weights, std::size_t expected) {
@@ -160,7 +186,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
     const std::string where = "patch " + std::to_string(p) + ": ";
     CellOrigin origin;
     origin.patch = static_cast<std::int32_t>(p);
-    if (std::string e = CheckFinite(patch.points, patch.kind == Patch::Kind::Mesh ? "vertices" : "control_points", dim);
+    if (std::string e = CheckCoordinates(patch.points, patch.kind == Patch::Kind::Mesh ? "vertices" : "control_points", dim);
         !e.empty()) {
       return where + e;
     }
@@ -274,6 +300,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
   }
 
   patchFirst_.push_back(static_cast<std::int64_t>(shapes_.size()));
+  if (std::string e = CheckExtent(points_, dim); !e.empty()) return e;
 
   // The arrays are final: build the solvers (bounds, nets) in parallel.
   const std::int64_t count = static_cast<std::int64_t>(shapes_.size());

@@ -548,6 +548,11 @@ void GeometryHandler::RowScalar(const Scalar& v) {
       }
       knots.push_back(x);
     } else {
+      // Checked here too (the engine checks it again) so that the message names the line.
+      if (std::abs(x) > kernels::kMaxCoordinate) {
+        Fail(Here(), RowElementPath() + ": coordinate " + FormatNumber(x) +
+                         " is outside [-1e100, 1e100] (the range invmap supports)");
+      }
       patch.points.push_back(x);
       ++source.points.openLength;
     }

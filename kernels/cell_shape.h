@@ -20,6 +20,14 @@ constexpr int kMaxDegree = 8;
 /// squares and products in the distance nets stay far from overflow and
 /// underflow, and the tests hold ratios up to kMaxWeight^2 = 1e100.
 constexpr double kMaxWeight = 1e50;
+/// Control point coordinates lie in [-kMaxCoordinate, kMaxCoordinate], and a
+/// geometry of any extent is at least kMinExtent across (its box diagonal):
+/// squared distances and their tolerances (1e-11 of a cell's size, squared)
+/// then stay normal doubles. Near 1e154 the squares overflow, near 1e-154
+/// they underflow, and answers there went wrong (QA: a sphere scaled by
+/// 1e155 or 1e-170).
+constexpr double kMaxCoordinate = 1e100;
+constexpr double kMinExtent = 1e-100;
 
 /// One simplex factor of a cell: its dimension, its polynomial degree and the
 /// offset of its free coordinates inside the cell's parameter vector.
@@ -73,6 +81,8 @@ class CellShape {
   static int NumFactorsOf(CellType type);
   /// Dimension of factor `i` of a cell type.
   static int FactorDimOf(CellType type, int i);
+  /// Parametric dimension of a cell type: the sum of its factors'.
+  static int ParamDimOf(CellType type);
 
  private:
   CellType type_ = CellType::Line;

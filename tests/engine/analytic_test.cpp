@@ -63,6 +63,25 @@ TEST(AnalyticTest, NurbsSphere) {
   RunAnalytic("sphere", g, q, [&](const double* p) { return SphereDistance(c, r, p); });
 }
 
+TEST(AnalyticTest, NurbsSpheresAtTheEndsOfTheSupportedRange) {
+  // Coordinates up to 1e100 and extents down to 1e-100 are accepted: squared
+  // distances and their tolerances stay normal doubles there. (A sphere of
+  // radius 1e155 got a closest point 1e155 off, one of 1e-170 distance 0.)
+  std::mt19937_64 rng(103);
+  for (const double r : {3e99, 1e95, 1e-95, 2e-99}) {
+    const Vec3 c{{0.3 * r, -0.2 * r, 0.1 * r}};
+    const Geometry g = NurbsSphere(c, r);
+    QuerySet q;
+    q.dim = 3;
+    AddShell(&q, c, 0.0, 0.5 * r, 300, "inside", rng);
+    AddShell(&q, c, 0.5 * r, 1.5 * r, 1000, "near", rng);
+    AddShell(&q, c, 1.5 * r, 20 * r, 500, "far", rng);
+    char name[64];
+    std::snprintf(name, sizeof(name), "sphere of radius %g", r);
+    RunAnalytic(name, g, q, [&](const double* p) { return SphereDistance(c, r, p); });
+  }
+}
+
 TEST(AnalyticTest, NurbsTorus) {
   const Vec3 c{{-0.1, 0.2, 0.05}};
   const double big = 1.0, small = 0.35;

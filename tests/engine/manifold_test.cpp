@@ -580,6 +580,10 @@ std::vector<MalformedCase> MalformedCases() {
   add("infinite B-spline control point", p, "control_points");
   p = ValidMesh(), p.points[2] = kNaN;
   add("NaN mesh vertex", p, "vertices");
+  p = ValidBezierTri(3), p.points[4] = 1e101;
+  add("control point beyond the supported range", p, "control_points[1]: coordinate 1 is 1e+101, outside [-1e100, 1e100]");
+  p = ValidMesh(), p.points[2] = -2e150;
+  add("mesh vertex beyond the supported range", p, "vertices[0]: coordinate 2 is -2e+150, outside [-1e100, 1e100]");
   p = ValidBezierTri(3), p.degrees = {0};
   add("degree 0", p, "degrees");
   p = ValidBezierTri(3), p.degrees = {1, 1};
@@ -592,6 +596,21 @@ std::vector<MalformedCase> MalformedCases() {
   p = ValidMesh(), p.points.pop_back();
   add("2D mesh vertices in a 3D geometry", p, "vertices");
   return cases;
+}
+
+TEST(ManifoldTest, AGeometryBelowTheSmallestExtentIsRejected) {
+  // Its squared distances would underflow (QA: a sphere 1e-170 across had
+  // every point at distance 0).
+  Geometry g;
+  g.patches.push_back(ValidMesh());
+  for (double& x : g.patches[0].points) x *= 1e-120;
+  const BuildResult built = Manifold::Build(g);
+  EXPECT_FALSE(built.manifold.valid());
+  EXPECT_NE(built.error.find("is 1.41421e-120 across (its box diagonal), below 1e-100"), std::string::npos)
+      << built.error;
+  // A single point (all control points equal) has no extent to measure.
+  for (double& x : g.patches[0].points) x = 0.5;
+  EXPECT_TRUE(Manifold::Build(g).error.empty());
 }
 
 TEST(ManifoldTest, MalformedGeometryIsRejectedWithPatchAndField) {

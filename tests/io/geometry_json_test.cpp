@@ -418,6 +418,9 @@ const BadPatch kBadPatches[] = {
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1], \"control_points\": [[0, 0], [1, 0]],\n"
      " \"weights\": [1,\n 1e300]}",
      8, "patches[0].weights[1]: weight 1e+300 is outside [1e-50, 1e50] (the range invmap supports)"},
+    {"HugeCoordinate", 2,
+     "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1],\n \"control_points\": [[0, 0],\n [-1e101, 0]]}",
+     8, "patches[0].control_points[1][0]: coordinate -1e+101 is outside [-1e100, 1e100] (the range invmap supports)"},
     {"NegativeWeight", 2,
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1], \"control_points\": [[0, 0], [1, 0]],\n"
      " \"weights\": [-0.5, 1]}",
