@@ -161,7 +161,7 @@ void CellStore::AddCell(const kernels::CellShape& shape, const double* points, c
     weightOffset_.push_back(-1);
   }
   origins_.push_back(origin);
-  origins_.back().paramDim = shape.paramDim();
+  origins_.back().type = shape.type();
 }
 
 std::string CellStore::Build(const Geometry& geometry, int maxThreads) {

@@ -20,8 +20,8 @@ namespace invmap::engine {
 /// (knot values for B-spline cells; identity for Bezier and mesh cells).
 struct CellOrigin {
   std::int32_t patch = 0;
-  /// The number of parameters: the cell's parametric dimension.
-  std::int32_t paramDim = 0;
+  /// The cell's type: its reference domain and number of parameters.
+  kernels::CellType type = kernels::CellType::Line;
   std::int64_t indexInPatch = 0;
   double paramLo[3] = {0, 0, 0};
   double paramScale[3] = {1, 1, 1};

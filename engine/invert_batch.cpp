@@ -10,6 +10,7 @@
 #include "engine/parallel.h"
 #include "engine/spatial_sort.h"
 #include "engine/warm_start.h"
+#include "kernels/active_set.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::engine {
@@ -659,12 +660,16 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
   const int dim = store.dimension();
   const CellOrigin& origin = store.origin(search.bestCell);
   const kernels::CellSolveResult& r = search.bestResult;
-  const int pd = origin.paramDim;
+  const int pd = kernels::CellShape::ParamDimOf(origin.type);
+  // Exactly in the reference domain: the solves leave a coordinate or a
+  // simplex's sum an ulp outside it now and then.
+  double ref[3] = {r.ref[0], r.ref[1], r.ref[2]};
+  kernels::SnapToDomain(origin.type, ref);
   results->status[index] = Status::Found;
   results->patch[index] = origin.patch;
   results->cell[index] = origin.indexInPatch;
   for (int k = 0; k < 3; ++k) {
-    results->params[3 * index + k] = k < pd ? origin.paramLo[k] + origin.paramScale[k] * r.ref[k] : kNaN;
+    results->params[3 * index + k] = k < pd ? origin.paramLo[k] + origin.paramScale[k] * ref[k] : kNaN;
     results->closest[3 * index + k] = k < dim ? r.closest[k] : 0.0;
   }
   // Beyond about 1e154 the solvers' squared distances overflow: measure

@@ -21,6 +21,56 @@ void ClampToDomain(const CellShape& shape, double* ref) {
   }
 }
 
+namespace {
+
+/// True when x[0] + .. + x[n - 1] <= 1 in exact arithmetic: the expansion
+/// of the sum minus 1 (Shewchuk's GROW-EXPANSION, exact two-sums; its
+/// components grow in magnitude and do not overlap) has the sign of its
+/// largest nonzero component.
+bool SumAtMostOne(const double* x, int n) {
+  double expansion[5] = {-1.0};
+  int size = 1;
+  for (int i = 0; i < n; ++i) {
+    double carry = x[i];
+    for (int j = 0; j < size; ++j) {
+      const double sum = carry + expansion[j];
+      const double bVirtual = sum - carry;
+      const double aVirtual = sum - bVirtual;
+      expansion[j] = (carry - aVirtual) + (expansion[j] - bVirtual);
+      carry = sum;
+    }
+    expansion[size++] = carry;
+  }
+  for (int j = size - 1; j >= 0; --j) {
+    if (expansion[j] != 0.0) return expansion[j] < 0.0;
+  }
+  return true;
+}
+
+}  // namespace
+
+void SnapToDomain(CellType type, double* ref) {
+  double* s = ref;
+  for (int f = 0; f < CellShape::NumFactorsOf(type); ++f) {
+    const int dim = CellShape::FactorDimOf(type, f);
+    double sum = 0.0;
+    for (int i = 0; i < dim; ++i) {
+      s[i] = std::clamp(s[i], 0.0, 1.0);
+      sum += s[i];
+    }
+    // Farther out than rounding: back onto the face first (as ClampToDomain).
+    if (sum > 1.0 + 1e-12) {
+      for (int i = 0; i < dim; ++i) s[i] /= sum;
+    }
+    // Then over by a few ulps at most.
+    while (!SumAtMostOne(s, dim)) {
+      double* largest = std::max_element(s, s + dim);
+      *largest = std::nextafter(*largest, 0.0);
+    }
+    s += dim;
+  }
+}
+
 void BuildFaceBasis(const CellShape& shape, const ActiveSet& active, FaceBasis* basis) {
   basis->columns = 0;
   for (auto& row : basis->t) std::fill(row, row + 3, 0.0);

@@ -28,6 +28,13 @@ inline void FactorBarycentric(const CellShape& shape, int f, const double* ref, 
 /// Clamps `ref` into the reference domain (each simplex factor separately).
 void ClampToDomain(const CellShape& shape, double* ref);
 
+/// Moves `ref`, a point of the reference domain up to rounding, into it
+/// exactly: no coordinate below 0 or above 1, and each simplex factor's sum
+/// at most 1 in exact arithmetic (its largest coordinates lowered by an ulp
+/// at a time; ClampToDomain's rounded sum can be 1 while the exact one is
+/// 1 + 1e-16). For reported parameters, which users check against the domain.
+void SnapToDomain(CellType type, double* ref);
+
 /// The orthogonal basis of the tangent space of the face left free by
 /// `active`, written in the cell's parameter coordinates: column c maps a
 /// reduced step to a parameter step. Per factor, the free barycentric indices

@@ -19,6 +19,12 @@ int CellShape::NumFactorsOf(CellType type) {
   return 0;
 }
 
+int CellShape::ParamDimOf(CellType type) {
+  int dim = 0;
+  for (int i = 0; i < NumFactorsOf(type); ++i) dim += FactorDimOf(type, i);
+  return dim;
+}
+
 int CellShape::FactorDimOf(CellType type, int i) {
   switch (type) {
     case CellType::Line:

@@ -66,14 +66,14 @@ TEST(SimplexItemsTest, HoldTheVerticesOfEveryAffineSimplexInLeafOrder) {
   EXPECT_GT(affine, 8 * 5);
   EXPECT_GT(others, 0);
   // Cells inside affine regions are no items of their own; every cell's
-  // origin knows its parametric dimension (the results report that many).
+  // origin knows its type (the results report its number of parameters).
   int inRegions = 0;
   for (std::int64_t cell = 0; cell < store.size(); ++cell) {
     if (store.inRegion(cell)) {
       ++inRegions;
       EXPECT_EQ(simplices.item(cell), -1) << "cell " << cell;
     }
-    EXPECT_EQ(store.origin(cell).paramDim, store.solver(cell).cell().shape.paramDim()) << "cell " << cell;
+    EXPECT_EQ(store.origin(cell).type, store.solver(cell).cell().shape.type()) << "cell " << cell;
   }
   EXPECT_EQ(inRegions, 3);
 }

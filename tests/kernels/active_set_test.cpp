@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <random>
 
 #include "kernels/active_set.h"
@@ -16,6 +17,7 @@ using invmap::kernels::BuildFaceBasis;
 using invmap::kernels::CellShape;
 using invmap::kernels::CellType;
 using invmap::kernels::FaceBasis;
+using invmap::kernels::SnapToDomain;
 
 /// A basis column in full barycentric coordinates of every factor: for a
 /// factor with free coordinates s, lambda_0 = -sum(ds), lambda_i = ds_i.
@@ -142,5 +144,45 @@ TEST_P(FaceBasisTest, ResidualNormIsTheProjectedGradientNormForEveryActiveSet) {
 INSTANTIATE_TEST_SUITE_P(AllCellTypes, FaceBasisTest,
                          ::testing::Values(CellType::Line, CellType::Tri, CellType::Quad, CellType::Tet,
                                            CellType::Hex, CellType::Wedge));
+
+/// x[0] + .. + x[n - 1] - 1 in quadruple precision: exact for the test's
+/// coordinates (doubles in [1e-3, 1], whose sum needs at most 70 bits).
+__float128 ExcessOverOne(const double* x, int n) {
+  __float128 sum = -1;
+  for (int i = 0; i < n; ++i) sum += x[i];
+  return sum;
+}
+
+TEST(SnapToDomain, PutsPointsOfTheDomainUpToRoundingExactlyInIt) {
+  // Points on a simplex factor's hypotenuse face, written as the solves
+  // write them (each coordinate rounded on its own), often sum to 1 plus an
+  // ulp; a coordinate of a point on another face comes out as -1e-17.
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> unit(1e-3, 1.0);
+  int overBefore = 0;
+  for (const CellType type : {CellType::Tri, CellType::Tet, CellType::Wedge}) {
+    const int dims[2] = {type == CellType::Tet ? 3 : 2, type == CellType::Wedge ? 1 : 0};
+    for (int i = 0; i < 2000; ++i) {
+      double ref[3] = {unit(rng), unit(rng), unit(rng)};
+      double sum = 0.0;
+      for (int k = 0; k < dims[0]; ++k) sum += ref[k];
+      for (int k = 0; k < dims[0]; ++k) ref[k] /= sum;  // on the face, up to rounding
+      if (dims[1] == 1) ref[2] = i % 2 ? -1e-17 : 1.0 + 2e-16;
+      if (i % 7 == 0) ref[0] = -5.551115123125783e-17;
+      const double before[3] = {ref[0], ref[1], ref[2]};
+      overBefore += ExcessOverOne(ref, dims[0]) > 0;
+      SnapToDomain(type, ref);
+      for (int k = 0; k < dims[0] + dims[1]; ++k) {
+        EXPECT_GE(ref[k], 0.0);
+        EXPECT_LE(ref[k], 1.0);
+        // Moved by rounding only.
+        EXPECT_NEAR(ref[k], std::clamp(before[k], 0.0, 1.0), 4e-16);
+      }
+      EXPECT_LE(ExcessOverOne(ref, dims[0]), 0) << "type " << static_cast<int>(type) << ", point " << i;
+    }
+  }
+  // The case the snap exists for did occur.
+  EXPECT_GT(overBefore, 100);
+}
 
 }  // namespace
