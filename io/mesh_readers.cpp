@@ -491,12 +491,14 @@ Geometry ParseOff(std::string_view text, const std::string& name) {
     }
   }
   const std::int64_t numVertices = counts[0], numFaces = counts[1];
-  // The shortest vertex line is "0 0 0" and the shortest face "3 0 0 0", each
-  // with a separator: claims beyond what the rest of the file can hold are
-  // refused before anything is allocated.
+  // The shortest vertex line is "0 0 0" and the shortest line a face can be
+  // read from at all a single token, each with a separator: claims beyond
+  // what the rest of the file can hold are refused before anything is
+  // allocated. (Counting a valid face, "3 0 0 0", blamed the header for a
+  // file whose real fault was a face of 2 vertices.)
   const std::int64_t remaining = static_cast<std::int64_t>(lines.remaining());
-  if (numVertices > (remaining + 1) / 6 || numFaces > (remaining + 1) / 8 ||
-      numVertices * 6 + numFaces * 8 > remaining + 1) {
+  if (numVertices > (remaining + 1) / 6 || numFaces > (remaining + 1) / 2 ||
+      numVertices * 6 + numFaces * 2 > remaining + 1) {
     throw InputError(name, lines.line(),
                      "the header declares " + std::to_string(numVertices) + " vertices and " +
                          std::to_string(numFaces) + " faces, more than the remaining " + std::to_string(remaining) +

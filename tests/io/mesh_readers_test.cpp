@@ -288,6 +288,9 @@ TEST(OffReader, Errors) {
                    {"the header declares 1000000000000 vertices and 1 faces, more than the remaining 6 bytes"});
   ExpectInputError([&] { Off("OFF\n9223372036854775807 9223372036854775807 0\n"); }, 2, {"more than the remaining"});
   ExpectInputError([&] { Off("OFF\n3 1 0\n0 0 0\n1 0 0\n"); }, 2, {"more than the remaining"});
+  // A file that holds its header's claims is read to its real fault.
+  ExpectInputError([&] { Off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n"); }, 6,
+                   {"face 0: 2 vertices, a face needs at least 3"});
   ExpectInputError([&] { Off("OFF\n3 0 0\n0 0 0\n1 0 0\n# padding padding\n"); }, 5,
                    {"unexpected end of file after 2 of 3 vertices"});
   ExpectInputError([&] { Off("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n# padding\n"); }, 7,
