@@ -638,6 +638,7 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
   if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
   const HessianStencil& stencil = *stencil_;
   const bool faceCertificate = HasFaceCertificate(netShape);
+  const bool singleEdge = netShape.numFactors() == 1 && netShape.factor(0).dim == 1;
   // The certificate below is only sound at a true KKT point; a local solve
   // that stopped early (iteration cap, rounding) does not get it.
   bool bestIsKkt = best->kkt;
@@ -746,7 +747,15 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
         SteepestDifferenceEdge(netShape, quotient, &factor, &vi, &vj);
       }
     } else {
-      ChooseSplit(cell_.shape, pool[s], paramScale_, &factor, &vi, &vj);
+      // Where the net of q - level WW bends most, its least coefficient
+      // stays furthest below the function's least value: splitting there
+      // raises the bound most. Along a valley of equal distances (a
+      // cylinder or a torus seen from its axis) the bound is exact along
+      // the valley, and the splits go across it only. A curve has one edge.
+      const double* q = pool[s] + kHeaderSize;
+      if (singleEdge || MostBentEdge(netShape, q, rational ? q + n : nullptr, pruneLevel(), &factor, &vi, &vj) == 0.0) {
+        ChooseSplit(cell_.shape, pool[s], paramScale_, &factor, &vi, &vj);
+      }
     }
     for (int child = 0; child < 2; ++child) {
       const int keep = child == 0 ? vi : vj;

@@ -21,6 +21,7 @@ namespace {
 using invmap::kernels::CellShape;
 using invmap::kernels::CellType;
 using invmap::kernels::HessianStencil;
+using invmap::kernels::MostBentEdge;
 using invmap::kernels::NetNoise;
 using invmap::kernels::SimplexIndex;
 using invmap::kernels::SteepestDifferenceEdge;
@@ -178,6 +179,68 @@ TEST(SteepestRatioEdge, FindsTheDirectionWhereWeightsChangeMost) {
   values[8] += 10.0;  // (2, 2): now 13 above (2, 1) along v, 15 above (1, 2) along u
   EXPECT_DOUBLE_EQ(SteepestDifferenceEdge(quad, values.data(), &factor, &vi, &vj), 15.0);
   EXPECT_EQ(factor, 0);
+}
+
+
+TEST(MostBentEdge, FindsTheEdgeWhereTheNetBendsMost) {
+  int factor = -1, vi = -1, vj = -1;
+  // A quad net of degrees (2, 2), linear along u and 3 j^2 along v: second
+  // differences 0 along u, 6 along v.
+  const CellShape quad(CellType::Quad, {2, 2, 0});
+  std::vector<double> q;
+  for (int j = 0; j <= 2; ++j) {
+    for (int i = 0; i <= 2; ++i) q.push_back(5.0 * i + 3.0 * j * j);
+  }
+  EXPECT_DOUBLE_EQ(MostBentEdge(quad, q.data(), nullptr, 0.0, &factor, &vi, &vj), 6.0);
+  EXPECT_EQ(factor, 1);
+  EXPECT_EQ(vi, 0);
+  EXPECT_EQ(vj, 1);
+  // q - level ww: a net that is 7 ww plus a linear one bends nowhere at
+  // level 7, though q and ww alone bend along u.
+  std::vector<double> ww, shifted;
+  for (int j = 0; j <= 2; ++j) {
+    for (int i = 0; i <= 2; ++i) {
+      ww.push_back(1.0 + i * i);
+      shifted.push_back(7.0 * ww.back() + 2.0 * i - j);
+    }
+  }
+  EXPECT_DOUBLE_EQ(MostBentEdge(quad, shifted.data(), ww.data(), 7.0, &factor, &vi, &vj), 0.0);
+  EXPECT_DOUBLE_EQ(MostBentEdge(quad, shifted.data(), ww.data(), 0.0, &factor, &vi, &vj), 14.0);
+  EXPECT_EQ(factor, 0);
+  // A quadratic triangle net a1 a2 (positions (a1, a2)): rows along edges
+  // (0, 1) and (0, 2) are 0, 0, 0; along (1, 2) it is (2,0) (1,1) (0,2) =
+  // 0, 1, 0, a second difference of 2.
+  const CellShape tri(CellType::Tri, {2, 0, 0});
+  const SimplexIndex& index = SimplexIndex::Get(2, 2);
+  std::vector<double> t(6);
+  for (int a1 = 0; a1 <= 2; ++a1) {
+    for (int a2 = 0; a1 + a2 <= 2; ++a2) t[index.Position(a1, a2)] = a1 * a2;
+  }
+  EXPECT_DOUBLE_EQ(MostBentEdge(tri, t.data(), nullptr, 0.0, &factor, &vi, &vj), 2.0);
+  EXPECT_EQ(factor, 0);
+  EXPECT_EQ(vi, 1);
+  EXPECT_EQ(vj, 2);
+  // A wedge (triangle fastest, then the line) of degrees (2, 2): 3 a1 a2 +
+  // k^2 bends 6 along the triangle's edge (1, 2) and 2 along the line; the
+  // triangle's rows sit at every line index (the stride of the line factor).
+  const CellShape wedge(CellType::Wedge, {2, 2, 0});
+  std::vector<double> w;
+  for (int k = 0; k <= 2; ++k) {
+    for (int c = 0; c < 6; ++c) w.push_back(3.0 * t[c] + k * k);
+  }
+  EXPECT_DOUBLE_EQ(MostBentEdge(wedge, w.data(), nullptr, 0.0, &factor, &vi, &vj), 6.0);
+  EXPECT_EQ(factor, 0);
+  EXPECT_EQ(vi, 1);
+  EXPECT_EQ(vj, 2);
+  for (int k = 0; k <= 2; ++k) w[6 * k + index.Position(1, 1)] -= 3.0;  // the triangle's part gone
+  EXPECT_DOUBLE_EQ(MostBentEdge(wedge, w.data(), nullptr, 0.0, &factor, &vi, &vj), 2.0);
+  EXPECT_EQ(factor, 1);
+  // A linear net bends nowhere: 0, and edge (0, 1) of factor 0.
+  const std::vector<double> plane = {0.0, 1.0, 2.0, 1.0, 2.0, 3.0, 2.0, 3.0, 4.0};
+  EXPECT_DOUBLE_EQ(MostBentEdge(quad, plane.data(), nullptr, 0.0, &factor, &vi, &vj), 0.0);
+  EXPECT_EQ(factor, 0);
+  EXPECT_EQ(vi, 0);
+  EXPECT_EQ(vj, 1);
 }
 
 }  // namespace
