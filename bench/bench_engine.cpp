@@ -49,7 +49,8 @@ Geometry Plate(double waviness) {
 /// 2 planar NURBS curve, 3 bumpy-sphere triangle mesh (1.3 M triangles),
 /// 4 quadratic tet mesh (8^3 cubes), 5 flat plate (one affine region of
 /// 16384 bicubic cells), 6 the same plate with waviness 1e-3 (no region),
-/// 7 the triangle mesh of 3 with scan-like points (within 1e-4 of its size).
+/// 7 the triangle mesh of 3 with scan-like points (within 1e-4 of its size),
+/// 8 the tet mesh of 4 with near points (inside, and outside by the boundary).
 Geometry MakeGeometry(int workload) {
   switch (workload) {
     case 5:
@@ -71,7 +72,7 @@ Geometry MakeGeometry(int workload) {
 }
 
 const char* WorkloadName(int workload) {
-  static const char* const kNames[] = {"surface", "torus", "curve2d", "trimesh", "tets_p2", "flat_plate", "wavy_plate", "trimesh_scan"};
+  static const char* const kNames[] = {"surface", "torus", "curve2d", "trimesh", "tets_p2", "flat_plate", "wavy_plate", "trimesh_scan", "tets_near"};
   return kNames[workload];
 }
 
@@ -83,7 +84,7 @@ struct Workload {
 };
 
 /// Points: near the geometry (within 2% of its size) for surfaces, curves and
-/// meshes; inside the cells for the tet mesh.
+/// meshes (and the tet mesh of workload 8); inside the cells for workload 4.
 const Workload& GetWorkload(int workload) {
   static std::map<int, Workload> cache;
   auto found = cache.find(workload);
@@ -163,10 +164,10 @@ void BM_OracleRatio(benchmark::State& state) {
 
 // Arguments: workload, threads (0 = all cores).
 BENCHMARK(BM_InvertBatch)
-    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7}, {1, 2}})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_OracleRatio)->DenseRange(0, 7)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_OracleRatio)->DenseRange(0, 8)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 }  // namespace
 
