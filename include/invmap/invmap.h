@@ -138,6 +138,8 @@ struct ManifoldInfo {
   std::size_t cells = 0;
   /// Cells per (type, degrees): e.g. "quad 3x3" -> 1024.
   std::vector<std::pair<std::string, std::size_t>> cellsByShape;
+  /// Box of the cells' control points: holds the geometry (convex hull
+  /// property), and reaches beyond it where a cell bulges less than its net.
   double boundsLo[3] = {0, 0, 0};
   double boundsHi[3] = {0, 0, 0};
   std::size_t memoryBytes = 0;  ///< Heap memory of the built manifold (cells, bounds, BVH).
