@@ -665,17 +665,25 @@ void WriteFound(const CellStore& store, const PointSearch& search, std::int64_t 
   // simplex's sum an ulp outside it now and then.
   double ref[3] = {r.ref[0], r.ref[1], r.ref[2]};
   kernels::SnapToDomain(origin.type, ref);
+  // A cell as wide as the space (a volume, or a surface in the plane) that
+  // holds the point, to the distance tolerance of its size: the point is
+  // its own closest point, at distance 0 (the map at the solved parameters
+  // would be an ulp or a Newton residual off it).
+  const bool holds =
+      search.inside ||
+      (pd == dim && r.distance <= kernels::kDistanceTolerance * store.solver(search.bestCell).size());
   results->status[index] = Status::Found;
   results->patch[index] = origin.patch;
   results->cell[index] = origin.indexInPatch;
   for (int k = 0; k < 3; ++k) {
     results->params[3 * index + k] = k < pd ? origin.paramLo[k] + origin.paramScale[k] * ref[k] : kNaN;
-    results->closest[3 * index + k] = k < dim ? r.closest[k] : 0.0;
+    results->closest[3 * index + k] = k < dim ? (holds ? search.p[k] : r.closest[k]) : 0.0;
   }
   // Beyond about 1e154 the solvers' squared distances overflow: measure
   // such an answer's distance from its closest point instead.
   results->distance[index] =
-      std::isfinite(r.distance)
+      holds ? 0.0
+      : std::isfinite(r.distance)
           ? r.distance
           : std::hypot(r.closest[0] - search.p[0], r.closest[1] - search.p[1], r.closest[2] - search.p[2]);
   results->iterations[index] = search.iterations;
