@@ -81,6 +81,14 @@ bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
   return true;
 }
 
+/// True for the keywords of an ASCII STL.
+bool IsStlKeyword(std::string_view token) {
+  for (const char* keyword : {"solid", "endsolid", "facet", "endfacet", "normal", "outer", "loop", "endloop", "vertex"}) {
+    if (EqualsIgnoreCase(token, keyword)) return true;
+  }
+  return false;
+}
+
 /// A token shown in a message: quoted, long ones shortened.
 std::string Quote(std::string_view token) {
   constexpr std::size_t kShown = 40;
@@ -385,10 +393,17 @@ Geometry ParseAsciiStl(std::string_view text, const std::string& name) {
     std::int64_t corners[3];
     for (int v = 0; v < 3; ++v) {
       expect("vertex");
+      const std::int64_t vertexLine = tokens.line();
       double xyz[3];
       for (int k = 0; k < 3; ++k) {
         if (!tokens.Next(&token)) {
           throw InputError(name, tokens.line(), "unexpected end of file, expected a vertex coordinate");
+        }
+        // A keyword on a later line where a coordinate should be: the
+        // vertex's own line is short of coordinates, and that is the line to fix.
+        if (tokens.line() != vertexLine && IsStlKeyword(token)) {
+          throw InputError(name, vertexLine,
+                           "vertex: " + std::to_string(k) + " coordinate" + (k == 1 ? "" : "s") + ", expected 3");
         }
         xyz[k] = ParseCoordinate(token, name, tokens.line(), [k] { return "vertex: coordinate " + std::to_string(k); });
       }

@@ -234,6 +234,10 @@ TEST(StlReader, AsciiErrors) {
   ExpectInputError([&] { Stl(head + "vertex 1 x 0\nendloop\nendfacet\nendsolid\n"); }, 6,
                    {"m.stl:6: vertex: coordinate 1: \"x\" is not a number"});
   ExpectInputError([&] { Stl(head + "vertex 1 nan 0\nendloop\nendfacet\nendsolid\n"); }, 6, {"is not a finite number"});
+  // A vertex line short of a coordinate is blamed, not the next line's keyword.
+  ExpectInputError([&] { Stl(head + "vertex 1 0\nendloop\nendfacet\nendsolid\n"); }, 6,
+                   {"m.stl:6: vertex: 2 coordinates, expected 3"});
+  ExpectInputError([&] { Stl(head + "vertex\nendloop\nendfacet\nendsolid\n"); }, 6, {"vertex: 0 coordinates"});
   ExpectInputError([&] { Stl(head + "vertex 1 1 0\nendfacet\n"); }, 7,
                    {"unexpected \"endfacet\", expected \"endloop\""});
   ExpectInputError([&] { Stl(head + "vertex 1 1 0\nvertex 2 2 2\n"); }, 7,
