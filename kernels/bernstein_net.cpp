@@ -73,47 +73,6 @@ const SplitRule& GetSplitRule(int dim, int degree, int i, int j) {
   return rules[dim - 1][degree][i][j];
 }
 
-/// Positions (a, b, c) of three coefficients in a row along each edge (i, j)
-/// of a simplex net: b's multi-index is a's with one unit moved from i to j,
-/// c's is b's moved once more.
-struct EdgeTriples {
-  int numEdges = 0;
-  int vertex[6][2] = {};
-  std::vector<std::array<int, 3>> triples[6];
-};
-
-EdgeTriples BuildEdgeTriples(int dim, int degree) {
-  const SimplexIndex& index = SimplexIndex::Get(dim, degree);
-  EdgeTriples edges;
-  for (int i = 0; i <= dim; ++i) {
-    for (int j = i + 1; j <= dim; ++j) {
-      const int e = edges.numEdges++;
-      edges.vertex[e][0] = i;
-      edges.vertex[e][1] = j;
-      for (int a = 0; a < index.size(); ++a) {
-        std::array<int, 4> multi = index.multi(a);
-        if (multi[i] < 2) continue;
-        --multi[i];
-        ++multi[j];
-        const int b = index.Position(multi);
-        --multi[i];
-        ++multi[j];
-        edges.triples[e].push_back({a, b, index.Position(multi)});
-      }
-    }
-  }
-  return edges;
-}
-
-/// The shared triples of (dim, degree), built on first use.
-const EdgeTriples& GetEdgeTriples(int dim, int degree) {
-  constexpr int kDegrees = kMaxNetDegree + 1;
-  static std::once_flag once[3][kDegrees];
-  static EdgeTriples tables[3][kDegrees];
-  std::call_once(once[dim - 1][degree], [&] { tables[dim - 1][degree] = BuildEdgeTriples(dim, degree); });
-  return tables[dim - 1][degree];
-}
-
 /// SplitNet one coefficient at a time: `blocks` x `stride` lines of `count`
 /// coefficients `stride` apart (kContiguous: stride 1, known to the compiler).
 template <bool kContiguous>
@@ -315,49 +274,25 @@ double MostBentEdge(const CellShape& shape, const double* q, const double* ww, d
                     int* vj) {
   const NetLayout layout(shape);
   const int n = NetSize(shape);
-  // The second difference of q - level ww over the coefficients a, b, c.
-  auto bend = [&](int a, int b, int c) {
-    const double dq = q[a] - 2.0 * q[b] + q[c];
-    return std::abs(ww ? dq - level * (ww[a] - 2.0 * ww[b] + ww[c]) : dq);
-  };
   double most = 0.0;
   *factor = 0;
   *vi = 0;
   *vj = 1;
-  auto consider = [&](double bent, int f, int i, int j) {
-    if (bent > most) {
-      most = bent;
-      *factor = f;
-      *vi = i;
-      *vj = j;
-    }
-  };
   for (int f = 0; f < layout.numFactors; ++f) {
-    const int dim = shape.factor(f).dim;
+    // A line's triples start at every coefficient of a block of the net but
+    // its last two lines: one contiguous run per block.
     const int stride = layout.stride[f], count = layout.count[f];
-    if (dim == 1) {
-      // A line factor's triples start at every coefficient of a block of
-      // the net but its last two lines: one contiguous run per block.
-      double factorMost = 0.0;
-      for (int outer = 0; outer < n; outer += stride * count) {
-        for (int a = outer; a < outer + stride * (count - 2); ++a) {
-          factorMost = std::max(factorMost, bend(a, a + stride, a + 2 * stride));
-        }
+    double factorMost = 0.0;
+    for (int outer = 0; outer < n; outer += stride * count) {
+      for (int a = outer; a < outer + stride * (count - 2); ++a) {
+        const int b = a + stride, c = a + 2 * stride;
+        const double dq = q[a] - 2.0 * q[b] + q[c];
+        factorMost = std::max(factorMost, std::abs(ww ? dq - level * (ww[a] - 2.0 * ww[b] + ww[c]) : dq));
       }
-      consider(factorMost, f, 0, 1);
-      continue;
     }
-    const EdgeTriples& edges = GetEdgeTriples(dim, shape.factor(f).degree);
-    for (int e = 0; e < edges.numEdges; ++e) {
-      double edgeMost = 0.0;
-      for (int outer = 0; outer < n; outer += stride * count) {
-        for (int inner = outer; inner < outer + stride; ++inner) {
-          for (const std::array<int, 3>& t : edges.triples[e]) {
-            edgeMost = std::max(edgeMost, bend(inner + t[0] * stride, inner + t[1] * stride, inner + t[2] * stride));
-          }
-        }
-      }
-      consider(edgeMost, f, edges.vertex[e][0], edges.vertex[e][1]);
+    if (factorMost > most) {
+      most = factorMost;
+      *factor = f;
     }
   }
   return most;

@@ -33,14 +33,14 @@ double SteepestRatioEdge(const CellShape& shape, const double* w, int* factor, i
 /// coefficients of `values` (0 and edge (0, 1) of factor 0 when constant).
 double SteepestDifferenceEdge(const CellShape& shape, const double* values, int* factor, int* vi, int* vj);
 
-/// The edge (vi, vj) of factor `factor`'s simplex along which the net
-/// q - level ww (q alone when `ww` is null) bends most: the largest absolute
-/// second difference of three coefficients in a row along it (multi-indices
-/// moved one and two units from vi to vj), and that difference (0 and edge
-/// (0, 1) of factor 0 when the net is linear along every edge). A net's
-/// least coefficient stays below its function's least value by about its
-/// second differences, so this is the edge whose split tightens that bound
-/// most.
+/// The line factor `factor` of a tensor product of lines (every factor's
+/// dim is 1) along which the net q - level ww (q alone when `ww` is null)
+/// bends most: the largest absolute second difference of three
+/// coefficients in a row along it, and that difference (0 and factor 0
+/// when the net is linear along every line); the edge is (vi, vj) = (0, 1).
+/// A net's least coefficient stays below its function's least value by
+/// about its second differences, so this is the line whose split tightens
+/// that bound most.
 double MostBentEdge(const CellShape& shape, const double* q, const double* ww, double level, int* factor, int* vi,
                     int* vj);
 
