@@ -270,14 +270,11 @@ double SteepestDifferenceEdge(const CellShape& shape, const double* values, int*
   return steepest;
 }
 
-double MostBentEdge(const CellShape& shape, const double* q, const double* ww, double level, int* factor, int* vi,
-                    int* vj) {
+double MostBentLine(const CellShape& shape, const double* q, const double* ww, double level, int* factor) {
   const NetLayout layout(shape);
   const int n = NetSize(shape);
   double most = 0.0;
   *factor = 0;
-  *vi = 0;
-  *vj = 1;
   for (int f = 0; f < layout.numFactors; ++f) {
     // A line's triples start at every coefficient of a block of the net but
     // its last two lines: one contiguous run per block.

@@ -37,12 +37,11 @@ double SteepestDifferenceEdge(const CellShape& shape, const double* values, int*
 /// dim is 1) along which the net q - level ww (q alone when `ww` is null)
 /// bends most: the largest absolute second difference of three
 /// coefficients in a row along it, and that difference (0 and factor 0
-/// when the net is linear along every line); the edge is (vi, vj) = (0, 1).
+/// when the net is linear along every line).
 /// A net's least coefficient stays below its function's least value by
 /// about its second differences, so this is the line whose split tightens
 /// that bound most.
-double MostBentEdge(const CellShape& shape, const double* q, const double* ww, double level, int* factor, int* vi,
-                    int* vj);
+double MostBentLine(const CellShape& shape, const double* q, const double* ww, double level, int* factor);
 
 /// The net of the derivative along free coordinate `dir` (0-based, local to
 /// `factor`) of a scalar net; the result has that factor's degree lowered by

@@ -758,7 +758,7 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
       // cylinder or a torus seen from its axis) the bound is exact along
       // the valley, and the splits go across it only.
       const double* q = pool[s] + kHeaderSize;
-      if (!bentSplit || MostBentEdge(netShape, q, rational ? q + n : nullptr, pruneLevel(), &factor, &vi, &vj) == 0.0) {
+      if (!bentSplit || MostBentLine(netShape, q, rational ? q + n : nullptr, pruneLevel(), &factor) == 0.0) {
         ChooseSplit(cell_.shape, pool[s], paramScale_, &factor, &vi, &vj);
       }
     }

@@ -21,7 +21,7 @@ namespace {
 using invmap::kernels::CellShape;
 using invmap::kernels::CellType;
 using invmap::kernels::HessianStencil;
-using invmap::kernels::MostBentEdge;
+using invmap::kernels::MostBentLine;
 using invmap::kernels::NetNoise;
 using invmap::kernels::SimplexIndex;
 using invmap::kernels::SteepestDifferenceEdge;
@@ -182,8 +182,8 @@ TEST(SteepestRatioEdge, FindsTheDirectionWhereWeightsChangeMost) {
 }
 
 
-TEST(MostBentEdge, FindsTheEdgeWhereTheNetBendsMost) {
-  int factor = -1, vi = -1, vj = -1;
+TEST(MostBentLine, FindsTheLineWhereTheNetBendsMost) {
+  int factor = -1;
   // A quad net of degrees (2, 2), linear along u and 3 j^2 along v: second
   // differences 0 along u, 6 along v.
   const CellShape quad(CellType::Quad, {2, 2, 0});
@@ -191,10 +191,8 @@ TEST(MostBentEdge, FindsTheEdgeWhereTheNetBendsMost) {
   for (int j = 0; j <= 2; ++j) {
     for (int i = 0; i <= 2; ++i) q.push_back(5.0 * i + 3.0 * j * j);
   }
-  EXPECT_DOUBLE_EQ(MostBentEdge(quad, q.data(), nullptr, 0.0, &factor, &vi, &vj), 6.0);
+  EXPECT_DOUBLE_EQ(MostBentLine(quad, q.data(), nullptr, 0.0, &factor), 6.0);
   EXPECT_EQ(factor, 1);
-  EXPECT_EQ(vi, 0);
-  EXPECT_EQ(vj, 1);
   // q - level ww: a net that is 7 ww plus a linear one bends nowhere at
   // level 7, though q and ww alone bend along u.
   std::vector<double> ww, shifted;
@@ -204,8 +202,8 @@ TEST(MostBentEdge, FindsTheEdgeWhereTheNetBendsMost) {
       shifted.push_back(7.0 * ww.back() + 2.0 * i - j);
     }
   }
-  EXPECT_DOUBLE_EQ(MostBentEdge(quad, shifted.data(), ww.data(), 7.0, &factor, &vi, &vj), 0.0);
-  EXPECT_DOUBLE_EQ(MostBentEdge(quad, shifted.data(), ww.data(), 0.0, &factor, &vi, &vj), 14.0);
+  EXPECT_DOUBLE_EQ(MostBentLine(quad, shifted.data(), ww.data(), 7.0, &factor), 0.0);
+  EXPECT_DOUBLE_EQ(MostBentLine(quad, shifted.data(), ww.data(), 0.0, &factor), 14.0);
   EXPECT_EQ(factor, 0);
   // A hex net of degrees (2, 2, 2): k^2 along the third line only.
   const CellShape hex(CellType::Hex, {2, 2, 2});
@@ -213,14 +211,12 @@ TEST(MostBentEdge, FindsTheEdgeWhereTheNetBendsMost) {
   for (int k = 0; k <= 2; ++k) {
     for (int c = 0; c < 9; ++c) h.push_back(c + 4.0 * k * k);
   }
-  EXPECT_DOUBLE_EQ(MostBentEdge(hex, h.data(), nullptr, 0.0, &factor, &vi, &vj), 8.0);
+  EXPECT_DOUBLE_EQ(MostBentLine(hex, h.data(), nullptr, 0.0, &factor), 8.0);
   EXPECT_EQ(factor, 2);
-  // A linear net bends nowhere: 0, and edge (0, 1) of factor 0.
+  // A linear net bends nowhere: 0, and factor 0.
   const std::vector<double> plane = {0.0, 1.0, 2.0, 1.0, 2.0, 3.0, 2.0, 3.0, 4.0};
-  EXPECT_DOUBLE_EQ(MostBentEdge(quad, plane.data(), nullptr, 0.0, &factor, &vi, &vj), 0.0);
+  EXPECT_DOUBLE_EQ(MostBentLine(quad, plane.data(), nullptr, 0.0, &factor), 0.0);
   EXPECT_EQ(factor, 0);
-  EXPECT_EQ(vi, 0);
-  EXPECT_EQ(vj, 1);
 }
 
 }  // namespace
