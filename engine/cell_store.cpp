@@ -168,6 +168,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
   dimension_ = geometry.dimension;
   numPatches_ = geometry.patches.size();
   splineSpans_.assign(numPatches_, {0, 0, 0});
+  spanCells_.assign(numPatches_, {});
   if (dimension_ != 2 && dimension_ != 3) {
     return "dimension: " + std::to_string(dimension_) + ", expected 2 or 3";
   }
@@ -296,6 +297,10 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         }
         break;
       }
+      case Patch::Kind::TrimmedSurface: {
+        if (std::string e = AddTrimmedSurface(patch, static_cast<std::int32_t>(p)); !e.empty()) return where + e;
+        break;
+      }
     }
   }
 
@@ -319,6 +324,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
       },
       maxThreads);
 
+  for (const auto& [cell, trim] : trimmedCells_) solvers_[cell].SetTrim(trim.get());
   if (hasVolumeCells_) tetAdjacency_.Build(solvers_, maxThreads);
 
   // Algorithm 6: affine regions, and the subdivisions the BVH is built over.
@@ -374,7 +380,9 @@ std::int64_t CellStore::SplineNeighbor(std::int64_t cell, const int* step) const
     index += span * stride;
     stride *= spans[d];
   }
-  return patchFirst_[origin.patch] + index;
+  // Trimmed surfaces leave out the spans outside their region.
+  const std::vector<std::int64_t>& spanCells = spanCells_[origin.patch];
+  return spanCells.empty() ? patchFirst_[origin.patch] + index : spanCells[index];
 }
 
 std::size_t CellStore::MemoryBytes() const {
@@ -387,6 +395,10 @@ std::size_t CellStore::MemoryBytes() const {
   for (const AffineRegion& r : regions_)
     for (const std::vector<double>& breaks : r.breaks) bytes += breaks.capacity() * sizeof(double);
   for (const kernels::CellSolver& s : solvers_) bytes += s.NetMemoryBytes();
+  for (const auto& region : trimRegions_) bytes += sizeof(kernels::TrimRegion) + region->MemoryBytes();
+  for (const auto& [cell, trim] : trimmedCells_) bytes += sizeof(kernels::TrimmedCell) + trim->near.MemoryBytes();
+  for (const EdgeParameters& edge : edgeParameters_) bytes += sizeof(EdgeParameters) + edge.MemoryBytes();
+  for (const std::vector<std::int64_t>& spans : spanCells_) bytes += spans.capacity() * sizeof(std::int64_t);
   return bytes;
 }
 

@@ -4,12 +4,14 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "engine/affine_regions.h"
 #include "engine/check.h"
 #include "engine/tet_adjacency.h"
+#include "engine/trimmed_patch.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
 
@@ -17,7 +19,9 @@ namespace invmap::engine {
 
 /// Where a cell came from and how its reference coordinates map to the
 /// parameters reported for it: param_i = paramLo[i] + paramScale[i] * ref_i
-/// (knot values for B-spline cells; identity for Bezier and mesh cells).
+/// (knot values for B-spline cells; identity for Bezier and mesh cells),
+/// or the angle there for directions that are angular (trimmed surfaces,
+/// kernels/own_parameter.h); see CellStore::ReportedParameters.
 struct CellOrigin {
   std::int32_t patch = 0;
   /// The cell's type: its reference domain and number of parameters.
@@ -30,6 +34,11 @@ struct CellOrigin {
   bool sharedParameters = false;
   /// With sharedParameters: the cell's place in its patch's grid of spans.
   std::array<std::int32_t, 3> span{0, 0, 0};
+  /// Bit d set: parameter d is an angle (kernels::OwnParameter).
+  std::uint8_t angular = 0;
+  /// Edge cells of a trimmed surface: the edge's index in the store's
+  /// edge table (its pcurve gives the reported parameters); -1 otherwise.
+  std::int32_t edge = -1;
 };
 
 /// All cells of a geometry. Immutable after Build; safe to read from many threads.
@@ -60,6 +69,11 @@ class CellStore {
   std::int64_t patchFirstCell(std::size_t patch) const { return patchFirst_[patch]; }
   /// Heap memory of the cells: control points, weights, solvers and their nets.
   std::size_t MemoryBytes() const;
+
+  /// The parameters reported for reference point `ref` of `cell` (3 values,
+  /// NaN where unused): knot values, angles where a direction is angular,
+  /// and for an edge of a trimmed surface its pcurve's (u, v).
+  void ReportedParameters(std::int64_t cell, const double* ref, double* params) const;
 
   /// Affine regions of the B-spline patches (engine/affine_regions.h).
   const std::vector<AffineRegion>& regions() const { return regions_; }
@@ -104,6 +118,9 @@ class CellStore {
   /// Appends one Bezier cell (control points copied) and its origin.
   void AddCell(const kernels::CellShape& shape, const double* points, const double* weights,
                const CellOrigin& origin);
+  /// Adds the cells of a TrimmedSurface patch (engine/trimmed_patch.cpp);
+  /// returns a message on invalid input.
+  std::string AddTrimmedSurface(const Patch& patch, std::int32_t index);
 
   int dimension_ = 3;
   std::size_t numPatches_ = 0;
@@ -121,6 +138,13 @@ class CellStore {
   std::vector<std::int32_t> regionOfCell_;    // -1 outside every region
   std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
   TetAdjacency tetAdjacency_;
+  // Trimmed surfaces: each face's region, the cells its loops cross (their
+  // solvers point at them), the edges' reporting tables, and each patch's
+  // cell per span (empty for patches whose spans all have cells).
+  std::vector<std::unique_ptr<kernels::TrimRegion>> trimRegions_;
+  std::vector<std::pair<std::int64_t, std::unique_ptr<kernels::TrimmedCell>>> trimmedCells_;
+  std::vector<EdgeParameters> edgeParameters_;
+  std::vector<std::vector<std::int64_t>> spanCells_;
 };
 
 /// Converts the public cell type to the kernels' one.

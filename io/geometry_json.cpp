@@ -882,7 +882,8 @@ void GeometryHandler::ValidatePatch() {
       break;
     }
     case Patch::Kind::BezierCells:
-      break;  // Not a file kind: the kind names above are the only ones parsed.
+    case Patch::Kind::TrimmedSurface:
+      break;  // Not file kinds: the kind names above are the only ones parsed.
   }
 }
 

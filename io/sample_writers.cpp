@@ -74,6 +74,9 @@ void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
       case Patch::Kind::BezierCells:
         throw InputError(path, 0, "patch " + std::to_string(p) + " holds many Bezier cells, which the JSON format cannot express",
                          InputError::Kind::Output);
+      case Patch::Kind::TrimmedSurface:
+        throw InputError(path, 0, "patch " + std::to_string(p) + " is a trimmed CAD face, which the JSON format cannot express",
+                         InputError::Kind::Output);
     }
     if (!patch.weights.empty()) j["weights"] = patch.weights;
     doc["patches"].push_back(std::move(j));

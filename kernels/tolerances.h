@@ -55,4 +55,10 @@ constexpr int kHardSearch = 64;
 constexpr int kHardSeeds = 256;
 constexpr int kMaxDepth = 64;
 
+/// Trimmed surfaces: a parameter point within this share of the trimming
+/// loops' extent plus magnitude (per parameter) of a loop counts as on it
+/// (kernels/trim_region.h): its halvings stop there. Far above the rounding
+/// of the halvings, and far below any trimming tolerance a CAD model has.
+constexpr double kTrimResolution = 1e-11;
+
 }  // namespace invmap::kernels
