@@ -22,6 +22,12 @@ struct InvertOptions {
   bool color = false;
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
+  /// CAD solids: the signed distance, negative inside (invert: an extra
+  /// column and the deviation summary; trim: near is signed distance <=
+  /// maxDistance, inside included).
+  bool signedDistance = false;
+  /// invert --signed: the band +-tolerance whose share the summary gives.
+  double tolerance = std::numeric_limits<double>::infinity();
 };
 
 int RunInvert(const InvertOptions& options);

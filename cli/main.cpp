@@ -23,7 +23,8 @@ const CLI::Validator kNonNegative(
     "NUMBER >= 0");
 
 void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bool distanceRequired) {
-  command->add_option("--geometry,-g", options->geometry, "geometry file (.json, .obj, .ply, .stl, .off, .msh)")
+  command->add_option("--geometry,-g", options->geometry,
+                      "geometry file (.json, .obj, .ply, .stl, .off, .msh; CAD: .step, .stp, .iges, .igs, .brep)")
       ->required();
   command->add_option("--points,-p", options->points, "query points (.xyz, .txt, .csv, .ply, .npy)")->required();
   command->add_option("--output,-o", options->output, "output file; the format follows its extension")->required();
@@ -33,6 +34,8 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
   if (distanceRequired) distance->required();
   command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(kNonNegative);
   command->add_flag("--quiet,-q", options->quiet, "no progress bar and no summary");
+  command->add_flag("--signed", options->signedDistance,
+                    "CAD solids: signed distance, negative inside (invert: extra column; trim: near keeps the inside)");
 }
 
 }  // namespace
@@ -45,7 +48,10 @@ int main(int argc, char** argv) {
   invmap::cli::InvertOptions invert;
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
   AddInvertOptions(invertCommand, &invert, false);
-  invertCommand->add_flag("--color", invert.color, ".ply output: colour the points by distance (viridis)");
+  invertCommand->add_flag("--color", invert.color,
+                          ".ply output: colour the points by distance (viridis; --signed: blue-white-red centred on 0)");
+  invertCommand->add_option("--tolerance", invert.tolerance, "--signed: report the share of points within +-T")
+      ->check(kNonNegative);
 
   invmap::cli::InvertOptions trim;
   std::string keep = "near";

@@ -63,8 +63,14 @@ constexpr unsigned char kNoColor = 128;
 /// Value of the fields that are empty in CSV.
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-/// Bytes a CSV row can take: 11 fields of at most 24 characters.
-constexpr std::size_t kMaxCsvRow = 11 * 25 + 1;
+/// Bytes a CSV row can take: 12 fields of at most 24 characters.
+constexpr std::size_t kMaxCsvRow = 12 * 25 + 1;
+
+/// Moreland's cool-warm diverging map at 9 levels (8-bit sRGB), from blue
+/// through a light grey to red.
+constexpr unsigned char kCoolWarm[9][3] = {{59, 76, 192},   {98, 130, 234},  {141, 176, 254},
+                                           {184, 208, 249}, {221, 221, 221}, {245, 196, 173},
+                                           {244, 154, 123}, {222, 96, 77},   {180, 4, 38}};
 
 /// Writes `value` as %.17g (to_chars with precision 17 in general format is
 /// specified to match printf, and is much faster) and returns the end.
@@ -87,13 +93,14 @@ const char* const kStatusWords[] = {"found", "none", "invalid"};
 class CsvResultWriter : public ResultWriter {
  public:
   /// Creates the file and writes the header line.
-  CsvResultWriter(const std::string& path, int dim) : ResultWriter(path, dim) {
-    out_.Write("index,status,patch,cell,u,v,w,x,y,z,distance\n");
+  CsvResultWriter(const std::string& path, int dim, bool signedDistance) : ResultWriter(path, dim) {
+    out_.Write(signedDistance ? "index,status,patch,cell,u,v,w,x,y,z,distance,signed_distance\n"
+                              : "index,status,patch,cell,u,v,w,x,y,z,distance\n");
   }
 
  private:
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double*, std::size_t count, const Results& results) override {
+  void WriteRows(const double*, std::size_t count, const Results& results, const double* signedDistances) override {
     for (std::size_t i = 0; i < count; ++i) {
       char* const start = out_.Reserve(kMaxCsvRow);
       char* p = WriteInteger(start, rows_ + static_cast<std::int64_t>(i));
@@ -104,8 +111,10 @@ class CsvResultWriter : public ResultWriter {
       std::memcpy(p, word, length);
       p += length;
       if (status != Status::Found) {
-        std::memcpy(p, ",-1,-1,,,,,,,\n", 14);
-        out_.Advance(static_cast<std::size_t>(p - start) + 14);
+        const char* empty = signedDistances ? ",-1,-1,,,,,,,,\n" : ",-1,-1,,,,,,,\n";
+        const std::size_t bytes = std::strlen(empty);
+        std::memcpy(p, empty, bytes);
+        out_.Advance(static_cast<std::size_t>(p - start) + bytes);
         continue;
       }
       *p++ = ',';
@@ -117,7 +126,8 @@ class CsvResultWriter : public ResultWriter {
       p = WriteField(p, results.closest[3 * i], ',');
       p = WriteField(p, results.closest[3 * i + 1], ',');
       p = WriteField(p, dim_ == 3 ? results.closest[3 * i + 2] : kNan, ',');
-      p = WriteField(p, results.distance[i], '\n');
+      p = WriteField(p, results.distance[i], signedDistances ? ',' : '\n');
+      if (signedDistances) p = WriteField(p, signedDistances[i], '\n');
       out_.Advance(static_cast<std::size_t>(p - start));
     }
   }
@@ -132,8 +142,9 @@ class PlyResultWriter : public ResultWriter {
   /// Creates the file and writes the header with a zero count.
   PlyResultWriter(const std::string& path, int dim, const ResultWriteOptions& options)
       : ResultWriter(path, dim), options_(options) {
-    recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.colorByDistance ? 3 : 0);
-    twoPass_ = options_.colorByDistance && (std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
+    recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.signedDistance ? 8 : 0) + (options_.colorByDistance ? 3 : 0);
+    twoPass_ = options_.colorByDistance && (options_.signedDistance ? std::isnan(options_.colorMax)
+                                                                    : std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n";
     if (options_.colorByDistance) {
       colorCommentOffset_ = static_cast<std::int64_t>(header.size());
@@ -147,6 +158,7 @@ class PlyResultWriter : public ResultWriter {
     for (const char* name : {"u", "v", "w", "cx", "cy", "cz", "distance"}) {
       header += std::string("property double ") + name + "\n";
     }
+    if (options_.signedDistance) header += "property double signed_distance\n";
     if (options_.colorByDistance) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     header += "end_header\n";
     dataOffset_ = static_cast<std::int64_t>(header.size());
@@ -160,26 +172,47 @@ class PlyResultWriter : public ResultWriter {
 
   /// The header comment naming the colours' distance range, padded to
   /// kColorCommentBytes.
-  static std::string ColorComment(double lo, double hi) {
+  std::string ColorComment(double lo, double hi) const {
     char text[kColorCommentBytes + 1];
+    const char* what = options_.signedDistance ? "cool-warm colormap of signed_distance" : "viridis colormap of distance";
     if (std::isnan(lo) || std::isnan(hi)) {
-      std::snprintf(text, sizeof(text), "comment red green blue: viridis colormap of distance, no found points");
+      std::snprintf(text, sizeof(text), "comment red green blue: %s, no found points", what);
     } else {
-      std::snprintf(text, sizeof(text), "comment red green blue: viridis colormap of distance from %.17g to %.17g", lo,
-                    hi);
+      std::snprintf(text, sizeof(text), "comment red green blue: %s from %.17g to %.17g", what, lo, hi);
     }
     std::string line(text);
     line.resize(kColorCommentBytes - 1, ' ');
     return line + "\n";
   }
 
-  /// Colour of a distance on [lo, hi]; a flat range maps to the first colour.
-  static void Color(double distance, double lo, double hi, unsigned char rgb[3]) {
-    ViridisColor(hi > lo ? (distance - lo) / (hi - lo) : 0.0, rgb);
+  /// Colour of a distance on [lo, hi]; a flat range maps to the first
+  /// colour (signed: to the middle, white).
+  void Color(double distance, double lo, double hi, unsigned char rgb[3]) const {
+    if (options_.signedDistance) {
+      DivergingColor(hi > lo ? (distance - lo) / (hi - lo) : 0.5, rgb);
+    } else {
+      ViridisColor(hi > lo ? (distance - lo) / (hi - lo) : 0.0, rgb);
+    }
+  }
+
+  /// The colours' range: signed distances centred on 0 over [-m, m].
+  void ColorRange(double* lo, double* hi) const {
+    const bool anyFound = minDistance_ <= maxDistance_;
+    if (options_.signedDistance) {
+      const double m = !std::isnan(options_.colorMax) ? options_.colorMax
+                       : anyFound ? std::max(std::abs(minDistance_), std::abs(maxDistance_))
+                                  : kNan;
+      *lo = -m;
+      *hi = m;
+      return;
+    }
+    *lo = !std::isnan(options_.colorMin) ? options_.colorMin : anyFound ? minDistance_ : kNan;
+    *hi = !std::isnan(options_.colorMax) ? options_.colorMax : anyFound ? maxDistance_ : kNan;
   }
 
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double* points, std::size_t count, const Results& results) override {
+  void WriteRows(const double* points, std::size_t count, const Results& results,
+                 const double* signedDistances) override {
     if (points == nullptr && count > 0) throw std::invalid_argument("ResultWriter: PLY output needs the query points");
     for (std::size_t i = 0; i < count; ++i) {
       char* const start = out_.Reserve(recordBytes_);
@@ -207,12 +240,22 @@ class PlyResultWriter : public ResultWriter {
         StoreLittleEndian<double>(p, value);
         p += 8;
       }
+      double shown = values[6];
+      if (options_.signedDistance) {
+        shown = found ? signedDistances[i] : kNan;
+        StoreLittleEndian<double>(p, shown);
+        p += 8;
+      }
       if (options_.colorByDistance) {
         unsigned char rgb[3] = {kNoColor, kNoColor, kNoColor};
-        if (found && !twoPass_) Color(values[6], options_.colorMin, options_.colorMax, rgb);
-        if (found && std::isfinite(values[6])) {
-          minDistance_ = std::min(minDistance_, values[6]);
-          maxDistance_ = std::max(maxDistance_, values[6]);
+        if (found && !twoPass_) {
+          double lo = options_.colorMin, hi = options_.colorMax;
+          if (options_.signedDistance) lo = -hi;
+          Color(shown, lo, hi, rgb);
+        }
+        if (found && std::isfinite(shown)) {
+          minDistance_ = std::min(minDistance_, shown);
+          maxDistance_ = std::max(maxDistance_, shown);
         }
         std::memcpy(p, rgb, 3);
       }
@@ -225,11 +268,9 @@ class PlyResultWriter : public ResultWriter {
   void Complete() override {
     out_.WriteAt(countOffset_, PlyPatchableCount(rows_).data(), static_cast<std::size_t>(kPlyPatchableCountDigits));
     if (!options_.colorByDistance) return;
-    double lo = options_.colorMin;
-    double hi = options_.colorMax;
     const bool anyFound = minDistance_ <= maxDistance_;
-    if (std::isnan(lo)) lo = anyFound ? minDistance_ : kNan;
-    if (std::isnan(hi)) hi = anyFound ? maxDistance_ : kNan;
+    double lo, hi;
+    ColorRange(&lo, &hi);
     out_.WriteAt(colorCommentOffset_, ColorComment(lo, hi).data(), kColorCommentBytes);
     if (!twoPass_ || !anyFound) return;
     // Second pass: the colours of found rows, block by block.
@@ -243,6 +284,7 @@ class PlyResultWriter : public ResultWriter {
       for (std::int64_t r = 0; r < n; ++r) {
         char* record = block.data() + static_cast<std::size_t>(r) * recordBytes_;
         if (record[24] != static_cast<char>(Status::Found)) continue;
+        // The shown distance (signed_distance when written) just before the colours.
         const double distance = LoadValue<double>(record + recordBytes_ - 3 - 8, false);
         Color(distance, lo, hi, reinterpret_cast<unsigned char*>(record + recordBytes_ - 3));
       }
@@ -251,7 +293,7 @@ class PlyResultWriter : public ResultWriter {
   }
 
   ResultWriteOptions options_;
-  std::size_t recordBytes_ = 0;          ///< 89 bytes, 92 with colours.
+  std::size_t recordBytes_ = 0;          ///< 89 bytes, 8 more signed, 3 more with colours.
   bool twoPass_ = false;                 ///< Colours wait for the distance range at Complete.
   std::int64_t countOffset_ = 0;         ///< Offset of the vertex count digits.
   std::int64_t colorCommentOffset_ = 0;  ///< Offset of the colour comment line.
@@ -265,22 +307,21 @@ class PlyResultWriter : public ResultWriter {
 class NpyResultWriter : public ResultWriter {
  public:
   /// Creates the file with a fixed-size header for 0 rows.
-  NpyResultWriter(const std::string& path, int dim) : ResultWriter(path, dim) {
-    out_.Write(FixedNpyHeader("<f8", 0, kColumns));
+  NpyResultWriter(const std::string& path, int dim, bool signedDistance)
+      : ResultWriter(path, dim), columns_(signedDistance ? 12 : 11) {
+    out_.Write(FixedNpyHeader("<f8", 0, columns_));
   }
 
  private:
-  /// The CSV columns.
-  static constexpr int kColumns = 11;
-
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double*, std::size_t count, const Results& results) override {
+  void WriteRows(const double*, std::size_t count, const Results& results, const double* signedDistances) override {
     for (std::size_t i = 0; i < count; ++i) {
       const bool found = results.status[i] == Status::Found;
-      double row[kColumns] = {static_cast<double>(rows_ + static_cast<std::int64_t>(i)),
+      double row[12] = {static_cast<double>(rows_ + static_cast<std::int64_t>(i)),
                               static_cast<double>(results.status[i]),
                               -1.0,
                               -1.0,
+                              kNan,
                               kNan,
                               kNan,
                               kNan,
@@ -294,21 +335,25 @@ class NpyResultWriter : public ResultWriter {
         for (int k = 0; k < 3; ++k) row[4 + k] = results.params[3 * i + k];
         for (int k = 0; k < dim_; ++k) row[7 + k] = results.closest[3 * i + k];
         row[10] = results.distance[i];
+        if (signedDistances) row[11] = signedDistances[i];
       }
-      char* p = out_.Reserve(sizeof(row));
-      for (double value : row) {
-        StoreLittleEndian<double>(p, value);
+      const std::size_t bytes = static_cast<std::size_t>(columns_) * 8;
+      char* p = out_.Reserve(bytes);
+      for (int c = 0; c < columns_; ++c) {
+        StoreLittleEndian<double>(p, row[c]);
         p += 8;
       }
-      out_.Advance(sizeof(row));
+      out_.Advance(bytes);
     }
   }
 
   /// Rewrites the header with the row count.
   void Complete() override {
-    const std::string header = FixedNpyHeader("<f8", rows_, kColumns);
+    const std::string header = FixedNpyHeader("<f8", rows_, columns_);
     out_.WriteAt(0, header.data(), header.size());
   }
+
+  int columns_;  ///< The CSV columns: 11, or 12 with the signed distance.
 };
 
 }  // namespace
@@ -322,8 +367,21 @@ void ViridisColor(double t, unsigned char rgb[3]) {
   std::memcpy(rgb, kViridis[level], 3);
 }
 
+void DivergingColor(double t, unsigned char rgb[3]) {
+  if (std::isnan(t)) {
+    rgb[0] = rgb[1] = rgb[2] = kNoColor;
+    return;
+  }
+  const double x = std::min(std::max(t, 0.0), 1.0) * 8.0;
+  const int i = std::min(7, static_cast<int>(x));
+  const double f = x - i;
+  for (int k = 0; k < 3; ++k) {
+    rgb[k] = static_cast<unsigned char>(std::lround((1.0 - f) * kCoolWarm[i][k] + f * kCoolWarm[i + 1][k]));
+  }
+}
+
 void ResultWriter::WriteChunk(const double* points, std::size_t count, const Results& results,
-                              std::int64_t firstIndex) {
+                              std::int64_t firstIndex, const double* signedDistances) {
   if (finished_) throw std::logic_error("ResultWriter::WriteChunk after Finish");
   if (firstIndex != rows_) {
     throw std::invalid_argument("ResultWriter::WriteChunk: firstIndex " + std::to_string(firstIndex) + " but " +
@@ -333,7 +391,10 @@ void ResultWriter::WriteChunk(const double* points, std::size_t count, const Res
       results.distance.size() < count || results.params.size() < 3 * count || results.closest.size() < 3 * count) {
     throw std::invalid_argument("ResultWriter::WriteChunk: results hold fewer than count points");
   }
-  WriteRows(points, count, results);
+  if (signedColumn_ && signedDistances == nullptr && count > 0) {
+    throw std::invalid_argument("ResultWriter::WriteChunk: the signed distances are missing");
+  }
+  WriteRows(points, count, results, signedColumn_ ? signedDistances : nullptr);
   rows_ += static_cast<std::int64_t>(count);
 }
 
@@ -347,9 +408,14 @@ void ResultWriter::Finish() {
 std::unique_ptr<ResultWriter> OpenResultWriter(const std::string& path, int dim, const ResultWriteOptions& options) {
   if (dim != 2 && dim != 3) throw std::invalid_argument("OpenResultWriter: dim must be 2 or 3");
   const std::string ext = LowerExtension(path);
-  if (ext == ".csv") return std::make_unique<CsvResultWriter>(path, dim);
-  if (ext == ".ply") return std::make_unique<PlyResultWriter>(path, dim, options);
-  if (ext == ".npy") return std::make_unique<NpyResultWriter>(path, dim);
+  std::unique_ptr<ResultWriter> writer;
+  if (ext == ".csv") writer = std::make_unique<CsvResultWriter>(path, dim, options.signedDistance);
+  if (ext == ".ply") writer = std::make_unique<PlyResultWriter>(path, dim, options);
+  if (ext == ".npy") writer = std::make_unique<NpyResultWriter>(path, dim, options.signedDistance);
+  if (writer) {
+    writer->signedColumn_ = options.signedDistance;
+    return writer;
+  }
   throw InputError(path, 0, "unknown result file extension '" + ext + "' (expected .csv, .ply or .npy)",
                    InputError::Kind::Output);
 }

@@ -31,6 +31,13 @@ struct ResultWriteOptions {
   /// of the found points (second pass as for colorMin). The CLI can pass
   /// --max-distance here to keep one pass.
   double colorMax = std::numeric_limits<double>::quiet_NaN();
+  /// Add the signed distance (CAD solids, negative inside) as the last
+  /// column: CSV `signed_distance` (empty where not found), PLY double
+  /// property signed_distance after distance, npy a 12th column. With
+  /// colorByDistance the colours then show it on a diverging blue-white-red
+  /// map centred on 0 (white), over [-m, m] with m the largest |signed
+  /// distance| found (or colorMax when given).
+  bool signedDistance = false;
 };
 
 /// Writes result rows to one file. Not thread-safe.
@@ -62,8 +69,10 @@ class ResultWriter {
   /// `firstIndex`: the input index of the first point; it must equal the
   /// number of rows written so far (rows are in input order), else
   /// std::invalid_argument. Throws InputError of kind Output when the file
-  /// cannot be written.
-  void WriteChunk(const double* points, std::size_t count, const Results& results, std::int64_t firstIndex);
+  /// cannot be written. `signedDistances`: `count` values, required when the
+  /// writer was opened with ResultWriteOptions::signedDistance.
+  void WriteChunk(const double* points, std::size_t count, const Results& results, std::int64_t firstIndex,
+                  const double* signedDistances = nullptr);
 
   /// Completes the file (header counts, colours) and renames it onto the
   /// output path. Without a successful Finish the output path is left as
@@ -78,8 +87,9 @@ class ResultWriter {
   ResultWriter(const std::string& path, int dim) : out_(path), dim_(dim) {}
 
   /// Appends rows for points [0, count) of the chunk; row i has index
-  /// rows_ + i.
-  virtual void WriteRows(const double* points, std::size_t count, const Results& results) = 0;
+  /// rows_ + i. `signedDistances`: null unless the signed column is written.
+  virtual void WriteRows(const double* points, std::size_t count, const Results& results,
+                         const double* signedDistances) = 0;
   /// Patches what the header needs once all rows are written.
   virtual void Complete() = 0;
 
@@ -88,7 +98,9 @@ class ResultWriter {
   std::int64_t rows_ = 0;  ///< Rows written so far.
 
  private:
-  bool finished_ = false;  ///< Set by a successful Finish.
+  friend std::unique_ptr<ResultWriter> OpenResultWriter(const std::string&, int, const ResultWriteOptions&);
+  bool finished_ = false;      ///< Set by a successful Finish.
+  bool signedColumn_ = false;  ///< ResultWriteOptions::signedDistance.
 };
 
 /// Opens a result file for points of dimension `dim` (2 or 3), choosing the
@@ -101,5 +113,10 @@ std::unique_ptr<ResultWriter> OpenResultWriter(const std::string& path, int dim,
 /// matplotlib's viridis colormap (CC0, van der Walt, Smith and Firing),
 /// sampled at 256 levels: rgb[0..3).
 void ViridisColor(double t, unsigned char rgb[3]);
+
+/// Colour of t in [0, 1] (clamped; NaN gives grey) on a diverging
+/// blue-white-red map (Moreland's cool-warm): blue at 0, light grey-white at
+/// 1/2, red at 1. Signed distances use it centred on 0.
+void DivergingColor(double t, unsigned char rgb[3]);
 
 }  // namespace invmap::io

@@ -1,0 +1,122 @@
+// CAD files through the command: good ones answer, bad ones (truncated
+// STEP, STEP without shapes, IGES of curves only, BREP that is text
+// garbage, models of curves only) exit 3 with a message naming the file
+// and leave no output.
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
+#include <TopoDS_Edge.hxx>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "tests/cad/occ_reference.h"
+
+namespace invmap::cadtest {
+namespace {
+
+struct CliRun {
+  int exitCode = -1;
+  std::string output;  ///< stdout and stderr together
+};
+
+CliRun RunCli(const std::string& arguments) {
+  const std::string command = std::string(INVMAP_CLI_PATH) + " " + arguments + " 2>&1";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) run.output += buffer;
+  const int status = pclose(pipe);
+  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string WriteText(const std::string& name, const std::string& text) {
+  const std::string path = ScratchDir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+std::string Sample(const char* path) { return std::string(INVMAP_OCC_SAMPLES) + "/" + path; }
+
+/// A points file of a few points around the origin.
+std::string PointsFile() { return WriteText("points.xyz", "0 0 0\n1 2 3\n-5 4 2\n"); }
+
+/// Runs invert on a bad geometry: exit 3, a message naming the file and
+/// `reason`, and no result file.
+void ExpectRejected(const std::string& geometry, const std::string& reason) {
+  const std::string output = ScratchDir() + "/rejected.csv";
+  std::filesystem::remove(output);
+  const CliRun run = RunCli("invert -g " + geometry + " -p " + PointsFile() + " -o " + output);
+  EXPECT_EQ(run.exitCode, 3) << run.output;
+  EXPECT_NE(run.output.find(geometry), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(reason), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(output));
+}
+
+TEST(CadFiles, TruncatedStep) {
+  std::ifstream in(Sample("step/screw.step"), std::ios::binary);
+  std::ostringstream all;
+  all << in.rdbuf();
+  const std::string text = all.str();
+  ExpectRejected(WriteText("truncated.step", text.substr(0, text.size() * 2 / 5)), "STEP");
+}
+
+TEST(CadFiles, StepWithoutShapes) {
+  const std::string empty =
+      "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('empty'),'2;1');\nFILE_NAME('empty.step','2024-01-01T00:00:00',"
+      "(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n"
+      "ENDSEC;\nEND-ISO-10303-21;\n";
+  ExpectRejected(WriteText("empty.step", empty), "no shape");
+}
+
+TEST(CadFiles, IgesOfCurvesOnly) {
+  IGESControl_Controller::Init();
+  IGESControl_Writer writer("MM", 0);
+  writer.AddShape(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0)).Edge());
+  writer.ComputeModel();
+  const std::string path = ScratchDir() + "/curves.igs";
+  ASSERT_TRUE(writer.Write(path.c_str()));
+  ExpectRejected(path, "no faces");
+}
+
+TEST(CadFiles, BrepOfTextGarbage) {
+  ExpectRejected(WriteText("garbage.brep", "this is not\na BREP file 12 34 {}\n"), "not an OpenCascade BREP file");
+}
+
+TEST(CadFiles, SampleModelsOfCurvesOnly) {
+  ExpectRejected(Sample("occ/edge.brep"), "no faces");
+  ExpectRejected(Sample("occ/asahi.brep"), "no faces");
+}
+
+TEST(CadFiles, MissingFile) { ExpectRejected(ScratchDir() + "/missing.step", "no such file"); }
+
+TEST(CadFiles, StepAnswersAndInfoDescribesTheModel) {
+  const std::string output = ScratchDir() + "/screw.csv";
+  const CliRun run = RunCli("invert -g " + Sample("step/screw.step") + " -p " + PointsFile() + " -o " + output);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream in(output);
+  std::string header, row;
+  std::getline(in, header);
+  EXPECT_EQ(header, "index,status,patch,cell,u,v,w,x,y,z,distance");
+  int rows = 0;
+  while (std::getline(in, row)) {
+    EXPECT_NE(row.find(",found,"), std::string::npos) << row;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 3);
+  const CliRun info = RunCli("info -g " + Sample("step/screw.step"));
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  for (const char* text : {"STEP", "faces       10", "cylinder", "torus", "cone", "edges", "vertices", "solids      1",
+                           "approximated faces 0"}) {
+    EXPECT_NE(info.output.find(text), std::string::npos) << text << " in\n" << info.output;
+  }
+}
+
+}  // namespace
+}  // namespace invmap::cadtest
