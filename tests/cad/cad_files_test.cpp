@@ -3,6 +3,7 @@
 // garbage, models of curves only) exit 3 with a message naming the file
 // and leave no output.
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepClass3d_SolidClassifier.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
 #include <TopoDS_Edge.hxx>
@@ -116,6 +117,104 @@ TEST(CadFiles, StepAnswersAndInfoDescribesTheModel) {
                            "approximated faces 0"}) {
     EXPECT_NE(info.output.find(text), std::string::npos) << text << " in\n" << info.output;
   }
+}
+
+}  // namespace
+}  // namespace invmap::cadtest
+
+namespace invmap::cadtest {
+namespace {
+
+/// Reads a CSV result file's rows, split at commas.
+std::vector<std::vector<std::string>> CsvRows(const std::string& path, std::string* header) {
+  std::ifstream in(path);
+  std::getline(in, *header);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::stringstream stream(line);
+    std::string field;
+    while (std::getline(stream, field, ',')) fields.push_back(field);
+    if (!line.empty() && line.back() == ',') fields.push_back("");
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+TEST(CadSigned, SignedColumnAndDeviationSummary) {
+  // The screw's points: its centre (inside) and points far outside.
+  const std::string points = WriteText("screw_points.xyz", "-18 -1 -14\n0 0 0\n-40 0 0\n-18 -1 -13.9\n");
+  const std::string output = ScratchDir() + "/screw_signed.csv";
+  const CliRun run = RunCli("invert --signed --tolerance 0.1 -g " + Sample("step/screw.step") + " -p " + points +
+                            " -o " + output);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  for (const char* text : {"deviation", "mean", "sigma", "outside", "inside", "within +-0.1"}) {
+    EXPECT_NE(run.output.find(text), std::string::npos) << text << " in\n" << run.output;
+  }
+  std::string header;
+  const auto rows = CsvRows(output, &header);
+  EXPECT_EQ(header, "index,status,patch,cell,u,v,w,x,y,z,distance,signed_distance");
+  ASSERT_EQ(rows.size(), 4u);
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 12u);
+    EXPECT_EQ(std::abs(std::stod(row[11])), std::stod(row[10]));
+  }
+  // Every sign is the side OpenCascade's classifier gives.
+  const TopoDS_Shape screw = ReadShape(Sample("step/screw.step"));
+  BRepClass3d_SolidClassifier classifier(screw);
+  const double xyz[4][3] = {{-18, -1, -14}, {0, 0, 0}, {-40, 0, 0}, {-18, -1, -13.9}};
+  for (int i = 0; i < 4; ++i) {
+    classifier.Perform(gp_Pnt(xyz[i][0], xyz[i][1], xyz[i][2]), 1e-9);
+    EXPECT_EQ(std::stod(rows[i][11]) < 0.0, classifier.State() == TopAbs_IN) << "point " << i;
+  }
+  EXPECT_LT(std::stod(rows[0][11]), 0.0);
+}
+
+TEST(CadSigned, ColoursCentredOnZero) {
+  const std::string points = WriteText("screw_points2.xyz", "-18 -1 -14\n0 0 0\n");
+  const std::string output = ScratchDir() + "/screw_signed.ply";
+  const CliRun run = RunCli("invert --signed --color -q -g " + Sample("step/screw.step") + " -p " + points + " -o " +
+                            output);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream in(output, std::ios::binary);
+  std::string header, line;
+  while (std::getline(in, line) && line != "end_header") header += line + "\n";
+  EXPECT_NE(header.find("property double signed_distance"), std::string::npos) << header;
+  EXPECT_NE(header.find("cool-warm colormap of signed_distance from -"), std::string::npos) << header;
+}
+
+TEST(CadSigned, OpenShellsAndOtherGeometriesAreUsageErrors) {
+  const std::string output = ScratchDir() + "/open_signed.csv";
+  std::filesystem::remove(output);
+  CliRun run = RunCli("invert --signed -g " + Sample("occ/face1.brep") + " -p " + PointsFile() + " -o " + output);
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_NE(run.output.find("face 0"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(output));
+  const std::string json = WriteText(
+      "curve.json",
+      R"({"format": "invmap-geometry", "version": 1, "dimension": 3, "patches": [{"kind": "bezier", "cell": "line",
+          "degrees": [1], "control_points": [[0, 0, 0], [1, 0, 0]]}]})");
+  run = RunCli("invert --signed -g " + json + " -p " + PointsFile() + " -o " + output);
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_NE(run.output.find("--signed needs a CAD model"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(output));
+}
+
+TEST(CadSigned, TrimKeepsTheInsideAsNear) {
+  // Inside the screw's body (deep), just outside and far outside.
+  const std::string points = WriteText("trim_points.xyz", "-18 -1 -14\n-40 0 0\n");
+  const std::string near = ScratchDir() + "/near.xyz", far = ScratchDir() + "/far.xyz";
+  ASSERT_EQ(RunCli("trim --signed --max-distance 0.5 -q -g " + Sample("step/screw.step") + " -p " + points + " -o " +
+                   near).exitCode,
+            0);
+  ASSERT_EQ(RunCli("trim --signed --max-distance 0.5 --keep far -q -g " + Sample("step/screw.step") + " -p " + points +
+                   " -o " + far).exitCode,
+            0);
+  std::ifstream n(near), f(far);
+  std::string nearText((std::istreambuf_iterator<char>(n)), {}), farText((std::istreambuf_iterator<char>(f)), {});
+  EXPECT_EQ(nearText, "-18 -1 -14\n");
+  EXPECT_EQ(farText, "-40 0 0\n");
 }
 
 }  // namespace

@@ -302,6 +302,75 @@ TEST(NpyResults, HeaderAndValues) {
 }
 
 // ---------------------------------------------------------------------------
+// Signed distances (CAD solids): a last column in every format
+
+TEST(SignedResults, LastColumnInCsvPlyAndNpy) {
+  ScratchDir dir;
+  const Batch batch = MakeBatch(3);
+  const double signedDistances[4] = {-0.125, 0.30000000000000004, kNan, kNan};
+  ResultWriteOptions options;
+  options.signedDistance = true;
+  auto write = [&](const std::string& path, const ResultWriteOptions& o) {
+    const auto writer = OpenResultWriter(path, 3, o);
+    writer->WriteChunk(batch.points.data(), 4, batch.results, 0, signedDistances);
+    writer->Finish();
+  };
+  const std::string csv = dir.Path("s.csv");
+  write(csv, options);
+  EXPECT_EQ(ReadAll(csv),
+            "index,status,patch,cell,u,v,w,x,y,z,distance,signed_distance\n"
+            "0,found,1,42,0.5,0.25,,1,2,3,0.125,-0.125\n"
+            "1,found,0,7,0.10000000000000001,0.33333333333333331,2.0000000000000001e-300,-0.5,1e+20,"
+            "0.20000000000000001,0.30000000000000004,0.30000000000000004\n"
+            "2,none,-1,-1,,,,,,,,\n"
+            "3,invalid,-1,-1,,,,,,,,\n");
+
+  const std::string npy = dir.Path("s.npy");
+  write(npy, options);
+  const std::string bytes = ReadAll(npy);
+  ASSERT_EQ(bytes.size(), 128u + 4 * 12 * 8);
+  EXPECT_NE(bytes.find("'shape': (4, 12)"), std::string::npos);
+  EXPECT_EQ(LoadValue<double>(bytes.data() + 128 + 11 * 8, false), -0.125);
+
+  // PLY: the property after distance; colours centred on 0 (white) over
+  // [-m, m], m the largest |signed distance| found.
+  const std::string ply = dir.Path("s.ply");
+  ResultWriteOptions colored = options;
+  colored.colorByDistance = true;
+  write(ply, colored);
+  const std::string text = ReadAll(ply);
+  EXPECT_NE(text.find("property double distance\nproperty double signed_distance\nproperty uchar red"),
+            std::string::npos);
+  EXPECT_NE(text.find("cool-warm colormap of signed_distance from -0.30000000000000004 to 0.30000000000000004"),
+            std::string::npos);
+  const std::size_t data = text.find("end_header\n") + 11;
+  const std::size_t record = 3 * 8 + 1 + 2 * 4 + 8 * 8 + 3;
+  ASSERT_EQ(text.size(), data + 4 * record);
+  unsigned char first[3], second[3];
+  DivergingColor((-0.125 + 0.30000000000000004) / 0.6000000000000001, first);
+  DivergingColor(1.0, second);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(static_cast<unsigned char>(text[data + record - 3 + k]), first[k]);
+    EXPECT_EQ(static_cast<unsigned char>(text[data + 2 * record - 3 + k]), second[k]);
+  }
+  // Without the signed distances the writer refuses the chunk.
+  const auto writer = OpenResultWriter(dir.Path("t.csv"), 3, options);
+  EXPECT_THROW(writer->WriteChunk(batch.points.data(), 4, batch.results, 0), std::invalid_argument);
+}
+
+TEST(SignedResults, DivergingMapEndsAndMiddle) {
+  unsigned char rgb[3];
+  DivergingColor(0.0, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{59, 76, 192}));
+  DivergingColor(0.5, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{221, 221, 221}));
+  DivergingColor(1.0, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{180, 4, 38}));
+  DivergingColor(kNan, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{128, 128, 128}));
+}
+
+// ---------------------------------------------------------------------------
 // Streaming and the complete-or-absent rule
 
 TEST(ResultWriter, ChunkingDoesNotChangeTheBytes) {
