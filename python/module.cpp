@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +23,7 @@
 #include "io/geometry_file.h"
 #include "io/geometry_json.h"
 #include "io/input_error.h"
+#include "python/cad_binding.h"
 #include "python/errors.h"
 #include "python/geometry_state.h"
 #include "python/grid_binding.h"
@@ -40,14 +42,17 @@ class PyManifold {
   /// "<nameForMessages>: <reason>", worded as the command line words it.
   /// Pure C++: callers may release the GIL around it.
   PyManifold(const Geometry& geometry, const std::string& nameForMessages)
-      : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
-    BuildResult built = Manifold::Build(geometry);
-    if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
-    manifold_ = std::move(built.manifold);
-    for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
+      : PyManifold(geometry, nameForMessages, SerializeGeometry(geometry)) {}
+
+  /// A CAD model's manifold: it pickles as the model's file (CadSource).
+  PyManifold(const CadSource& source, const std::string& nameForMessages)
+      : PyManifold(source.model->geometry(), nameForMessages, source.state) {
+    cad_ = source.model;
   }
 
   const Manifold& manifold() const { return manifold_; }
+  /// The CAD model the manifold was read from, or null.
+  const cad::Model* cad() const { return cad_.get(); }
   /// SerializeGeometry of the geometry (the pickled state).
   const std::string& state() const { return state_; }
   int dimension() const { return dimension_; }
@@ -55,6 +60,15 @@ class PyManifold {
   std::int64_t cells() const { return cells_; }
 
  private:
+  PyManifold(const Geometry& geometry, const std::string& nameForMessages, std::string state)
+      : state_(std::move(state)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
+    BuildResult built = Manifold::Build(geometry);
+    if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
+    manifold_ = std::move(built.manifold);
+    for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
+  }
+
+  std::shared_ptr<const cad::Model> cad_;
   Manifold manifold_;
   std::string state_;
   int dimension_;
@@ -72,6 +86,7 @@ bool IsReadableFile(const std::string& path) {
 /// invmap.load of a path: ReadGeometryFile, then the build, without the GIL.
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
+  if (IsCadPath(path)) return PyManifold(LoadCad(path), path);
   Geometry geometry;
   try {
     geometry = io::ReadGeometryFile(path);
@@ -99,6 +114,7 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
 PyManifold FromState(const py::bytes& state) {
   const std::string bytes = state;
   py::gil_scoped_release noGil;
+  if (IsCadState(bytes)) return PyManifold(LoadCadState(bytes), "pickled CAD model");
   Geometry geometry;
   try {
     geometry = DeserializeGeometry(bytes);
@@ -252,10 +268,31 @@ Results InvertPoints(const PyManifold& self, const py::handle& points, const Inv
   return results;
 }
 
+/// The signed distances of the points of `results` (the `signed` option of
+/// invert and trim): InputError unless the manifold is a CAD model whose
+/// shells are closed.
+std::vector<double> Signed(const PyManifold& self, const py::handle& points, const Results& results, int threads) {
+  if (!self.cad()) throw InputError("signed: needs a CAD model (.step, .stp, .iges, .igs, .brep) with closed solids");
+  const NumpyPoints view = ReadNumpyPoints(points, self.dimension());
+  const std::size_t n = view.view.count;
+  std::vector<double> xyz(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      xyz[3 * i + k] = view.view.scalar == Scalar::Float64
+                           ? static_cast<const double*>(view.view.coord[k])[i * view.view.stride]
+                           : static_cast<const float*>(view.view.coord[k])[i * view.view.stride];
+    }
+  }
+  py::gil_scoped_release noGil;
+  return SignedDistances(*self.cad(), xyz.data(), n, results, threads);
+}
+
 /// Manifold.invert: the Results as numpy arrays (see its docstring).
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads) {
+                std::optional<int> threads, bool signedDistance) {
   Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads));
+  std::vector<double> signedDistances;
+  if (signedDistance) signedDistances = Signed(self, points, results, threads.value_or(0));
   const auto n = static_cast<py::ssize_t>(results.status.size());
   const int dim = self.dimension();
   if (dim == 2) {
@@ -276,14 +313,28 @@ py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<
   out["params"] = Adopt(std::move(results.params), {n, 3}, py::dtype::of<double>());
   out["closest"] = Adopt(std::move(results.closest), {n, dim}, py::dtype::of<double>());
   out["distance"] = Adopt(std::move(results.distance), {n}, py::dtype::of<double>());
+  if (signedDistance) out["signed_distance"] = Adopt(std::move(signedDistances), {n}, py::dtype::of<double>());
   return out;
 }
 
 /// Manifold.trim: the mask of the points `invmap trim` keeps.
-py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep) {
+py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep,
+                       bool signedDistance) {
   if (keep != "near" && keep != "far") throw InputError("keep: '" + keep + "', expected 'near' or 'far'");
-  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt));
   const bool keepFar = keep == "far";
+  InversionOptions options = MakeOptions(maxDistance, std::nullopt);
+  if (signedDistance) {
+    // As `invmap trim --signed`: near is at most max_distance outside (the
+    // inside however deep), so every point needs its side.
+    options.maxDistance = std::numeric_limits<double>::infinity();
+    const Results results = InvertPoints(self, points, options);
+    const std::vector<double> sd = Signed(self, points, results, 0);
+    py::array_t<bool> mask(static_cast<py::ssize_t>(sd.size()));
+    bool* out = mask.mutable_data();
+    for (std::size_t i = 0; i < sd.size(); ++i) out[i] = !std::isnan(sd[i]) && (keepFar ? sd[i] > maxDistance : sd[i] <= maxDistance);
+    return mask;
+  }
+  const Results results = InvertPoints(self, points, options);
   py::array_t<bool> mask(static_cast<py::ssize_t>(results.status.size()));
   bool* out = mask.mutable_data();
   // As `invmap trim`: Found means within max_distance, None beyond it;
@@ -312,6 +363,7 @@ py::dict Info(const PyManifold& self) {
   out["bounds_lo"] = py::tuple(lo);
   out["bounds_hi"] = py::tuple(hi);
   out["memory_bytes"] = info.memoryBytes;
+  if (self.cad()) out["cad"] = CadInfo(*self.cad());
   return out;
 }
 
@@ -345,10 +397,13 @@ Counts describing the manifold, as `invmap info` prints them.
 Returns a dict: dimension (int), patches (int), cells (int), cells_by_shape
 (dict such as {"quad 3x3": 1024}), bounds_lo and bounds_hi (tuples of
 `dimension` floats; zeros when there are no cells) and memory_bytes (heap
-memory of cells, bounds and BVH).
+memory of cells, bounds and BVH). A CAD model adds "cad": format, faces,
+faces_by_surface, edges, vertices, shells, solids, open_parts,
+approximated_faces, approximation_tolerance, approximation_deviation,
+model_bounds_lo and model_bounds_hi, as `invmap info` prints them.
 )doc")
       .def("invert", &Invert, py::arg("points"), py::arg("max_distance") = py::none(),
-           py::arg("threads") = py::none(), R"doc(
+           py::arg("threads") = py::none(), py::arg("signed") = false, R"doc(
 Closest point, cell and parameters of every query point.
 
 points: (N, dimension) array-like. float32 and float64 arrays are read in
@@ -357,6 +412,8 @@ max_distance: gap tolerance; points farther than this from every cell get
   status 1 (none). Default: unlimited.
 threads: worker threads, default (None or 0) all cores. Results do not
   depend on it.
+signed: CAD models with closed solids only: also return signed_distance,
+  negative inside a solid (InputError naming the open shell otherwise).
 
 Returns a dict of numpy arrays, one row per point in input order:
   status   (N,) uint8: 0 found, 1 none, 2 invalid (NaN or infinite input)
@@ -366,14 +423,20 @@ Returns a dict of numpy arrays, one row per point in input order:
            (Bezier, mesh); NaN where the cell has fewer parameters
   closest  (N, dimension) float64, NaN when not found
   distance (N,) float64, NaN when not found
+  signed_distance (N,) float64, with signed=True
+CAD models (invmap.load of .step, .iges, .brep): patch is the face in
+OpenCascade's face-map order, params the face surface's own (u, v).
 The GIL is released while the engine works.
 
 Raises InputError for points of the wrong shape or type and for bad options.
 )doc")
-      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near", R"doc(
+      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near",
+           py::arg("signed") = false, R"doc(
 Boolean mask of the points `invmap trim` keeps: those within max_distance
 of the geometry (keep="near") or beyond it (keep="far"). Points with NaN or
-infinite coordinates are in neither set.
+infinite coordinates are in neither set. signed=True (CAD solids): near is a
+signed distance <= max_distance (inside the solid, however deep, or at most
+max_distance outside), far the rest.
 )doc")
       .def("__repr__",
            [](const PyManifold& self) {

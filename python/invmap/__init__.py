@@ -36,8 +36,9 @@ def load(source):
 
     source: one of
       - a path (str or os.PathLike) to a geometry file: .json (FORMATS.md
-        section 2), .obj, .stl, .off, .ply meshes or .msh gmsh meshes, as
-        `invmap invert --geometry` reads them;
+        section 2), .obj, .stl, .off, .ply meshes, .msh gmsh meshes or CAD
+        models (.step, .stp, .iges, .igs, .brep: one patch per face, see
+        docs/cad.md), as `invmap invert --geometry` reads them;
       - JSON text of an invmap geometry (a str starting with "{");
       - a dict in the same schema (as json.load returns it); numpy arrays
         inside are accepted.
