@@ -28,16 +28,6 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
-/// OpenCascade prints its readers' reports to stdout, which belongs to the
-/// command's own output: its printers are removed once per process.
-void SilenceOpenCascade() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    const Handle(Message_Messenger)& messenger = Message::DefaultMessenger();
-    messenger->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
-  });
-}
-
 std::size_t Count(const TopoDS_Shape& shape, TopAbs_ShapeEnum type) {
   TopTools_IndexedMapOfShape map;
   TopExp::MapShapes(shape, type, map);
@@ -83,6 +73,14 @@ TopoDS_Shape ReadBrep(const std::string& path) {
 }
 
 }  // namespace
+
+void SilenceOpenCascade() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const Handle(Message_Messenger)& messenger = Message::DefaultMessenger();
+    messenger->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+  });
+}
 
 bool HasCadExtension(const std::string& path) {
   const std::string ext = LowerExtension(path);

@@ -21,6 +21,11 @@ struct ReadError {
 /// "STEP", "IGES" or "BREP". OpenCascade's own messages are silenced.
 TopoDS_Shape ReadCadShape(const std::string& path, std::string* format);
 
+/// OpenCascade prints its readers' and writers' reports to stdout, which
+/// belongs to the command's own output: its printers are removed (once per
+/// process).
+void SilenceOpenCascade();
+
 /// True for the extensions ReadCadShape reads (case insensitive).
 bool HasCadExtension(const std::string& path);
 

@@ -36,16 +36,20 @@ int RunInfo(const std::string& geometry);
 
 /// `invmap generate <what>`: a sample geometry or a point cloud.
 struct GenerateOptions {
-  std::string what;    ///< surface, torus, curve, tets, trimesh or points.
+  std::string what;    ///< surface, torus, curve, tets, trimesh, bracket, points or scan.
   std::string output;
   int spans = 32;                      ///< surface: knot spans per direction.
   int resolution = 6;                  ///< tets: cubes per direction (6 tets each).
   std::int64_t triangles = 1000000;    ///< trimesh: at least this many triangles.
-  std::string geometry;                ///< points: the geometry to sample around.
+  std::string geometry;                ///< points, scan: the geometry to sample around.
   std::int64_t count = 100000;         ///< points: how many.
   std::string kind = "near";           ///< points: near, far, inside or box.
   double spread = 0.01;                ///< points, near: largest offset, relative to the geometry's size.
   std::uint64_t seed = 1;
+  /// scan: measurement noise (standard deviation) and the part's growth at
+  /// the top of its box, relative to the model's size (NaN: 1e-4 and 5e-4).
+  double noise = std::numeric_limits<double>::quiet_NaN();
+  double warp = std::numeric_limits<double>::quiet_NaN();
 };
 
 int RunGenerate(const GenerateOptions& options);

@@ -5,6 +5,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "cad/sample_part.h"
 #include "cli/commands.h"
 #include "cli/sample_geometries.h"
 #include "io/geometry_file.h"
@@ -74,6 +75,24 @@ std::vector<double> SamplePoints(const GenerateOptions& options) {
   return points;
 }
 
+/// A simulated scan of a CAD model (cad::SimulateScan), written as points.
+void WriteScan(const GenerateOptions& options) {
+  cad::LoadResult loaded = cad::Model::Load(options.geometry);
+  if (!loaded.error.empty()) throw io::InputError(options.geometry, 0, loaded.error);
+  const cad::ModelInfo info = loaded.model->Info();
+  double size2 = 0.0;
+  for (int k = 0; k < 3; ++k) size2 += (info.boundsHi[k] - info.boundsLo[k]) * (info.boundsHi[k] - info.boundsLo[k]);
+  const double size = std::sqrt(size2);
+  cad::ScanOptions scan;
+  scan.count = options.count;
+  scan.seed = options.seed;
+  scan.noise = std::isnan(options.noise) ? 1e-4 * size : options.noise * size;
+  scan.warp = std::isnan(options.warp) ? 5e-4 * size : options.warp * size;
+  scan.outlierReach = 1e-2 * size;
+  const std::vector<double> points = cad::SimulateScan(*loaded.model, scan);
+  io::WritePoints(options.output, points.data(), points.size() / 3, 3);
+}
+
 }  // namespace
 
 int RunGenerate(const GenerateOptions& options) {
@@ -89,12 +108,19 @@ int RunGenerate(const GenerateOptions& options) {
     io::WriteGmshMesh(options.output, mesh.nodes, /*gmsh tet10*/ 11, 10, 3, mesh.tets);
   } else if (w == "trimesh") {
     io::WritePlyMesh(samples::BumpySphere(options.triangles), options.output);
+  } else if (w == "bracket") {
+    if (const std::string error = cad::WriteSampleBracket(options.output); !error.empty()) {
+      throw io::InputError(options.output, 0, error, io::InputError::Kind::Output);
+    }
+  } else if (w == "scan") {
+    WriteScan(options);
   } else if (w == "points") {
     const std::vector<double> points = SamplePoints(options);
     const Geometry geometry = io::ReadGeometryFile(options.geometry);
     io::WritePoints(options.output, points.data(), static_cast<std::size_t>(options.count), geometry.dimension);
   } else {
-    std::fprintf(stderr, "invmap generate: unknown sample '%s' (surface, torus, curve, tets, trimesh, points)\n",
+    std::fprintf(stderr,
+                 "invmap generate: unknown sample '%s' (surface, torus, curve, tets, trimesh, bracket, points, scan)\n",
                  w.c_str());
     return 2;
   }

@@ -66,13 +66,15 @@ int main(int argc, char** argv) {
 
   invmap::cli::GenerateOptions generate;
   CLI::App* generateCommand = app.add_subcommand("generate", "write a sample geometry or a point cloud");
-  generateCommand->add_option("what", generate.what, "surface | torus | curve | tets | trimesh | points")->required();
+  generateCommand->add_option("what", generate.what,
+                              "surface | torus | curve | tets | trimesh | bracket (STEP) | points | scan")
+      ->required();
   generateCommand->add_option("--output,-o", generate.output, "output file")->required();
   generateCommand->add_option("--spans", generate.spans, "surface: knot spans per direction")->check(CLI::Range(1, 4096));
   generateCommand->add_option("--resolution", generate.resolution, "tets: cubes per direction")->check(CLI::Range(1, 200));
   generateCommand->add_option("--triangles", generate.triangles, "trimesh: at least this many triangles")
       ->check(CLI::Range(int64_t{20}, int64_t{200000000}));
-  generateCommand->add_option("--geometry,-g", generate.geometry, "points: geometry to sample");
+  generateCommand->add_option("--geometry,-g", generate.geometry, "points, scan: geometry to sample (scan: a CAD model)");
   generateCommand->add_option("--count,-n", generate.count, "points: number of points")
       ->check(CLI::Range(int64_t{0}, int64_t{2000000000}));
   generateCommand->add_option("--kind", generate.kind, "points: near, far, inside or box")
@@ -80,6 +82,10 @@ int main(int argc, char** argv) {
   generateCommand->add_option("--spread", generate.spread, "points, near: largest offset relative to the size")
       ->check(kNonNegative);
   generateCommand->add_option("--seed", generate.seed, "random seed");
+  generateCommand->add_option("--noise", generate.noise, "scan: measurement noise, relative to the size (default 1e-4)")
+      ->check(kNonNegative);
+  generateCommand->add_option("--warp", generate.warp,
+                              "scan: the part's growth at its top, relative to the size (default 5e-4)");
 
   invmap::cli::GridCommandOptions grid;
   CLI::App* gridCommand =
@@ -116,8 +122,8 @@ int main(int argc, char** argv) {
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
     if (*generateCommand) {
-      if (generate.what == "points" && generate.geometry.empty()) {
-        std::fprintf(stderr, "invmap generate points: --geometry is required\n");
+      if ((generate.what == "points" || generate.what == "scan") && generate.geometry.empty()) {
+        std::fprintf(stderr, "invmap generate %s: --geometry is required\n", generate.what.c_str());
         return 2;
       }
       return invmap::cli::RunGenerate(generate);

@@ -53,15 +53,16 @@ mkdir -p "$root/build"
 case "$mode" in
   demo)
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF
-    # The main job: a million scanned points against the bundled creased surface.
+    # The main job: a simulated scan of the bundled bracket checked against
+    # its CAD model, signed (negative inside the part), coloured by deviation.
     invmap="$root/build/release/cli/invmap"
     demo="$root/build/demo"
     mkdir -p "$demo"
-    geometry="$root/examples/data/wavy_surface.json"
-    [ -f "$demo/scan.npy" ] || "$invmap" generate points -g "$geometry" -n 1000000 --kind near --spread 0.02 -o "$demo/scan.npy"
-    "$invmap" info -g "$geometry"
-    "$invmap" invert -g "$geometry" -p "$demo/scan.npy" -o "$demo/result.csv"
-    echo "results: $demo/result.csv"
+    part="$root/examples/data/bracket.step"
+    [ -f "$demo/scan.ply" ] || "$invmap" generate scan -g "$part" -n 1000000 -o "$demo/scan.ply"
+    "$invmap" info -g "$part"
+    "$invmap" invert --signed --color --tolerance 0.05 -g "$part" -p "$demo/scan.ply" -o "$demo/deviation.ply"
+    echo "deviation map: $demo/deviation.ply (points coloured blue inside to red outside; CloudCompare, MeshLab)"
     ;;
   test)
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=ON

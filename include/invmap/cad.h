@@ -46,6 +46,7 @@ struct ModelInfo {
 };
 
 class Model;
+struct ScanOptions;  // cad/sample_part.h (the demo's simulated scans)
 
 /// Model::Load's outcome: a model, or the reason it could not be read.
 struct LoadResult {
@@ -89,6 +90,7 @@ class Model {
                      int threads = 0) const;
 
  private:
+  friend std::vector<double> SimulateScan(const Model& model, const ScanOptions& options);
   Model();
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -219,3 +219,59 @@ TEST(CadSigned, TrimKeepsTheInsideAsNear) {
 
 }  // namespace
 }  // namespace invmap::cadtest
+
+namespace invmap::cadtest {
+namespace {
+
+std::string BundledBracket() { return std::string(INVMAP_SOURCE_DIR) + "/examples/data/bracket.step"; }
+
+TEST(ScanToCad, BundledBracketIsTheGeneratorsPart) {
+  const std::string generated = ScratchDir() + "/bracket.step";
+  const CliRun run = RunCli("generate bracket -o " + generated);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_EQ(run.output, "");  // OpenCascade's writer reports nothing on stdout
+  cad::LoadResult bundled = cad::Model::Load(BundledBracket()), fresh = cad::Model::Load(generated);
+  ASSERT_EQ(bundled.error, "");
+  ASSERT_EQ(fresh.error, "");
+  const cad::ModelInfo info = bundled.model->Info();
+  EXPECT_EQ(info.solids, 1u);
+  EXPECT_EQ(info.faces, 24u);
+  EXPECT_TRUE(info.openParts.empty());
+  EXPECT_TRUE(info.approximatedFaces.empty());
+  const std::vector<double> points = PointsAround(ReadShape(BundledBracket()), 500, 0.05, 0.2, 9);
+  const Results a = InvertOnModel(*bundled.model, points), b = InvertOnModel(*fresh.model, points);
+  EXPECT_EQ(a.distance, b.distance);
+  EXPECT_EQ(a.patch, b.patch);
+}
+
+TEST(ScanToCad, ScanPointsLieOnTheModelWithoutNoiseAndWarp) {
+  // A scan with no noise and no growth puts its points on the exact faces
+  // (but for the 0.2 % outliers): invmap finds them at distance zero.
+  const std::string scan = ScratchDir() + "/exact_scan.xyz";
+  const CliRun run = RunCli("generate scan -g " + BundledBracket() + " -n 20000 --noise 0 --warp 0 --seed 3 -o " + scan);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream in(scan);
+  std::vector<double> points;
+  for (double x; in >> x;) points.push_back(x);
+  ASSERT_EQ(points.size(), 3u * 20000);
+  cad::LoadResult bracket = cad::Model::Load(BundledBracket());
+  const Results results = InvertOnModel(*bracket.model, points);
+  int onSurface = 0;
+  for (double d : results.distance) onSurface += d <= 1e-9 * 108.0 ? 1 : 0;
+  EXPECT_GE(onSurface, 20000 * 99 / 100);
+}
+
+TEST(ScanToCad, DemoPrintsTheDeviationSummary) {
+  const std::string scan = ScratchDir() + "/demo_scan.ply", map = ScratchDir() + "/deviation.ply";
+  ASSERT_EQ(RunCli("generate scan -g " + BundledBracket() + " -n 20000 -o " + scan).exitCode, 0);
+  const CliRun run =
+      RunCli("invert --signed --color --tolerance 0.05 -g " + BundledBracket() + " -p " + scan + " -o " + map);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  for (const char* text : {"points      20000 (found 20000", "deviation", "within +-0.05"}) {
+    EXPECT_NE(run.output.find(text), std::string::npos) << text << " in\n" << run.output;
+  }
+  EXPECT_TRUE(std::filesystem::exists(map));
+}
+
+}  // namespace
+}  // namespace invmap::cadtest
