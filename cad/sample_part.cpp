@@ -2,6 +2,7 @@
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepFilletAPI_MakeFillet.hxx>
@@ -9,6 +10,7 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
@@ -107,9 +109,14 @@ std::string WriteSampleBracket(const std::string& path) {
 std::vector<double> SimulateScan(const Model& model, const ScanOptions& options) {
   const Model::Impl& impl = *model.impl_;
   const ConvertedModel& converted = impl.model;
-  // A fine mesh of every face: its triangles pick places by area, and its
-  // nodes' parameters put them on the exact surface.
-  BRepMesh_IncrementalMesh mesher(impl.shape, 2e-3 * converted.size, false, 0.3);
+  // A fine mesh of every face (of a copy: the mesh is stored on the faces,
+  // and the model's own shape stays as read): its triangles pick places by
+  // area, and its nodes' parameters put them on the exact surface.
+  TopoDS_Shape shape = BRepBuilderAPI_Copy(impl.shape).Shape();
+  BRepTools::Clean(shape);
+  BRepMesh_IncrementalMesh mesher(shape, 2e-3 * converted.size, false, 0.3);
+  TopTools_IndexedMapOfShape meshedFaces;
+  TopExp::MapShapes(shape, TopAbs_FACE, meshedFaces);
   struct Triangle {
     int face;
     gp_Pnt2d uv[3];
@@ -118,7 +125,8 @@ std::vector<double> SimulateScan(const Model& model, const ScanOptions& options)
   std::vector<double> cumulative;
   for (std::size_t f = 0; f < converted.faces.size(); ++f) {
     TopLoc_Location location;
-    const Handle(Poly_Triangulation) mesh = BRep_Tool::Triangulation(converted.faces[f].face, location);
+    const Handle(Poly_Triangulation) mesh =
+        BRep_Tool::Triangulation(TopoDS::Face(meshedFaces(static_cast<int>(f) + 1)), location);
     if (mesh.IsNull() || !mesh->HasUVNodes()) continue;
     for (int t = 1; t <= mesh->NbTriangles(); ++t) {
       int n[3];
@@ -162,6 +170,35 @@ std::vector<double> SimulateScan(const Model& model, const ScanOptions& options)
     points.insert(points.end(), {q.X(), q.Y(), q.Z()});
   }
   return points;
+}
+
+Patch Tessellate(const Model& model, double deflection) {
+  const Model::Impl& impl = *model.impl_;
+  // A copy: the mesh is stored on the shape's faces, and the model's own
+  // shape stays as read.
+  TopoDS_Shape shape = BRepBuilderAPI_Copy(impl.shape).Shape();
+  BRepTools::Clean(shape);
+  BRepMesh_IncrementalMesh mesher(shape, deflection, false, 0.5);
+  Patch patch;
+  patch.kind = Patch::Kind::Mesh;
+  patch.cell = CellType::Tri;
+  for (TopExp_Explorer it(shape, TopAbs_FACE); it.More(); it.Next()) {
+    const TopoDS_Face& face = TopoDS::Face(it.Current());
+    TopLoc_Location location;
+    const Handle(Poly_Triangulation) mesh = BRep_Tool::Triangulation(face, location);
+    if (mesh.IsNull()) continue;
+    const std::int64_t first = static_cast<std::int64_t>(patch.points.size() / 3);
+    for (int i = 1; i <= mesh->NbNodes(); ++i) {
+      const gp_Pnt p = mesh->Node(i).Transformed(location.Transformation());
+      patch.points.insert(patch.points.end(), {p.X(), p.Y(), p.Z()});
+    }
+    for (int t = 1; t <= mesh->NbTriangles(); ++t) {
+      int n[3];
+      mesh->Triangle(t).Get(n[0], n[1], n[2]);
+      for (int k = 0; k < 3; ++k) patch.cells.push_back(first + n[k] - 1);
+    }
+  }
+  return patch;
 }
 
 }  // namespace invmap::cad

@@ -1,6 +1,7 @@
-// The sample part of the scan-to-CAD demo and its simulated scans, made with
-// OpenCascade but declared with standard types only (the command includes
-// this header).
+// The sample part of the scan-to-CAD demo, simulated scans and
+// tessellations of CAD models (the peer comparison's mesh peers), made with
+// OpenCascade but declared with standard types only (the command and the
+// benchmark include this header).
 #pragma once
 
 #include <cstdint>
@@ -40,5 +41,10 @@ struct ScanOptions {
 /// its parameters), moved along the outward normal by the warp, the noise
 /// and, for the outliers, a random reach. 3 coordinates per point.
 std::vector<double> SimulateScan(const Model& model, const ScanOptions& options);
+
+/// OpenCascade's tessellation of the model (BRepMesh_IncrementalMesh with
+/// chordal deflection `deflection`, angular deflection 0.5) as one triangle
+/// mesh patch: what a user exports to a mesh-based tool.
+Patch Tessellate(const Model& model, double deflection);
 
 }  // namespace invmap::cad

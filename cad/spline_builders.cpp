@@ -15,9 +15,11 @@ SplineCurve LineCurve(int dim, const double* p0, const double* p1, double t0, do
 }
 
 SplineCurve ArcCurve(int dim, const double* center, const double* x, const double* y, double a, double b) {
-  // At most a quarter turn per span: the middle weight cos(h) stays above
-  // 0.7 and the arc's parameter close to its angle.
-  const int spans = std::max(1, static_cast<int>(std::ceil((b - a) / (0.5 * M_PI) - 1e-9)));
+  // At most a twelfth of a turn per span: the weights then differ by at most
+  // 3.5 % (cos 15 degrees), within the 5 % where the cell search's curvature
+  // bounds hold for rational cells (kernels/curvature_bounds.h), and the
+  // arc's parameter stays close to its angle.
+  const int spans = std::max(1, static_cast<int>(std::ceil((b - a) / (M_PI / 6.0) - 1e-9)));
   SplineCurve arc;
   arc.degree = 2;
   arc.angular = true;

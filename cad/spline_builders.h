@@ -25,7 +25,7 @@ struct SurfaceSpline {
 SplineCurve LineCurve(int dim, const double* p0, const double* p1, double t0, double t1);
 
 /// The arc center + cos(t) x + sin(t) y, t in [a, b] (b > a), as spans of at
-/// most a quarter turn (an ellipse when x and y differ in length).
+/// most 30 degrees (an ellipse when x and y differ in length).
 SplineCurve ArcCurve(int dim, const double* center, const double* x, const double* y, double a, double b);
 
 /// The curve reversed: its parameter t becomes -t.

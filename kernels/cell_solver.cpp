@@ -765,14 +765,6 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
 
   // The certificate below for the whole cell, from the curvature bounds.
   if (bestIsKkt && curvature_ && curvature_->ProvesConvex(point, best->squaredDistance)) return true;
-  // And the trimmed cell's: convex around a KKT point outside the region, the
-  // cell has no other (a polynomial cell's WW is constant: one level).
-  if (rejected && !bestIsKkt && curvature_ && !rational) {
-    for (int r = 0; r < rejected->count; ++r) {
-      if (curvature_->ProvesConvex(point, rejected->points[r].squaredDistance)) return true;
-    }
-  }
-
   const int root = pool.Allocate();
   {
     double* slot = pool[root];
@@ -782,6 +774,24 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
     nets_.SquaredDistanceNumerator(point, slot + kHeaderSize);
     if (rational) std::copy(nets_.ww(), nets_.ww() + n, slot + kHeaderSize + n);
     slot[kLowerBound] = lowerBound(slot);
+  }
+  // And the trimmed cell's: convex around a KKT point outside the region,
+  // at both levels (one for a polynomial cell, whose WW is constant), the
+  // cell has no other candidate.
+  if (rejected && rejected->count > 0 && !bestIsKkt && curvature_) {
+    double upper = std::min(best->squaredDistance, bound2);
+    if (rational && !(upper < std::numeric_limits<double>::infinity())) {
+      const double* q = pool[root] + kHeaderSize;
+      upper = 0.0;
+      for (int i = 0; i < n; ++i) upper = std::max(upper, q[i] / q[n + i]);
+    }
+    for (int r = 0; r < rejected->count; ++r) {
+      if (curvature_->ProvesConvex(point, rejected->points[r].squaredDistance) &&
+          (!rational || curvature_->ProvesConvex(point, upper))) {
+        pool.Free(root);
+        return true;
+      }
+    }
   }
   std::vector<int>& heap = ws->heap;
   heap.clear();

@@ -91,6 +91,7 @@ class Model {
 
  private:
   friend std::vector<double> SimulateScan(const Model& model, const ScanOptions& options);
+  friend Patch Tessellate(const Model& model, double deflection);
   Model();
   struct Impl;
   std::unique_ptr<Impl> impl_;
