@@ -19,7 +19,6 @@
 #include "implicit/csg_tree.h"
 #include "implicit/exact_predicates.h"
 #include "io/file_io.h"
-#include "io/geometry_file.h"
 #include "io/gmsh_reader.h"
 #include "io/input_error.h"
 #include "io/json_sax.h"
