@@ -1,4 +1,5 @@
-// invmap::implicit: adaptive simplicial grids for implicit complexes.
+// invmap::implicit: adaptive simplicial grids for implicit complexes. A public
+// header, installed with invmap.h and part of libinvmap (invmap::invmap).
 //
 // Given k implicit functions with gradients, a triangle (2D) or tetrahedron
 // (3D) grid is refined by longest-refinable-edge bisection until every zero
@@ -27,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "invmap/export.h"
+
 namespace invmap::implicit {
 
 using Vec3 = std::array<double, 3>;
@@ -39,7 +42,7 @@ using EvaluateFn = std::function<void(const double* xyz, std::size_t count, doub
 
 /// One implicit function f: R^n -> R with its gradient. The built-ins follow
 /// ../shared/benchmarks/implicit/README.md: positive inside.
-struct Function {
+struct INVMAP_API Function {
   std::string name;  ///< For messages and output labels ("sphere", or the user's).
   EvaluateFn evaluate;
 
@@ -84,7 +87,7 @@ struct CsgNode {
 };
 
 /// A conforming triangle (dimension 2) or tetrahedron (dimension 3) mesh.
-struct SimplexMesh {
+struct INVMAP_API SimplexMesh {
   int dimension = 3;
   std::vector<double> vertices;        ///< 3 per vertex (z = 0 in 2D).
   std::vector<std::uint32_t> cells;    ///< dimension + 1 vertex indices per cell.
@@ -146,7 +149,8 @@ struct GridResult {
 };
 
 /// Refines `initial` for `functions` (at least one) and `options`.
-GridResult RefineGrid(const SimplexMesh& initial, const std::vector<Function>& functions, const GridOptions& options);
+INVMAP_API GridResult RefineGrid(const SimplexMesh& initial, const std::vector<Function>& functions,
+                                 const GridOptions& options);
 
 /// The complex's zero sets from the grid's piecewise-linear interpolant.
 /// Each primitive carries up to 4 function indices (0-based, ascending, -1
@@ -171,6 +175,6 @@ struct ZeroSets {
   std::vector<std::array<int, 4>> pointLabels;
 };
 
-ZeroSets ExtractZeroSets(const Grid& grid, const GridOptions& options);
+INVMAP_API ZeroSets ExtractZeroSets(const Grid& grid, const GridOptions& options);
 
 }  // namespace invmap::implicit

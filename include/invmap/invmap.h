@@ -1,5 +1,7 @@
 // invmap: closest points, cells and parameters of batches of query points on
-// geometries made of parametric cells. The only installed header.
+// geometries made of parametric cells. A public header: with implicit.h (the
+// implicit-complex grids) and export.h it is what include/invmap/ installs,
+// and all a program of libinvmap (CMake: invmap::invmap) includes.
 //
 //   invmap::Geometry geometry = ...;                 // patches in memory (FORMATS.md section 2)
 //   invmap::BuildResult built = invmap::Manifold::Build(geometry);
@@ -16,6 +18,8 @@
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "invmap/export.h"
 
 namespace invmap {
 
@@ -89,7 +93,7 @@ enum class Scalar : std::uint8_t { Float32, Float64 };
 /// point i is at coord[k][i * stride] (elements of type `scalar`).
 /// Interleaved xyz: coord[k] = data + k, stride = dim. Separate arrays:
 /// coord[k] = array k, stride = 1.
-struct PointsView {
+struct INVMAP_API PointsView {
   std::size_t count = 0;
   int dim = 3;
   Scalar scalar = Scalar::Float64;
@@ -153,7 +157,7 @@ struct BuildResult;
 
 /// An immutable geometry ready for queries: Bezier cells with their bounds and
 /// a BVH. Thread-safe to query from many threads; movable, not copyable.
-class Manifold {
+class INVMAP_API Manifold {
  public:
   /// Builds from patches in memory. Never throws: a malformed geometry gives
   /// an error message (e.g. "patch 2: knots[1]: decreasing at index 4").
@@ -197,6 +201,6 @@ struct BuildResult {
 };
 
 /// Library version, "major.minor.patch".
-const char* Version();
+INVMAP_API const char* Version();
 
 }  // namespace invmap
