@@ -234,6 +234,6 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
   return Error::Ok;
 }
 
-const char* Version() { return "0.1.0"; }
+const char* Version() { return INVMAP_VERSION; }  // project(VERSION) of CMakeLists.txt
 
 }  // namespace invmap

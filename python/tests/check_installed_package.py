@@ -1,15 +1,17 @@
 """Imports invmap from an installed prefix (ctest python_installed_package).
 
-    check_installed_package.py SITE_PACKAGES
+    check_installed_package.py SITE_PACKAGES VERSION
 
 The package must come from SITE_PACKAGES, where `cmake --install` put it,
-not from the build tree, and answer queries whose results are known exactly.
+not from the build tree, be version VERSION and answer queries whose
+results are known exactly.
 """
 
 import pathlib
 import sys
 
 site = pathlib.Path(sys.argv[1]).resolve()
+version = sys.argv[2]
 sys.path.insert(0, str(site))
 
 import numpy as np  # noqa: E402
@@ -19,6 +21,8 @@ import invmap  # noqa: E402
 location = pathlib.Path(invmap.__file__).resolve()
 if site not in location.parents:
     sys.exit(f"invmap imported from {location}, not from {site}")
+if invmap.__version__ != version:
+    sys.exit(f"invmap version {invmap.__version__}, expected {version}")
 
 # A segment from (0, 0) to (2, 0): (0.5, 1) is at distance 1 above (0.5, 0),
 # a quarter along it; (3, 0) is at distance 1 beyond its end (2, 0).

@@ -4,7 +4,7 @@
 # command, and a library that exports invmap's public names only.
 #
 #   cmake -DBUILD_DIR=<build> -DSOURCE_DIR=<source> -DPREFIX=<prefix>
-#         -DLIBDIR=<lib> -DBINDIR=<bin> -DNM=<nm> -P install_into_prefix.cmake
+#         -DLIBDIR=<lib> -DBINDIR=<bin> -DNM=<nm> -DVERSION=<x.y.z> -P install_into_prefix.cmake
 cmake_minimum_required(VERSION 3.20)
 
 function(fail message)
@@ -34,11 +34,11 @@ foreach(file ${LIBDIR}/cmake/invmap/invmapConfig.cmake ${LIBDIR}/cmake/invmap/in
   endif()
 endforeach()
 
-# The command runs from the prefix.
+# The command runs from the prefix, with the package's version.
 execute_process(COMMAND ${PREFIX}/${BINDIR}/invmap --version
                 RESULT_VARIABLE failed OUTPUT_VARIABLE version ERROR_VARIABLE version)
-if(failed OR NOT version MATCHES "^invmap [0-9]+\\.[0-9]+\\.[0-9]+")
-  fail("${PREFIX}/${BINDIR}/invmap --version: ${version}")
+if(failed OR NOT version STREQUAL "invmap ${VERSION}\n")
+  fail("${PREFIX}/${BINDIR}/invmap --version: \"${version}\", expected \"invmap ${VERSION}\"")
 endif()
 
 # The library's dynamic symbols: functions and data it defines must be
