@@ -28,8 +28,6 @@
 #include <string>
 #include <vector>
 
-#include "invmap/export.h"
-
 namespace invmap::implicit {
 
 using Vec3 = std::array<double, 3>;
@@ -42,7 +40,7 @@ using EvaluateFn = std::function<void(const double* xyz, std::size_t count, doub
 
 /// One implicit function f: R^n -> R with its gradient. The built-ins follow
 /// ../shared/benchmarks/implicit/README.md: positive inside.
-struct INVMAP_API Function {
+struct Function {
   std::string name;  ///< For messages and output labels ("sphere", or the user's).
   EvaluateFn evaluate;
 
@@ -87,7 +85,7 @@ struct CsgNode {
 };
 
 /// A conforming triangle (dimension 2) or tetrahedron (dimension 3) mesh.
-struct INVMAP_API SimplexMesh {
+struct SimplexMesh {
   int dimension = 3;
   std::vector<double> vertices;        ///< 3 per vertex (z = 0 in 2D).
   std::vector<std::uint32_t> cells;    ///< dimension + 1 vertex indices per cell.
@@ -149,8 +147,7 @@ struct GridResult {
 };
 
 /// Refines `initial` for `functions` (at least one) and `options`.
-INVMAP_API GridResult RefineGrid(const SimplexMesh& initial, const std::vector<Function>& functions,
-                                 const GridOptions& options);
+GridResult RefineGrid(const SimplexMesh& initial, const std::vector<Function>& functions, const GridOptions& options);
 
 /// The complex's zero sets from the grid's piecewise-linear interpolant.
 /// Each primitive carries up to 4 function indices (0-based, ascending, -1
@@ -175,6 +172,6 @@ struct ZeroSets {
   std::vector<std::array<int, 4>> pointLabels;
 };
 
-INVMAP_API ZeroSets ExtractZeroSets(const Grid& grid, const GridOptions& options);
+ZeroSets ExtractZeroSets(const Grid& grid, const GridOptions& options);
 
 }  // namespace invmap::implicit

@@ -1,7 +1,7 @@
 // invmap: closest points, cells and parameters of batches of query points on
 // geometries made of parametric cells. A public header: with implicit.h (the
-// implicit-complex grids) and export.h it is what include/invmap/ installs,
-// and all a program of libinvmap (CMake: invmap::invmap) includes.
+// implicit-complex grids) it is what include/invmap/ installs, and all a
+// program of libinvmap (CMake: invmap::invmap) includes.
 //
 //   invmap::Geometry geometry = ...;                 // patches in memory (FORMATS.md section 2)
 //   invmap::BuildResult built = invmap::Manifold::Build(geometry);
@@ -18,8 +18,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include "invmap/export.h"
 
 namespace invmap {
 
@@ -93,7 +91,7 @@ enum class Scalar : std::uint8_t { Float32, Float64 };
 /// point i is at coord[k][i * stride] (elements of type `scalar`).
 /// Interleaved xyz: coord[k] = data + k, stride = dim. Separate arrays:
 /// coord[k] = array k, stride = 1.
-struct INVMAP_API PointsView {
+struct PointsView {
   std::size_t count = 0;
   int dim = 3;
   Scalar scalar = Scalar::Float64;
@@ -157,7 +155,7 @@ struct BuildResult;
 
 /// An immutable geometry ready for queries: Bezier cells with their bounds and
 /// a BVH. Thread-safe to query from many threads; movable, not copyable.
-class INVMAP_API Manifold {
+class Manifold {
  public:
   /// Builds from patches in memory. Never throws: a malformed geometry gives
   /// an error message (e.g. "patch 2: knots[1]: decreasing at index 4").
@@ -201,6 +199,6 @@ struct BuildResult {
 };
 
 /// Library version, "major.minor.patch".
-INVMAP_API const char* Version();
+const char* Version();
 
 }  // namespace invmap

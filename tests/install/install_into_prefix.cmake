@@ -43,8 +43,8 @@ endif()
 
 # The library's dynamic symbols: functions and data it defines must be
 # invmap's public ones (namespace invmap, but not the internal namespaces
-# engine, kernels or detail), never TBB's, Embree's, Eigen's or the
-# standard library's.
+# engine, kernels or detail, nor a class's Impl), never TBB's, Embree's,
+# Eigen's or the standard library's.
 execute_process(COMMAND ${NM} -D --defined-only --demangle ${PREFIX}/${LIBDIR}/libinvmap.so
                 RESULT_VARIABLE failed OUTPUT_VARIABLE symbols ERROR_VARIABLE error)
 if(failed)
@@ -61,7 +61,7 @@ foreach(line IN LISTS symbols)
   if(name MATCHES "^_init$|^_fini$")
     continue()
   endif()
-  if(NOT name MATCHES "invmap::" OR name MATCHES "invmap::(engine|kernels|detail)::")
+  if(NOT name MATCHES "invmap::" OR name MATCHES "invmap::(engine|kernels|detail)::|::Impl::")
     fail("libinvmap exports an internal or foreign name: ${name}")
   endif()
   math(EXPR public "${public} + 1")
