@@ -1,4 +1,4 @@
-// The CSG tree file of `invmap grid` (FORMATS.md section 6): how the
+// The CSG tree file of `invmap grid` (docs/grids.md#csg-trees): how the
 // functions of a list combine into a solid.
 #pragma once
 

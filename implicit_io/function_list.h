@@ -1,4 +1,4 @@
-// The function list file of `invmap grid` (FORMATS.md section 6): the
+// The function list file of `invmap grid` (docs/grids.md#function-objects): the
 // implicit functions of a complex as a JSON list of objects.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The refined grid of `invmap grid` (FORMATS.md section 6) as gmsh MSH 4.1
+// The refined grid of `invmap grid` (docs/grids.md#outputs) as gmsh MSH 4.1
 // and VTK XML files, and its figures as stats.json. Writers go through
 // AtomicOutput: the target is either the complete new file or untouched, and
 // every failure is an InputError of Kind::Output naming the target. They
@@ -33,7 +33,7 @@ void WriteGridMsh(const implicit::Grid& grid, const std::vector<std::string>& fu
 /// and std::invalid_argument cases as WriteGridMsh.
 void WriteGridVtu(const implicit::Grid& grid, const std::vector<std::string>& functionNames, const std::string& path);
 
-/// Writes stats.json (FORMATS.md section 6): exactly the keys "cells",
+/// Writes stats.json (docs/grids.md#outputs): exactly the keys "cells",
 /// "active_cells", "vertices" (integers), "min_radius_ratio",
 /// "min_radius_ratio_active" and "seconds" (numbers), in this order.
 /// (Whether --max-cells stopped the refinement is in the command's summary.)

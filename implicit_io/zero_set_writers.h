@@ -1,4 +1,4 @@
-// The zero sets of a refined grid (FORMATS.md section 6) as OBJ (every
+// The zero sets of a refined grid (docs/grids.md#outputs) as OBJ (every
 // primitive, grouped by label) and PLY (the triangles, readable as a
 // geometry). Writers go through AtomicOutput: the target is either the
 // complete new file or untouched, and every failure is an InputError of
