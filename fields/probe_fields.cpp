@@ -1,0 +1,201 @@
+// Fields at inverted points (include/invmap/fields.h).
+#include <cmath>
+#include <limits>
+#include <new>
+#include <set>
+#include <string>
+
+#include "fields/cell_basis.h"
+#include "invmap/fields.h"
+
+namespace invmap {
+namespace {
+
+using kernels::CellShape;
+
+/// Mesh cells: vertices per cell and, for each Bezier control point of the
+/// degree-1 cell, the finite-element vertex it is (quads and hexes list
+/// their faces counter-clockwise, Bezier nets are tensor products).
+struct MeshLayout {
+  int vertices;
+  int vertexOfControlPoint[8];
+};
+
+MeshLayout MeshLayoutOf(CellType type) {
+  switch (type) {
+    case CellType::Line:
+      return {2, {0, 1}};
+    case CellType::Tri:
+      return {3, {0, 1, 2}};
+    case CellType::Quad:
+      return {4, {0, 1, 3, 2}};
+    case CellType::Tet:
+      return {4, {0, 1, 2, 3}};
+    case CellType::Hex:
+      return {8, {0, 1, 3, 2, 4, 5, 7, 6}};
+    case CellType::Wedge:
+      return {6, {0, 1, 2, 3, 4, 5}};
+  }
+  return {0, {}};
+}
+
+/// Points (control points or vertices) of a patch.
+std::size_t NumPoints(const Geometry& geometry, const Patch& patch) {
+  return geometry.dimension > 0 ? patch.points.size() / static_cast<std::size_t>(geometry.dimension) : 0;
+}
+
+/// The shape of a Bezier patch or of cell `c` of a BezierCells patch.
+CellShape ShapeOf(const Patch& patch, std::int64_t c) {
+  std::array<int, kernels::kMaxFactors> degrees{0, 0, 0};
+  if (patch.kind == Patch::Kind::BezierCells) {
+    for (int f = 0; f < 3; ++f) degrees[f] = patch.cellDegrees[3 * static_cast<std::size_t>(c) + f];
+    return CellShape(static_cast<kernels::CellType>(patch.cellTypes[static_cast<std::size_t>(c)]), degrees);
+  }
+  for (std::size_t f = 0; f < patch.degrees.size() && f < 3; ++f) degrees[f] = patch.degrees[f];
+  return CellShape(static_cast<kernels::CellType>(patch.cell), degrees);
+}
+
+/// Evaluates the fields at one found point. Returns false when the point's
+/// patch or cell does not exist in the geometry.
+class PointProbe {
+ public:
+  PointProbe(const Geometry& geometry, const std::vector<const NodeField*>& fields)
+      : geometry_(geometry), fields_(fields) {}
+
+  bool Evaluate(std::int32_t patchIndex, std::int64_t cell, const double* params, double* out) {
+    if (patchIndex < 0 || static_cast<std::size_t>(patchIndex) >= geometry_.patches.size()) return false;
+    const Patch& patch = geometry_.patches[static_cast<std::size_t>(patchIndex)];
+    if (patch.kind == Patch::Kind::BSpline) {
+      Fill(out, std::numeric_limits<double>::quiet_NaN());
+      return true;
+    }
+    std::int64_t first = 0;
+    CellShape shape;
+    if (patch.kind == Patch::Kind::BezierCells) {
+      if (cell < 0 || static_cast<std::size_t>(cell) >= patch.cellTypes.size()) return false;
+      shape = ShapeOf(patch, cell);
+      first = patch.cellOffsets[static_cast<std::size_t>(cell)];
+    } else if (patch.kind == Patch::Kind::Bezier) {
+      if (cell != 0) return false;
+      shape = ShapeOf(patch, 0);
+    } else {
+      const MeshLayout layout = MeshLayoutOf(patch.cell);
+      if (cell < 0 || static_cast<std::size_t>(cell + 1) * layout.vertices > patch.cells.size()) return false;
+      shape = CellShape(static_cast<kernels::CellType>(patch.cell), {1, 1, 1});
+      meshPoints_.resize(static_cast<std::size_t>(layout.vertices));
+      for (int k = 0; k < layout.vertices; ++k) {
+        meshPoints_[k] = patch.cells[static_cast<std::size_t>(cell) * layout.vertices + layout.vertexOfControlPoint[k]];
+      }
+    }
+    const double* weights = patch.weights.empty() ? nullptr : patch.weights.data() + first;
+    fields::EvaluateCellBasis(shape, params, weights, &basis_);
+    for (const NodeField* field : fields_) {
+      const std::vector<double>& values = field->patchValues[static_cast<std::size_t>(patchIndex)];
+      const int n = field->components;
+      for (int j = 0; j < n; ++j) out[j] = values.empty() ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+      if (!values.empty()) {
+        for (std::size_t k = 0; k < basis_.size(); ++k) {
+          const std::size_t point =
+              patch.kind == Patch::Kind::Mesh ? static_cast<std::size_t>(meshPoints_[k]) : first + k;
+          const double* v = values.data() + point * n;
+          for (int j = 0; j < n; ++j) out[j] += basis_[k] * v[j];
+        }
+      }
+      out += n;
+    }
+    return true;
+  }
+
+  void Fill(double* out, double value) const {
+    for (const NodeField* field : fields_) {
+      for (int j = 0; j < field->components; ++j) *out++ = value;
+    }
+  }
+
+ private:
+  const Geometry& geometry_;
+  const std::vector<const NodeField*>& fields_;
+  std::vector<double> basis_;
+  std::vector<std::int64_t> meshPoints_;
+};
+
+}  // namespace
+
+std::string CheckFields(const Geometry& geometry, const std::vector<NodeField>& fields) {
+  std::set<std::string> names;
+  for (const NodeField& field : fields) {
+    const std::string where = "field '" + field.name + "': ";
+    if (field.name.empty()) return "a field has an empty name";
+    if (!names.insert(field.name).second) return where + "defined twice";
+    if (field.components < 1) return where + "components must be at least 1";
+    if (field.patchValues.size() != geometry.patches.size()) {
+      return where + std::to_string(field.patchValues.size()) + " patch arrays for " +
+             std::to_string(geometry.patches.size()) + " patches";
+    }
+    for (std::size_t p = 0; p < geometry.patches.size(); ++p) {
+      const std::vector<double>& values = field.patchValues[p];
+      if (values.empty()) continue;
+      const Patch& patch = geometry.patches[p];
+      if (patch.kind == Patch::Kind::BSpline) return where + "patch " + std::to_string(p) + ": a B-spline patch has no nodes";
+      const std::size_t expected = NumPoints(geometry, patch) * static_cast<std::size_t>(field.components);
+      if (values.size() != expected) {
+        return where + "patch " + std::to_string(p) + ": " + std::to_string(values.size()) + " values, expected " +
+               std::to_string(expected);
+      }
+    }
+  }
+  return {};
+}
+
+int FieldWidth(const std::vector<const NodeField*>& fields) {
+  int width = 0;
+  for (const NodeField* field : fields) width += field->components;
+  return width;
+}
+
+std::vector<std::string> FieldColumnNames(const std::vector<const NodeField*>& fields) {
+  std::vector<std::string> names;
+  for (const NodeField* field : fields) {
+    if (field->components == 1) {
+      names.push_back(field->name);
+      continue;
+    }
+    for (int j = 0; j < field->components; ++j) names.push_back(field->name + "_" + std::to_string(j));
+  }
+  return names;
+}
+
+Error ProbeFields(const Geometry& geometry, const std::vector<const NodeField*>& fields, const Results& results,
+                  std::vector<double>* values, std::string* message) {
+  try {
+    const std::size_t n = results.status.size();
+    const std::size_t width = static_cast<std::size_t>(FieldWidth(fields));
+    for (const NodeField* field : fields) {
+      if (field == nullptr || field->components < 1 || field->patchValues.size() != geometry.patches.size()) {
+        if (message != nullptr) *message = "ProbeFields: a field does not fit the geometry (see CheckFields)";
+        return Error::InvalidArgument;
+      }
+    }
+    values->assign(n * width, std::numeric_limits<double>::quiet_NaN());
+    PointProbe probe(geometry, fields);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (results.status[i] != Status::Found) continue;
+      if (!probe.Evaluate(results.patch[i], results.cell[i], &results.params[3 * i], values->data() + i * width)) {
+        if (message != nullptr) {
+          *message = "ProbeFields: point " + std::to_string(i) + " is in patch " + std::to_string(results.patch[i]) +
+                     ", cell " + std::to_string(results.cell[i]) + ", which the geometry does not have";
+        }
+        return Error::InvalidArgument;
+      }
+    }
+    return Error::Ok;
+  } catch (const std::bad_alloc&) {
+    if (message != nullptr) *message = "out of memory";
+    return Error::OutOfMemory;
+  } catch (const std::exception& e) {
+    if (message != nullptr) *message = e.what();
+    return Error::Internal;
+  }
+}
+
+}  // namespace invmap
