@@ -95,6 +95,9 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 
+  invmap::cli::ProbeOptions probe;
+  CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -109,6 +112,7 @@ int main(int argc, char** argv) {
       return invmap::cli::RunTrim(trim);
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
+    if (*probeCommand) return invmap::cli::RunProbe(probe);
     if (*generateCommand) {
       if (generate.what == "points" && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate points: --geometry is required\n");
