@@ -8,6 +8,7 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "fem/register_readers.h"
 #include "io/input_error.h"
 
 namespace {
@@ -38,6 +39,7 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 }  // namespace
 
 int main(int argc, char** argv) {
+  invmap::fem::RegisterFemReaders();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "invmap 0.1.0");

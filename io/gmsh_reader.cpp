@@ -659,24 +659,22 @@ class GeometryBuilder {
     NodeField field;
     field.name = view.name;
     field.components = view.components;
-    const int n = view.components;
+    const std::size_t n = static_cast<std::size_t>(view.components);
+    std::vector<double> nodal;
     for (const std::vector<const ElementBlock*>& blocks : patchBlocks_) {
       std::vector<double>& out = field.patchValues.emplace_back();
       for (const ElementBlock* block : blocks) {
         const GmshElementType& type = *block->type;
         const LagrangeToBernstein& converter = Converter(type);
+        nodal.resize(type.numNodes * n);
         for (std::int64_t e = 0; e < block->count; ++e) {
           const std::int64_t* nodes = mesh_.elementNodes.data() + block->firstNode + e * type.numNodes;
-          for (int i = 0; i < converter.numControlPoints(); ++i) {
-            for (int k = 0; k < n; ++k) {
-              double sum = 0.0;
-              for (int j = 0; j < type.numNodes; ++j) {
-                const double c = converter.coefficient(i, j);
-                if (c != 0.0) sum += c * view.values[static_cast<std::size_t>(nodes[j] * n + k)];
-              }
-              out.push_back(sum);
-            }
+          for (int j = 0; j < type.numNodes; ++j) {
+            std::copy_n(view.values.data() + nodes[j] * n, n, nodal.data() + j * n);
           }
+          const std::size_t first = out.size();
+          out.resize(first + converter.numControlPoints() * n);
+          converter.ApplyToValues(nodal.data(), view.components, out.data() + first);
         }
       }
     }
