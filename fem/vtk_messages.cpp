@@ -1,5 +1,6 @@
 #include "fem/vtk_messages.h"
 
+#include <vtkLogger.h>
 #include <vtkObjectFactory.h>
 #include <vtkOutputWindow.h>
 #include <vtkSmartPointer.h>
@@ -47,15 +48,22 @@ std::string Clean(std::string text) {
 struct ScopedVtkMessages::Impl {
   vtkSmartPointer<vtkOutputWindow> previous;
   vtkSmartPointer<CollectingOutputWindow> collector;
+  vtkLogger::Verbosity previousVerbosity;
 };
 
 ScopedVtkMessages::ScopedVtkMessages() : lock_(VtkReadMutex()), impl_(std::make_unique<Impl>()) {
   impl_->previous = vtkOutputWindow::GetInstance();
   impl_->collector = vtkSmartPointer<CollectingOutputWindow>::New();
   vtkOutputWindow::SetInstance(impl_->collector);
+  // VTK 9 also logs errors to stderr through its logger.
+  impl_->previousVerbosity = vtkLogger::GetCurrentVerbosityCutoff();
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
 }
 
-ScopedVtkMessages::~ScopedVtkMessages() { vtkOutputWindow::SetInstance(impl_->previous); }
+ScopedVtkMessages::~ScopedVtkMessages() {
+  vtkLogger::SetStderrVerbosity(impl_->previousVerbosity);
+  vtkOutputWindow::SetInstance(impl_->previous);
+}
 
 std::string ScopedVtkMessages::FirstError() const { return Clean(impl_->collector->firstError); }
 
