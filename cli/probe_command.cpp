@@ -112,7 +112,7 @@ int RunProbe(const ProbeOptions& options) {
   while (reader->ReadChunk(kProbeChunkPoints, &chunk)) {
     Error error = manifold.Invert(PointsView::Interleaved(chunk.xyz.data(), chunk.count, dim), inversion, &results,
                                   &message);
-    if (error == Error::Ok) error = ProbeFields(model.geometry, fields, results, &values, &message);
+    if (error == Error::Ok) error = ProbeFields(model.geometry, fields, results, &values, &message, options.threads);
     if (error != Error::Ok) throw std::runtime_error(message);
     writer->WriteChunk(chunk.xyz.data(), chunk.count, results, chunk.firstIndex, values.data());
     summary.Add(results, chunk.count);

@@ -27,25 +27,25 @@ int FactorValues(int dim, int degree, const double* s, double* out) {
 
 }  // namespace
 
-void EvaluateCellBasis(const kernels::CellShape& shape, const double* params, const double* weights,
-                       std::vector<double>* out) {
-  out->assign(1, 1.0);
+int EvaluateCellBasis(const kernels::CellShape& shape, const double* params, const double* weights, double* out) {
   double factor[kernels::SimplexBasisSize(3, kernels::kMaxDegree)];
-  std::vector<double> product;
-  // Earlier factors vary fastest in the control net.
+  out[0] = 1.0;
+  int size = 1;
+  // Earlier factors vary fastest: value (i, j) goes to j * size + i. Going
+  // down from the last j keeps out[0 .. size) until j = 0 reads it last.
   for (int f = 0; f < shape.numFactors(); ++f) {
     const kernels::SimplexFactor& simplex = shape.factor(f);
     const int n = FactorValues(simplex.dim, simplex.degree, params + simplex.offset, factor);
-    product.resize(out->size() * static_cast<std::size_t>(n));
-    for (int j = 0; j < n; ++j) {
-      for (std::size_t i = 0; i < out->size(); ++i) product[j * out->size() + i] = (*out)[i] * factor[j];
+    for (int j = n - 1; j >= 0; --j) {
+      for (int i = size - 1; i >= 0; --i) out[j * size + i] = out[i] * factor[j];
     }
-    out->swap(product);
+    size *= n;
   }
-  if (weights == nullptr) return;
+  if (weights == nullptr) return size;
   double sum = 0.0;
-  for (std::size_t k = 0; k < out->size(); ++k) sum += ((*out)[k] *= weights[k]);
-  for (double& value : *out) value /= sum;
+  for (int k = 0; k < size; ++k) sum += (out[k] *= weights[k]);
+  for (int k = 0; k < size; ++k) out[k] /= sum;
+  return size;
 }
 
 }  // namespace invmap::fields

@@ -1,10 +1,13 @@
 // Fields at inverted points (include/invmap/fields.h).
+#include <atomic>
 #include <cmath>
+#include <memory>
 #include <limits>
 #include <new>
 #include <set>
 #include <string>
 
+#include "engine/parallel.h"
 #include "fields/cell_basis.h"
 #include "invmap/fields.h"
 
@@ -82,19 +85,18 @@ class PointProbe {
       const MeshLayout layout = MeshLayoutOf(patch.cell);
       if (cell < 0 || static_cast<std::size_t>(cell + 1) * layout.vertices > patch.cells.size()) return false;
       shape = CellShape(static_cast<kernels::CellType>(patch.cell), {1, 1, 1});
-      meshPoints_.resize(static_cast<std::size_t>(layout.vertices));
       for (int k = 0; k < layout.vertices; ++k) {
         meshPoints_[k] = patch.cells[static_cast<std::size_t>(cell) * layout.vertices + layout.vertexOfControlPoint[k]];
       }
     }
     const double* weights = patch.weights.empty() ? nullptr : patch.weights.data() + first;
-    fields::EvaluateCellBasis(shape, params, weights, &basis_);
+    const int count = fields::EvaluateCellBasis(shape, params, weights, basis_);
     for (const NodeField* field : fields_) {
       const std::vector<double>& values = field->patchValues[static_cast<std::size_t>(patchIndex)];
       const int n = field->components;
       for (int j = 0; j < n; ++j) out[j] = values.empty() ? std::numeric_limits<double>::quiet_NaN() : 0.0;
       if (!values.empty()) {
-        for (std::size_t k = 0; k < basis_.size(); ++k) {
+        for (int k = 0; k < count; ++k) {
           const std::size_t point =
               patch.kind == Patch::Kind::Mesh ? static_cast<std::size_t>(meshPoints_[k]) : first + k;
           const double* v = values.data() + point * n;
@@ -115,8 +117,8 @@ class PointProbe {
  private:
   const Geometry& geometry_;
   const std::vector<const NodeField*>& fields_;
-  std::vector<double> basis_;
-  std::vector<std::int64_t> meshPoints_;
+  double basis_[fields::kMaxCellBasis];
+  std::int64_t meshPoints_[8];
 };
 
 }  // namespace
@@ -166,7 +168,7 @@ std::vector<std::string> FieldColumnNames(const std::vector<const NodeField*>& f
 }
 
 Error ProbeFields(const Geometry& geometry, const std::vector<const NodeField*>& fields, const Results& results,
-                  std::vector<double>* values, std::string* message) {
+                  std::vector<double>* values, std::string* message, int threads) {
   try {
     const std::size_t n = results.status.size();
     const std::size_t width = static_cast<std::size_t>(FieldWidth(fields));
@@ -177,16 +179,32 @@ Error ProbeFields(const Geometry& geometry, const std::vector<const NodeField*>&
       }
     }
     values->assign(n * width, std::numeric_limits<double>::quiet_NaN());
-    PointProbe probe(geometry, fields);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (results.status[i] != Status::Found) continue;
-      if (!probe.Evaluate(results.patch[i], results.cell[i], &results.params[3 * i], values->data() + i * width)) {
-        if (message != nullptr) {
-          *message = "ProbeFields: point " + std::to_string(i) + " is in patch " + std::to_string(results.patch[i]) +
-                     ", cell " + std::to_string(results.cell[i]) + ", which the geometry does not have";
-        }
-        return Error::InvalidArgument;
+    // Points are independent: blocks in parallel, each with its own scratch;
+    // the first point (in input order) the geometry lacks a cell for is reported.
+    std::atomic<std::int64_t> firstBad{static_cast<std::int64_t>(n)};
+    engine::ForEachBlock(
+        engine::ExecutionPolicy::Par, static_cast<std::int64_t>(n), 4096,
+        [&](std::int64_t begin, std::int64_t end) {
+          auto probe = std::make_unique<PointProbe>(geometry, fields);
+          for (std::int64_t i = begin; i < end; ++i) {
+            if (results.status[i] != Status::Found) continue;
+            if (!probe->Evaluate(results.patch[i], results.cell[i], &results.params[3 * i],
+                                 values->data() + i * width)) {
+              std::int64_t expected = firstBad.load();
+              while (i < expected && !firstBad.compare_exchange_weak(expected, i)) {
+              }
+              return;
+            }
+          }
+        },
+        threads);
+    const std::int64_t bad = firstBad.load();
+    if (bad < static_cast<std::int64_t>(n)) {
+      if (message != nullptr) {
+        *message = "ProbeFields: point " + std::to_string(bad) + " is in patch " + std::to_string(results.patch[bad]) +
+                   ", cell " + std::to_string(results.cell[bad]) + ", which the geometry does not have";
       }
+      return Error::InvalidArgument;
     }
     return Error::Ok;
   } catch (const std::bad_alloc&) {

@@ -103,7 +103,7 @@ void ParseModel(const std::string& state, std::string* geometryState, std::vecto
 }
 
 py::dict ProbeFieldsDict(const FieldGeometry* model, const Results& results,
-                         const std::optional<std::vector<std::string>>& names) {
+                         const std::optional<std::vector<std::string>>& names, int threads) {
   if (model == nullptr || model->fields.empty()) {
     throw InputError("probe: this manifold has no node fields (they come from gmsh $NodeData, VTU point data and "
                      "Exodus nodal variables)");
@@ -130,7 +130,7 @@ py::dict ProbeFieldsDict(const FieldGeometry* model, const Results& results,
   Error error;
   {
     py::gil_scoped_release noGil;
-    error = ProbeFields(model->geometry, selected, results, &values, &message);
+    error = ProbeFields(model->geometry, selected, results, &values, &message, threads);
   }
   if (error != Error::Ok) throw std::runtime_error(message);
   const auto n = static_cast<py::ssize_t>(results.status.size());

@@ -27,9 +27,9 @@ void ParseModel(const std::string& state, std::string* geometryState, std::vecto
 /// point, (N,) for a scalar and (N, components) otherwise, NaN where the
 /// point was not found. `names`: the fields to give, in order (default:
 /// every field). Throws InputError for an unknown name or a manifold
-/// without fields. Evaluates without the GIL.
+/// without fields. Evaluates without the GIL, on `threads` threads (0: all cores).
 pybind11::dict ProbeFieldsDict(const FieldGeometry* model, const Results& results,
-                               const std::optional<std::vector<std::string>>& names);
+                               const std::optional<std::vector<std::string>>& names, int threads);
 
 /// Manifold.fields: {name: components}.
 pybind11::dict FieldComponents(const FieldGeometry* model);

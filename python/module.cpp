@@ -304,8 +304,9 @@ py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<
 /// Manifold.probe: Manifold.invert's dict with "fields" added.
 py::dict Probe(const PyManifold& self, const py::handle& points, const std::optional<std::vector<std::string>>& names,
                std::optional<double> maxDistance, std::optional<int> threads) {
-  Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads));
-  py::dict fields = ProbeFieldsDict(self.fields(), results, names);
+  const InversionOptions options = MakeOptions(maxDistance, threads);
+  Results results = InvertPoints(self, points, options);
+  py::dict fields = ProbeFieldsDict(self.fields(), results, names, options.threads);
   py::dict out = ResultsDict(std::move(results), self.dimension());
   out["fields"] = fields;
   return out;

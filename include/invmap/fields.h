@@ -60,8 +60,9 @@ std::vector<std::string> FieldColumnNames(const std::vector<const NodeField*>& f
 /// not found and for patches a field does not cover. `values` receives
 /// FieldWidth(fields) values per point, point-major, the fields in the
 /// given order. The fields must have passed CheckFields against
-/// `geometry`, else Error::InvalidArgument. Never throws.
+/// `geometry`, else Error::InvalidArgument. `threads`: worker threads, 0
+/// for all cores (the values do not depend on it). Never throws.
 Error ProbeFields(const Geometry& geometry, const std::vector<const NodeField*>& fields, const Results& results,
-                  std::vector<double>* values, std::string* message = nullptr);
+                  std::vector<double>* values, std::string* message = nullptr, int threads = 0);
 
 }  // namespace invmap

@@ -176,7 +176,7 @@ TEST_P(CubitFormatTest, HalfAnnulusAnswersAreAnalytic) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CubitFormats, CubitFormatTest, ::testing::Values(Format::Bext, Format::Json, Format::Exodus),
-                         [](const ::testing::TestParamInfo<Format>& info) { return FormatName(info.param); });
+                         [](const ::testing::TestParamInfo<Format>& p) { return FormatName(p.param); });
 
 // A flat geometry is 2D in every format.
 TEST(CubitExtraction, FlatSurfaceIsTwoDimensional) {

@@ -171,7 +171,7 @@ TEST_P(ExodusElementTest, PolynomialFieldReproducedByProbe) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ExodusTypes, ExodusElementTest, ::testing::ValuesIn(kCases),
-                         [](const ::testing::TestParamInfo<ExodusCase>& info) { return std::string(info.param.type); });
+                         [](const ::testing::TestParamInfo<ExodusCase>& p) { return std::string(p.param.type); });
 
 // Blocks are patches in file order, elements cells in block order; the
 // element type name is matched on its base (any case) and node count.

@@ -122,9 +122,9 @@ INSTANTIATE_TEST_SUITE_P(Meshes, GmshNodeDataTest,
                          ::testing::Values(GmshCase{1, false, false}, GmshCase{2, false, true},
                                            GmshCase{3, false, false}, GmshCase{2, true, true},
                                            GmshCase{3, true, false}),
-                         [](const ::testing::TestParamInfo<GmshCase>& info) {
-                           return std::string(info.param.hexes ? "hex" : "tet") + "_order" +
-                                  std::to_string(info.param.order) + (info.param.binary ? "_binary" : "_ascii");
+                         [](const ::testing::TestParamInfo<GmshCase>& p) {
+                           return std::string(p.param.hexes ? "hex" : "tet") + "_order" + std::to_string(p.param.order) +
+                                  (p.param.binary ? "_binary" : "_ascii");
                          });
 
 bool HaveGmshCommand() { return std::system("gmsh -version > /dev/null 2>&1") == 0; }
