@@ -2,8 +2,10 @@
 // the node field interpolated in the found cell) against vtkProbeFilter on
 // linear and quadratic tetrahedra and hexahedra, and against gmsh's view
 // interpolation (gmsh::view::probe) on tetrahedra of order 2 and 3: points
-// per second in the same run, and wrong answers counted for every method
-// (a point of the mesh not found, or a value off the exact field).
+// per second in the same run, and wrong answers counted for every method as
+// the peer harness counts them: a point of the mesh not found, or a value
+// off the exact field by more than 1e-9 of the field's range (the peers'
+// values off by more than 1e-6 of it are counted too, and the largest error).
 //
 //   invmap_bench_probe [--quick] [--points N] [--threads T] [--markdown F] [--csv F] [--work-dir D]
 #include <gmsh.h>
@@ -18,6 +20,7 @@
 #include <vtkStaticCellLocator.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -58,8 +61,24 @@ struct MethodRun {
   std::int64_t points = 0;
   double seconds = 0.0;  ///< Timed part (the probe; set-up excluded).
   double setupSeconds = 0.0;
-  std::int64_t wrong = 0;  ///< Not found inside the mesh, or off the exact field.
+  std::int64_t notFound = 0;  ///< Points of the mesh the method did not find.
+  std::int64_t wrong = 0;     ///< Not found, or off the exact field by more than 1e-9 of its range.
+  std::int64_t farOff = 0;    ///< Found, but off by more than 1e-6 of the range.
+  double maxError = 0.0;      ///< Largest error of a found point, relative to the range.
   double rate() const { return seconds > 0 ? points / seconds : 0.0; }
+
+  /// Scores one answer against the exact value; `range` is the field's.
+  void Score(bool found, double value, double exact, double range) {
+    if (!found) {
+      ++notFound;
+      ++wrong;
+      return;
+    }
+    const double error = std::abs(value - exact) / range;
+    maxError = std::max(maxError, error);
+    wrong += error > 1e-9;
+    farOff += error > 1e-6;
+  }
 };
 
 struct Row {
@@ -69,8 +88,11 @@ struct Row {
   std::vector<MethodRun> peers;
 };
 
-/// A value is right when it matches the exact field to 1e-9 of its size.
-bool Right(double value, double exact) { return std::abs(value - exact) <= 1e-9 * (1.0 + std::abs(exact)); }
+/// The range of the exact values (at least 1e-300).
+double Range(const std::vector<double>& exact) {
+  const auto [lo, hi] = std::minmax_element(exact.begin(), exact.end());
+  return std::max(*hi - *lo, 1e-300);
+}
 
 /// Uniform points of the mesh's domain (the sheared unit box) and their exact values.
 void MakePoints(std::int64_t count, int degree, bool boxOnly, std::vector<double>* xyz, std::vector<double>* exact) {
@@ -103,9 +125,8 @@ MethodRun RunInvmap(const FieldGeometry& model, const Manifold& manifold, const 
   manifold.Invert(PointsView::Interleaved(xyz.data(), exact.size(), 3), options, &results);
   ProbeFields(model.geometry, fields, results, &values, nullptr, threads);
   run.seconds = Seconds() - t0;
-  for (std::size_t i = 0; i < exact.size(); ++i) {
-    run.wrong += results.status[i] != Status::Found || !Right(values[i], exact[i]);
-  }
+  const double range = Range(exact);
+  for (std::size_t i = 0; i < exact.size(); ++i) run.Score(results.status[i] == Status::Found, values[i], exact[i], range);
   return run;
 }
 
@@ -140,8 +161,9 @@ MethodRun RunVtkProbe(vtkUnstructuredGrid* grid, const std::vector<double>& xyz,
   run.seconds = Seconds() - t0;
   vtkDataArray* values = probe->GetOutput()->GetPointData()->GetArray("f");
   vtkDataArray* valid = probe->GetOutput()->GetPointData()->GetArray(probe->GetValidPointMaskArrayName());
+  const double range = Range(exact);
   for (std::int64_t i = 0; i < count; ++i) {
-    run.wrong += valid->GetComponent(i, 0) == 0.0 || !Right(values->GetComponent(i, 0), exact[i]);
+    run.Score(valid->GetComponent(i, 0) != 0.0, values->GetComponent(i, 0), exact[i], range);
   }
   return run;
 }
@@ -222,18 +244,20 @@ Row GmshRow(int order, const Options& options) {
     MethodRun run;
     run.method = "gmsh::view::probe";
     run.points = count;
-    std::vector<double> value;
+    std::vector<std::vector<double>> values(static_cast<std::size_t>(count));
     const double t0 = Seconds();
     for (std::int64_t i = 0; i < count; ++i) {
-      value.clear();
       try {
-        gmsh::view::probe(view, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], value, 0);
+        gmsh::view::probe(view, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], values[i], 0);
       } catch (...) {
-        value.clear();
+        values[i].clear();
       }
-      run.wrong += value.size() != 1 || !Right(value[0], exact[i]);
     }
     run.seconds = Seconds() - t0;
+    const double range = Range(exact);
+    for (std::int64_t i = 0; i < count; ++i) {
+      run.Score(values[i].size() == 1, values[i].empty() ? 0.0 : values[i][0], exact[i], range);
+    }
     return run;
   };
   const std::int64_t n = Calibrate([&](std::int64_t count) { return gmshRun(count).seconds; },
@@ -245,26 +269,33 @@ Row GmshRow(int order, const Options& options) {
 void Report(const std::vector<Row>& rows, const Options& options, int threads) {
   std::ostringstream md, csv;
   md << "| mesh | cells | invmap 1 thread (points/s) | invmap " << threads
-     << " threads (points/s) | invmap wrong | peer | peer points | peer points/s | peer wrong | ratio 1 thread | ratio "
-     << threads << " threads |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
-  csv << "mesh,cells,invmap_points,invmap_rate_1,invmap_rate_all,invmap_wrong,peer,peer_points,peer_rate,peer_wrong,"
-         "peer_setup_seconds,ratio_1,ratio_all\n";
+     << " threads (points/s) | invmap wrong | peer | peer points | peer points/s | peer wrong (not found, off > 1e-6) | "
+        "peer max error | ratio 1 thread | ratio "
+     << threads << " threads |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  csv << "mesh,cells,invmap_points,invmap_rate_1,invmap_rate_all,invmap_wrong,invmap_max_error,peer,peer_points,"
+         "peer_rate,peer_wrong,peer_not_found,peer_off_1e-6,peer_max_error,peer_setup_seconds,ratio_1,ratio_all\n";
   for (const Row& row : rows) {
+    const std::int64_t invmapWrong = row.invmap1.wrong + row.invmapAll.wrong;
+    const double invmapMax = std::max(row.invmap1.maxError, row.invmapAll.maxError);
     for (const MethodRun& peer : row.peers) {
       char line[1024];
-      std::snprintf(line, sizeof line, "| %s | %lld | %.3g | %.3g | %lld of %lld | %s | %lld | %.3g | %lld | %.1fx | %.1fx |\n",
+      std::snprintf(line, sizeof line,
+                    "| %s | %lld | %.3g | %.3g | %lld of %lld | %s | %lld | %.3g | %lld (%lld, %lld) | %.2g | %.1fx | "
+                    "%.1fx |\n",
                     row.mesh.c_str(), static_cast<long long>(row.cells), row.invmap1.rate(), row.invmapAll.rate(),
-                    static_cast<long long>(row.invmap1.wrong + row.invmapAll.wrong),
+                    static_cast<long long>(invmapWrong),
                     static_cast<long long>(row.invmap1.points + row.invmapAll.points), peer.method.c_str(),
                     static_cast<long long>(peer.points), peer.rate(), static_cast<long long>(peer.wrong),
+                    static_cast<long long>(peer.notFound), static_cast<long long>(peer.farOff), peer.maxError,
                     row.invmap1.rate() / peer.rate(), row.invmapAll.rate() / peer.rate());
       md << line;
-      std::snprintf(line, sizeof line, "%s,%lld,%lld,%.6g,%.6g,%lld,%s,%lld,%.6g,%lld,%.6g,%.6g,%.6g\n", row.mesh.c_str(),
-                    static_cast<long long>(row.cells), static_cast<long long>(row.invmap1.points), row.invmap1.rate(),
-                    row.invmapAll.rate(), static_cast<long long>(row.invmap1.wrong + row.invmapAll.wrong),
+      std::snprintf(line, sizeof line, "%s,%lld,%lld,%.6g,%.6g,%lld,%.3g,%s,%lld,%.6g,%lld,%lld,%lld,%.3g,%.6g,%.6g,%.6g\n",
+                    row.mesh.c_str(), static_cast<long long>(row.cells), static_cast<long long>(row.invmap1.points),
+                    row.invmap1.rate(), row.invmapAll.rate(), static_cast<long long>(invmapWrong), invmapMax,
                     peer.method.c_str(), static_cast<long long>(peer.points), peer.rate(),
-                    static_cast<long long>(peer.wrong), peer.setupSeconds, row.invmap1.rate() / peer.rate(),
-                    row.invmapAll.rate() / peer.rate());
+                    static_cast<long long>(peer.wrong), static_cast<long long>(peer.notFound),
+                    static_cast<long long>(peer.farOff), peer.maxError, peer.setupSeconds,
+                    row.invmap1.rate() / peer.rate(), row.invmapAll.rate() / peer.rate());
       csv << line;
     }
   }
