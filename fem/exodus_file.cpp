@@ -3,8 +3,10 @@
 #include <exodusII.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "fem/file_checks.h"
+#include "fem/netcdf_header.h"
 #include "io/input_error.h"
 
 namespace invmap::fem {
@@ -26,6 +28,7 @@ std::string Trimmed(const char* text) {
 
 ExodusFile::ExodusFile(const std::string& path) : lock_(ExodusMutex()), path_(path) {
   RequireReadableFile(path);
+  if (std::string problem = CheckNetcdfHeader(path); !problem.empty()) Fail("not a valid Exodus II file: " + problem);
   // The library's defaults print to stderr and may abort the process on
   // errors; a reader reports them instead.
   ex_opts(EX_DEFAULT);
@@ -34,13 +37,28 @@ ExodusFile::ExodusFile(const std::string& path) : lock_(ExodusMutex()), path_(pa
   float version = 0.0f;
   id_ = ex_open(path.c_str(), EX_READ, &cpuWordSize, &ioWordSize, &version);
   if (id_ < 0) Fail("not an Exodus II file (the Exodus library cannot open it)");
+  // A throw from here on skips the destructor: close the file first.
+  const auto closeAndFail = [&](const std::string& what) {
+    ex_close(id_);
+    id_ = -1;
+    Fail(what);
+  };
   char title[MAX_LINE_LENGTH + 1] = {};
   int numDim = 0, numNodes = 0, numElements = 0, numBlocks = 0, numNodeSets = 0, numSideSets = 0;
   if (ex_get_init(id_, title, &numDim, &numNodes, &numElements, &numBlocks, &numNodeSets, &numSideSets) < 0) {
-    Fail("cannot read the Exodus header (ex_get_init)");
+    closeAndFail("cannot read the Exodus header (ex_get_init)");
   }
-  if (numDim < 1 || numDim > 3) Fail("dimension " + std::to_string(numDim) + " is not 1, 2 or 3");
-  if (numNodes < 0 || numElements < 0 || numBlocks < 0) Fail("negative counts in the header");
+  if (numDim < 1 || numDim > 3) closeAndFail("dimension " + std::to_string(numDim) + " is not 1, 2 or 3");
+  if (numNodes < 0 || numElements < 0 || numBlocks < 0) closeAndFail("negative counts in the header");
+  // Arrays are sized by these counts: a count the file cannot hold (even
+  // compressed a thousandfold) is a corrupt header, not an allocation.
+  std::error_code error;
+  const double bytes = static_cast<double>(std::filesystem::file_size(path, error));
+  const double limit = countLimit_ = 1000.0 * bytes + 1e6;
+  if (8.0 * numNodes * numDim > limit || 4.0 * numElements > limit || 8.0 * numBlocks > limit) {
+    closeAndFail("the header's counts (" + std::to_string(numNodes) + " nodes, " + std::to_string(numElements) +
+                 " elements, " + std::to_string(numBlocks) + " blocks) do not fit a file of this size");
+  }
   numDim_ = numDim;
   numNodes_ = numNodes;
   numElements_ = numElements;
@@ -88,6 +106,10 @@ std::vector<ExodusBlock> ExodusFile::Blocks() const {
     block.numElements = numElements;
     block.nodesPerElement = nodesPer;
     if (numElements < 0 || nodesPer < 0) Fail("element block " + std::to_string(id) + ": negative counts");
+    if (4.0 * numElements * nodesPer > countLimit_) {
+      Fail("element block " + std::to_string(id) + ": " + std::to_string(numElements) + " elements of " +
+           std::to_string(nodesPer) + " nodes do not fit a file of this size");
+    }
     total += numElements;
     char name[MAX_STR_LENGTH + 1] = {};
     if (ex_get_name(id_, EX_ELEM_BLOCK, id, name) >= 0) block.name = Trimmed(name);

@@ -59,6 +59,7 @@ class ExodusFile {
   std::int64_t numNodes_ = 0;
   std::int64_t numElements_ = 0;
   int numBlocks_ = 0;
+  double countLimit_ = 0.0;  ///< Bytes the arrays of the file may take (its size, allowing compression).
 };
 
 }  // namespace invmap::fem
