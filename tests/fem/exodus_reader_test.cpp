@@ -227,6 +227,11 @@ TEST(ExodusReader, BadFilesAreInputErrorsNamingBlockAndElement) {
   const ScratchDir dir;
   ExpectExodusError(dir.Path("missing.exo"), {}, "no such file");
   ExpectExodusError(dir.Write("text.exo", "not netCDF at all\n"), {}, "not an Exodus II file");
+  // A classic netCDF header claiming a 3 GB attribute in a 40-byte file
+  // (found by fuzz_fem: the netCDF library allocated it before failing).
+  const std::string header("CDF\x01" "\0\0\0\0" "\0\0\0\0\0\0\0\0" "\0\0\0\x0c\0\0\0\x01"
+                           "\0\0\0\x01" "a\0\0\0" "\0\0\0\x02" "\xc0\0\0\0" "abcd", 40);
+  ExpectExodusError(dir.Write("huge_attribute.exo", header), {}, "netCDF global attribute 0 does not fit in the file");
   const std::vector<double> xyz = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0.5, 0.5, -1};
   ASSERT_TRUE(WriteExodus(dir.Path("pyramid.exo"), 3, xyz, {{4, "PYRAMID", 5, {1, 2, 3, 4, 5}, ""}}, {}));
   ExpectExodusError(dir.Path("pyramid.exo"), {}, "element block 4 (PYRAMID)");
