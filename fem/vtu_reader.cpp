@@ -9,6 +9,10 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "fem/file_checks.h"
@@ -58,10 +62,44 @@ std::vector<NodeField> ReadPointFields(vtkUnstructuredGrid* grid, const Lagrange
   return fields;
 }
 
+/// Checks the sizes the file's XML declares (points, cells, components of
+/// each piece and array) against the file's size before VTK allocates them:
+/// VTK sizes its arrays by what the header says. Scans up to the appended
+/// data (all headers come before it), or the whole file.
+void CheckDeclaredSizes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code error;
+  const double bytes = static_cast<double>(std::filesystem::file_size(path, error));
+  // Compressed data can hold far more values than bytes; a thousandfold is
+  // generous for real meshes and still bounds a corrupt header's claim.
+  const double limit = 1000.0 * bytes + 1e6;
+  static const char* kCounts[] = {"NumberOfPoints=\"", "NumberOfCells=\"", "NumberOfComponents=\""};
+  std::string window;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    // Keep the tail of the previous chunk: a match may straddle the boundary.
+    window = window.substr(window.size() > 64 ? window.size() - 64 : 0) + std::string(chunk, in.gcount());
+    for (const char* key : kCounts) {
+      for (std::size_t at = window.find(key); at != std::string::npos; at = window.find(key, at + 1)) {
+        const std::size_t start = at + std::strlen(key);
+        const std::size_t end = window.find('"', start);
+        if (end == std::string::npos) break;
+        const double count = std::strtod(window.substr(start, end - start).c_str(), nullptr);
+        if (!(count <= limit)) {
+          throw io::InputError(path, 0, std::string(key).substr(0, std::strlen(key) - 2) + " " +
+                                            window.substr(start, end - start) + " does not fit a file of this size");
+        }
+      }
+    }
+    if (window.find("<AppendedData") != std::string::npos) return;
+  }
+}
+
 }  // namespace
 
 FieldGeometry ReadVtu(const std::string& path) {
   RequireReadableFile(path);
+  CheckDeclaredSizes(path);
   ScopedVtkMessages messages;
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(path.c_str());

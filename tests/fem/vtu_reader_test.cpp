@@ -457,6 +457,11 @@ TEST(VtuReader, PointIdOutOfRangeNamesTheCell) {
       "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">5</DataArray></Cells>\n"
       "</Piece></UnstructuredGrid></VTKFile>\n";
   ExpectReadError(dir.Write("bad_id.vtu", text), "cell 0 (VTK_TRIANGLE): point id 7 out of range");
+  // A piece claiming far more points than the file could hold is refused
+  // before VTK sizes its arrays by it.
+  std::string huge = text;
+  huge.replace(huge.find("NumberOfPoints=\"3\""), 18, "NumberOfPoints=\"90000000000\"");
+  ExpectReadError(dir.Write("huge.vtu", huge), "NumberOfPoints 90000000000 does not fit a file of this size");
 }
 
 }  // namespace
