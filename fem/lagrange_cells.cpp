@@ -2,34 +2,11 @@
 
 #include <algorithm>
 
+#include "kernels/cell_shape.h"
+
 namespace invmap::fem {
 
-std::array<int, 3> UniformCellDegrees(CellType type, int degree) {
-  switch (type) {
-    case CellType::Line:
-    case CellType::Tri:
-    case CellType::Tet:
-      return {degree, 0, 0};
-    case CellType::Quad:
-    case CellType::Wedge:
-      return {degree, degree, 0};
-    case CellType::Hex:
-      return {degree, degree, degree};
-  }
-  return {0, 0, 0};
-}
-
-int ParamDimOf(CellType type) {
-  switch (type) {
-    case CellType::Line:
-      return 1;
-    case CellType::Tri:
-    case CellType::Quad:
-      return 2;
-    default:
-      return 3;
-  }
-}
+int ParamDimOf(CellType type) { return kernels::CellShape::ParamDimOf(static_cast<kernels::CellType>(type)); }
 
 int GeometryDimension(const std::vector<double>& nodes, bool anyVolume) {
   if (anyVolume) return 3;
@@ -67,7 +44,7 @@ Patch LagrangePatchBuilder::MakePatch(int dim) const {
     e.converter->Apply(nodal.data(), dim, patch.points.data() + point * dim);
     point += e.converter->numControlPoints();
     patch.cellTypes.push_back(e.type);
-    const std::array<int, 3> degrees = UniformCellDegrees(e.type, e.degree);
+    const std::array<int, 3> degrees = io::UniformDegrees(e.type, e.degree);
     patch.cellDegrees.insert(patch.cellDegrees.end(), degrees.begin(), degrees.end());
     patch.cellOffsets.push_back(point);
   }

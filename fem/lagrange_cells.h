@@ -53,10 +53,6 @@ class LagrangePatchBuilder {
   std::vector<std::int64_t> elementNodes_;
 };
 
-/// Degrees of a cell as Patch::cellDegrees stores them (3 per cell, one per
-/// simplex factor, unused 0) for the same degree in every factor.
-std::array<int, 3> UniformCellDegrees(CellType type, int degree);
-
 /// Parametric dimension of a cell type (1, 2 or 3).
 int ParamDimOf(CellType type);
 

@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include "engine/cell_store.h"
 #include "engine/parallel.h"
 #include "fields/cell_basis.h"
 #include "invmap/fields.h"
@@ -15,32 +16,6 @@ namespace invmap {
 namespace {
 
 using kernels::CellShape;
-
-/// Mesh cells: vertices per cell and, for each Bezier control point of the
-/// degree-1 cell, the finite-element vertex it is (quads and hexes list
-/// their faces counter-clockwise, Bezier nets are tensor products).
-struct MeshLayout {
-  int vertices;
-  int vertexOfControlPoint[8];
-};
-
-MeshLayout MeshLayoutOf(CellType type) {
-  switch (type) {
-    case CellType::Line:
-      return {2, {0, 1}};
-    case CellType::Tri:
-      return {3, {0, 1, 2}};
-    case CellType::Quad:
-      return {4, {0, 1, 3, 2}};
-    case CellType::Tet:
-      return {4, {0, 1, 2, 3}};
-    case CellType::Hex:
-      return {8, {0, 1, 3, 2, 4, 5, 7, 6}};
-    case CellType::Wedge:
-      return {6, {0, 1, 2, 3, 4, 5}};
-  }
-  return {0, {}};
-}
 
 /// Points (control points or vertices) of a patch.
 std::size_t NumPoints(const Geometry& geometry, const Patch& patch) {
@@ -82,11 +57,11 @@ class PointProbe {
       if (cell != 0) return false;
       shape = ShapeOf(patch, 0);
     } else {
-      const MeshLayout layout = MeshLayoutOf(patch.cell);
+      const engine::MeshCellLayout layout = engine::LayoutOf(patch.cell);
       if (cell < 0 || static_cast<std::size_t>(cell + 1) * layout.vertices > patch.cells.size()) return false;
       shape = CellShape(static_cast<kernels::CellType>(patch.cell), {1, 1, 1});
       for (int k = 0; k < layout.vertices; ++k) {
-        meshPoints_[k] = patch.cells[static_cast<std::size_t>(cell) * layout.vertices + layout.vertexOfControlPoint[k]];
+        meshPoints_[k] = patch.cells[static_cast<std::size_t>(cell) * layout.vertices + layout.bezierFromFe[k]];
       }
     }
     const double* weights = patch.weights.empty() ? nullptr : patch.weights.data() + first;

@@ -604,23 +604,6 @@ class GmshParser {
   bool bigEndian_ = false;
 };
 
-/// Degrees of a cell as Patch::cellDegrees stores them (3 per cell).
-std::array<int, 3> CellDegrees(const GmshElementType& type) {
-  const int p = type.order;
-  switch (type.cell) {
-    case CellType::Line:
-    case CellType::Tri:
-    case CellType::Tet:
-      return {p, 0, 0};
-    case CellType::Quad:
-    case CellType::Wedge:
-      return {p, p, 0};
-    case CellType::Hex:
-      return {p, p, p};
-  }
-  return {0, 0, 0};
-}
-
 /// Turns parsed sections into patches of Bezier cells.
 class GeometryBuilder {
  public:
@@ -780,7 +763,7 @@ class GeometryBuilder {
     for (const ElementBlock* block : blocks) {
       const GmshElementType& type = *block->type;
       const LagrangeToBernstein& converter = Converter(type);
-      const std::array<int, 3> degrees = CellDegrees(type);
+      const std::array<int, 3> degrees = UniformDegrees(type.cell, type.order);
       nodal.resize(3 * static_cast<std::size_t>(type.numNodes));
       for (std::int64_t e = 0; e < block->count; ++e) {
         const std::int64_t* nodes = mesh_.elementNodes.data() + block->firstNode + e * type.numNodes;

@@ -227,6 +227,13 @@ LagrangeToBernstein LagrangeToBernstein::FromShapeValues(CellType type, int degr
   return out;
 }
 
+std::array<int, 3> UniformDegrees(CellType type, int degree) {
+  std::array<int, 3> degrees{0, 0, 0};
+  const std::size_t factors = FactorDims(type).size();
+  for (std::size_t f = 0; f < factors; ++f) degrees[f] = degree;
+  return degrees;
+}
+
 std::vector<double> BernsteinBasisAt(CellType type, int degree, const std::array<double, 3>& x) {
   const std::vector<Real> b = BernsteinValues(type, degree, x);
   return std::vector<double>(b.begin(), b.end());

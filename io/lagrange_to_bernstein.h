@@ -18,6 +18,10 @@ int BernsteinCount(CellType type, int degree);
 /// coordinates 0): a simplex multi-index a sits at a / degree.
 std::vector<std::array<double, 3>> BernsteinLattice(CellType type, int degree);
 
+/// Degrees of a cell as Patch::cellDegrees stores them (3 per cell, one per
+/// simplex factor, unused 0) for `degree` in every factor.
+std::array<int, 3> UniformDegrees(CellType type, int degree);
+
 /// Values of every Bernstein polynomial of a cell of `type` with degree
 /// `degree` in every factor at reference point x, in control point order.
 std::vector<double> BernsteinBasisAt(CellType type, int degree, const std::array<double, 3>& x);

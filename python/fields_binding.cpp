@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "python/byte_state.h"
 #include "python/errors.h"
 
 namespace py = pybind11;
@@ -16,65 +17,19 @@ namespace {
 /// "invmapF" plus the format version: a state with fields.
 constexpr char kModelMagic[8] = {'i', 'n', 'v', 'm', 'a', 'p', 'F', '1'};
 
-void AppendBytes(std::string* out, const void* data, std::size_t bytes) {
-  out->append(static_cast<const char*>(data), bytes);
-}
-
-void AppendSize(std::string* out, std::uint64_t value) { AppendBytes(out, &value, sizeof value); }
-
-/// Reads what the Append functions wrote, checking every length.
-class StateReader {
- public:
-  explicit StateReader(const std::string& state) : data_(state.data()), left_(state.size()) {}
-  std::uint64_t Size() {
-    std::uint64_t value = 0;
-    Take(&value, sizeof value);
-    return value;
-  }
-  std::string Bytes(std::uint64_t count) {
-    if (count > left_) throw std::invalid_argument("manifold state: truncated");
-    std::string bytes(data_, static_cast<std::size_t>(count));
-    data_ += count;
-    left_ -= static_cast<std::size_t>(count);
-    return bytes;
-  }
-  std::vector<double> Doubles() {
-    const std::uint64_t count = Size();
-    if (count > left_ / sizeof(double)) throw std::invalid_argument("manifold state: truncated");
-    std::vector<double> values(static_cast<std::size_t>(count));
-    Take(values.data(), values.size() * sizeof(double));
-    return values;
-  }
-  bool AtEnd() const { return left_ == 0; }
-
- private:
-  void Take(void* out, std::size_t bytes) {
-    if (bytes > left_) throw std::invalid_argument("manifold state: truncated");
-    if (bytes) std::memcpy(out, data_, bytes);
-    data_ += bytes;
-    left_ -= bytes;
-  }
-  const char* data_;
-  std::size_t left_;
-};
-
 }  // namespace
 
 std::string SerializeModel(const std::string& geometryState, const std::vector<NodeField>& fields) {
   if (fields.empty()) return geometryState;
   std::string out(kModelMagic, sizeof kModelMagic);
-  AppendSize(&out, geometryState.size());
-  out += geometryState;
-  AppendSize(&out, fields.size());
+  StateWriter w(&out);
+  w.Vector(std::vector<char>(geometryState.begin(), geometryState.end()));
+  w.Value<std::uint64_t>(fields.size());
   for (const NodeField& field : fields) {
-    AppendSize(&out, field.name.size());
-    out += field.name;
-    AppendSize(&out, static_cast<std::uint64_t>(field.components));
-    AppendSize(&out, field.patchValues.size());
-    for (const std::vector<double>& values : field.patchValues) {
-      AppendSize(&out, values.size());
-      AppendBytes(&out, values.data(), values.size() * sizeof(double));
-    }
+    w.Vector(std::vector<char>(field.name.begin(), field.name.end()));
+    w.Value<std::int32_t>(field.components);
+    w.Value<std::uint64_t>(field.patchValues.size());
+    for (const std::vector<double>& values : field.patchValues) w.Vector(values);
   }
   return out;
 }
@@ -85,18 +40,18 @@ void ParseModel(const std::string& state, std::string* geometryState, std::vecto
     *geometryState = state;
     return;
   }
-  const std::string body = state.substr(sizeof kModelMagic);
-  StateReader r(body);
-  *geometryState = r.Bytes(r.Size());
-  const std::uint64_t count = r.Size();
+  StateReader r(state.data() + sizeof kModelMagic, state.size() - sizeof kModelMagic, "manifold state");
+  const std::vector<char> geometry = r.Vector<char>();
+  geometryState->assign(geometry.begin(), geometry.end());
+  const std::uint64_t count = r.Value<std::uint64_t>();
   for (std::uint64_t f = 0; f < count; ++f) {
     NodeField field;
-    field.name = r.Bytes(r.Size());
-    const std::uint64_t components = r.Size();
-    if (components < 1 || components > 1000) throw std::invalid_argument("manifold state: bad field components");
-    field.components = static_cast<int>(components);
-    const std::uint64_t patches = r.Size();
-    for (std::uint64_t p = 0; p < patches; ++p) field.patchValues.push_back(r.Doubles());
+    const std::vector<char> name = r.Vector<char>();
+    field.name.assign(name.begin(), name.end());
+    field.components = r.Value<std::int32_t>();
+    if (field.components < 1) throw std::invalid_argument("manifold state: bad field components");
+    const std::uint64_t patches = r.Value<std::uint64_t>();
+    for (std::uint64_t p = 0; p < patches; ++p) field.patchValues.push_back(r.Vector<double>());
     fields->push_back(std::move(field));
   }
   if (!r.AtEnd()) throw std::invalid_argument("manifold state: unexpected bytes after the fields");

@@ -187,17 +187,6 @@ TEST(CubitExtraction, FlatSurfaceIsTwoDimensional) {
   EXPECT_EQ(fem::ReadCubitBext(dir.Path("flat.bext")).geometry.dimension, 2);
 }
 
-/// Expects `read` to throw an InputError whose message contains each of `texts`.
-template <typename Read>
-void ExpectError(Read&& read, std::initializer_list<std::string> texts) {
-  try {
-    read();
-    ADD_FAILURE() << "no error";
-  } catch (const io::InputError& e) {
-    for (const std::string& text : texts) EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-  }
-}
-
 /// `text` with line `line` (1-based) replaced.
 std::string ReplaceLine(const std::string& text, int line, const std::string& replacement) {
   std::istringstream in(text);
@@ -209,14 +198,14 @@ std::string ReplaceLine(const std::string& text, int line, const std::string& re
 TEST(CubitExtraction, BadBextFilesNameFileAndLine) {
   const ScratchDir dir;
   const std::string good = BextText(Extract({CubicCurve()}));
-  ExpectError([&] { fem::ReadCubitBext(dir.Write("a.bext", ReplaceLine(good, 1, "B E X T 3.0"))); },
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("a.bext", ReplaceLine(good, 1, "B E X T 3.0"))); },
               {"a.bext:1:", "version 3.0"});
-  ExpectError([&] { fem::ReadCubitBext(dir.Write("b.bext", "hello\n")); }, {"b.bext:1:", "B E X T 2.0"});
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("b.bext", "hello\n")); }, {"b.bext:1:", "B E X T 2.0"});
   // Line 6 is the first control point.
-  ExpectError([&] { fem::ReadCubitBext(dir.Write("c.bext", ReplaceLine(good, 6, "0 0 zero 1"))); },
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("c.bext", ReplaceLine(good, 6, "0 0 zero 1"))); },
               {"c.bext:6:", "'zero'"});
   // Cut inside the last coefficient vector.
-  ExpectError([&] { fem::ReadCubitBext(dir.Write("d.bext", good.substr(0, good.size() - 40))); },
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("d.bext", good.substr(0, good.size() - 40))); },
               {"d.bext:", "unexpected end of file"});
   // The first element's control point ids (line after the block header).
   std::istringstream in(good);
@@ -227,23 +216,23 @@ TEST(CubitExtraction, BadBextFilesNameFileAndLine) {
     if (line.rfind("1 4 4 4 3", 0) == 0) idsLine = n + 1;
   }
   ASSERT_GT(idsLine, 0);
-  ExpectError([&] { fem::ReadCubitBext(dir.Write("e.bext", ReplaceLine(good, idsLine, "1 2 3 99"))); },
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("e.bext", ReplaceLine(good, idsLine, "1 2 3 99"))); },
               {"e.bext", "element 1", "control point 98 out of range"});
-  ExpectError([&] { fem::ReadCubitBext(dir.Write("f.bext", ReplaceLine(good, idsLine - 1, "2 4 4 4 3"))); },
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("f.bext", ReplaceLine(good, idsLine - 1, "2 4 4 4 3"))); },
               {"f.bext:" + std::to_string(idsLine - 1) + ":", "element type 2"});
 }
 
 TEST(CubitExtraction, BadJsonFilesNameFileAndPath) {
   const ScratchDir dir;
-  ExpectError([&] { fem::ReadCubitJson(dir.Write("a.json", "{\n\"patch_id\": 0,\n\"nodes\": [1, 2,\n")); },
+  ExpectInputError([&] { fem::ReadCubitJson(dir.Write("a.json", "{\n\"patch_id\": 0,\n\"nodes\": [1, 2,\n")); },
               {"a.json:", "not valid JSON"});
   const std::string good = CubitJsonText(Extract({CubicCurve()}));
   std::string bad = good;
   const std::string first = "\"coeff_vector_ids\": [ 0,";
   bad.replace(bad.find(first), first.size(), "\"coeff_vector_ids\": [ 999,");
-  ExpectError([&] { fem::ReadCubitJson(dir.Write("b.json", bad)); },
+  ExpectInputError([&] { fem::ReadCubitJson(dir.Write("b.json", bad)); },
               {"b.json", "elements.element_blocks[0]", "coefficient vector 999 out of range"});
-  ExpectError([&] { fem::ReadCubitJson(dir.Write("c.json", "{\"control_points\": {}, \"elements\": {}}")); },
+  ExpectInputError([&] { fem::ReadCubitJson(dir.Write("c.json", "{\"control_points\": {}, \"elements\": {}}")); },
               {"c.json", "new Bezier extraction JSON format is not read"});
   EXPECT_FALSE(fem::LooksLikeCubitJson(dir.Write("d.json", "{\"format\": \"invmap-geometry\", \"version\": 1}")));
   EXPECT_TRUE(fem::LooksLikeCubitJson(dir.Write("e.json", " {\n  \"block_elem_map\": []}")));
@@ -254,7 +243,7 @@ TEST(CubitExtraction, BadExodusBexFilesNameTheBlock) {
   TestModel model = Extract({CubicCurve()});
   model.vectors[3].pop_back();
   ASSERT_TRUE(WriteExodusBex(dir.Path("short.exo"), model));
-  ExpectError([&] { fem::ReadExodus(dir.Path("short.exo"), {}); },
+  ExpectInputError([&] { fem::ReadExodus(dir.Path("short.exo"), {}); },
               {"short.exo", "element block 1 (BEX_CURVE), element 0 of the block", "coefficient vector 3"});
 }
 

@@ -8,8 +8,13 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
+#include "io/input_error.h"
 
 namespace invmap::testing {
 
@@ -70,6 +75,17 @@ inline std::array<double, 3> RandomReferencePoint(CellType type, std::mt19937& r
         if (x[0] + x[1] <= 1.0 - margin) return x;
         break;
     }
+  }
+}
+
+/// Expects `read()` to throw an io::InputError whose message contains each of `texts`.
+template <typename Read>
+void ExpectInputError(Read&& read, std::initializer_list<std::string> texts) {
+  try {
+    read();
+    ADD_FAILURE() << "no error";
+  } catch (const io::InputError& e) {
+    for (const std::string& text : texts) EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
   }
 }
 
