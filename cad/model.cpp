@@ -15,7 +15,7 @@
 #include "cad/model_conversion.h"
 #include "cad/model_impl.h"
 #include "cad/shape_reader.h"
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "invmap/cad.h"
 
 namespace invmap::cad {
@@ -86,8 +86,8 @@ std::string Model::SignedUnsupported() const {
 void Model::SignDistances(const double* xyz, std::size_t count, const Results& results, double* signedDistances,
                           int threads) const {
   const PseudoNormals& normals = impl_->normals;
-  engine::ForEachBlock(
-      engine::ExecutionPolicy::Par, static_cast<std::int64_t>(count), 256,
+  ForEachBlock(
+      ExecutionPolicy::Par, static_cast<std::int64_t>(count), 256,
       [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t i = begin; i < end; ++i) {
           const double d = results.distance[i];

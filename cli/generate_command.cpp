@@ -7,10 +7,10 @@
 
 #include "cad/sample_part.h"
 #include "cli/commands.h"
-#include "cli/sample_geometries.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 #include "io/sample_writers.h"
+#include "samples/sample_geometries.h"
 
 namespace invmap::cli {
 namespace {

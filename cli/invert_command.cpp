@@ -131,7 +131,11 @@ struct ResultSink {
     dim = pointDim;
     io::ResultWriteOptions writeOptions;
     writeOptions.colorByDistance = options.color;
-    writeOptions.signedDistance = options.signedDistance;
+    if (options.signedDistance) {
+      // The last column, and what the colours show.
+      writeOptions.extraColumns = {"signed_distance"};
+      writeOptions.signedColorColumn = 0;
+    }
     writer = io::OpenResultWriter(options.output, dim, writeOptions);
   }
   void Write(const io::PointChunk& chunk, const Results& results, const double* signedDistances) {

@@ -60,17 +60,36 @@ constexpr unsigned char kViridis[256][3] = {
 /// Grey of rows that have no distance to colour.
 constexpr unsigned char kNoColor = 128;
 
-/// Value of the fields that are empty in CSV.
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-/// Bytes a CSV row can take: 12 fields of at most 24 characters.
-constexpr std::size_t kMaxCsvRow = 12 * 25 + 1;
-
 /// Moreland's cool-warm diverging map at 9 levels (8-bit sRGB), from blue
 /// through a light grey to red.
 constexpr unsigned char kCoolWarm[9][3] = {{59, 76, 192},   {98, 130, 234},  {141, 176, 254},
                                            {184, 208, 249}, {221, 221, 221}, {245, 196, 173},
                                            {244, 154, 123}, {222, 96, 77},   {180, 4, 38}};
+
+/// Value of the fields that are empty in CSV.
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+/// Bytes a CSV row can take: 11 fields and the extra ones, each at most 24
+/// characters and a separator.
+constexpr std::size_t MaxCsvRow(std::size_t extraColumns) { return (11 + extraColumns) * 25 + 1; }
+
+/// A CSV header field: quoted (quotes doubled) when it holds a separator,
+/// a quote or a line break.
+std::string CsvName(const std::string& name) {
+  if (name.find_first_of(",\"\r\n") == std::string::npos) return name;
+  std::string quoted = "\"";
+  for (const char c : name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+/// A PLY property name: one token.
+std::string PlyName(const std::string& name) {
+  std::string token = name.empty() ? std::string("_") : name;
+  for (char& c : token) {
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') c = '_';
+  }
+  return token;
+}
 
 /// Writes `value` as %.17g (to_chars with precision 17 in general format is
 /// specified to match printf, and is much faster) and returns the end.
@@ -93,16 +112,18 @@ const char* const kStatusWords[] = {"found", "none", "invalid"};
 class CsvResultWriter : public ResultWriter {
  public:
   /// Creates the file and writes the header line.
-  CsvResultWriter(const std::string& path, int dim, bool signedDistance) : ResultWriter(path, dim) {
-    out_.Write(signedDistance ? "index,status,patch,cell,u,v,w,x,y,z,distance,signed_distance\n"
-                              : "index,status,patch,cell,u,v,w,x,y,z,distance\n");
+  CsvResultWriter(const std::string& path, int dim, const std::vector<std::string>& extraColumns)
+      : ResultWriter(path, dim, extraColumns.size()) {
+    std::string header = "index,status,patch,cell,u,v,w,x,y,z,distance";
+    for (const std::string& name : extraColumns) header += "," + CsvName(name);
+    out_.Write(header + "\n");
   }
 
  private:
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double*, std::size_t count, const Results& results, const double* signedDistances) override {
+  void WriteRows(const double*, std::size_t count, const Results& results, const double* extra) override {
     for (std::size_t i = 0; i < count; ++i) {
-      char* const start = out_.Reserve(kMaxCsvRow);
+      char* const start = out_.Reserve(MaxCsvRow(extraColumns_));
       char* p = WriteInteger(start, rows_ + static_cast<std::int64_t>(i));
       *p++ = ',';
       const Status status = results.status[i];
@@ -111,10 +132,12 @@ class CsvResultWriter : public ResultWriter {
       std::memcpy(p, word, length);
       p += length;
       if (status != Status::Found) {
-        const char* empty = signedDistances ? ",-1,-1,,,,,,,,\n" : ",-1,-1,,,,,,,\n";
-        const std::size_t bytes = std::strlen(empty);
-        std::memcpy(p, empty, bytes);
-        out_.Advance(static_cast<std::size_t>(p - start) + bytes);
+        std::memcpy(p, ",-1,-1,,,,,,,", 13);
+        p += 13;
+        std::memset(p, ',', extraColumns_);
+        p += extraColumns_;
+        *p++ = '\n';
+        out_.Advance(static_cast<std::size_t>(p - start));
         continue;
       }
       *p++ = ',';
@@ -126,8 +149,10 @@ class CsvResultWriter : public ResultWriter {
       p = WriteField(p, results.closest[3 * i], ',');
       p = WriteField(p, results.closest[3 * i + 1], ',');
       p = WriteField(p, dim_ == 3 ? results.closest[3 * i + 2] : kNan, ',');
-      p = WriteField(p, results.distance[i], signedDistances ? ',' : '\n');
-      if (signedDistances) p = WriteField(p, signedDistances[i], '\n');
+      p = WriteField(p, results.distance[i], extraColumns_ > 0 ? ',' : '\n');
+      for (std::size_t k = 0; k < extraColumns_; ++k) {
+        p = WriteField(p, extra[i * extraColumns_ + k], k + 1 < extraColumns_ ? ',' : '\n');
+      }
       out_.Advance(static_cast<std::size_t>(p - start));
     }
   }
@@ -141,10 +166,11 @@ class PlyResultWriter : public ResultWriter {
  public:
   /// Creates the file and writes the header with a zero count.
   PlyResultWriter(const std::string& path, int dim, const ResultWriteOptions& options)
-      : ResultWriter(path, dim), options_(options) {
-    recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.signedDistance ? 8 : 0) + (options_.colorByDistance ? 3 : 0);
-    twoPass_ = options_.colorByDistance && (options_.signedDistance ? std::isnan(options_.colorMax)
-                                                                    : std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
+      : ResultWriter(path, dim, options.extraColumns.size()), options_(options) {
+    recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.colorByDistance ? 3 : 0) + 8 * extraColumns_;
+    signed_ = options_.signedColorColumn >= 0 && static_cast<std::size_t>(options_.signedColorColumn) < extraColumns_;
+    twoPass_ = options_.colorByDistance &&
+               (signed_ ? std::isnan(options_.colorMax) : std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n";
     if (options_.colorByDistance) {
       colorCommentOffset_ = static_cast<std::int64_t>(header.size());
@@ -158,8 +184,8 @@ class PlyResultWriter : public ResultWriter {
     for (const char* name : {"u", "v", "w", "cx", "cy", "cz", "distance"}) {
       header += std::string("property double ") + name + "\n";
     }
-    if (options_.signedDistance) header += "property double signed_distance\n";
     if (options_.colorByDistance) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    for (const std::string& name : options_.extraColumns) header += "property double " + PlyName(name) + "\n";
     header += "end_header\n";
     dataOffset_ = static_cast<std::int64_t>(header.size());
     out_.Write(header);
@@ -174,11 +200,12 @@ class PlyResultWriter : public ResultWriter {
   /// kColorCommentBytes.
   std::string ColorComment(double lo, double hi) const {
     char text[kColorCommentBytes + 1];
-    const char* what = options_.signedDistance ? "cool-warm colormap of signed_distance" : "viridis colormap of distance";
+    const std::string what = signed_ ? "cool-warm colormap of " + PlyName(options_.extraColumns[options_.signedColorColumn])
+                                     : std::string("viridis colormap of distance");
     if (std::isnan(lo) || std::isnan(hi)) {
-      std::snprintf(text, sizeof(text), "comment red green blue: %s, no found points", what);
+      std::snprintf(text, sizeof(text), "comment red green blue: %s, no found points", what.c_str());
     } else {
-      std::snprintf(text, sizeof(text), "comment red green blue: %s from %.17g to %.17g", what, lo, hi);
+      std::snprintf(text, sizeof(text), "comment red green blue: %s from %.17g to %.17g", what.c_str(), lo, hi);
     }
     std::string line(text);
     line.resize(kColorCommentBytes - 1, ' ');
@@ -186,33 +213,38 @@ class PlyResultWriter : public ResultWriter {
   }
 
   /// Colour of a distance on [lo, hi]; a flat range maps to the first
-  /// colour (signed: to the middle, white).
+  /// colour (a signed distance's to the middle, white).
   void Color(double distance, double lo, double hi, unsigned char rgb[3]) const {
-    if (options_.signedDistance) {
+    if (signed_) {
       DivergingColor(hi > lo ? (distance - lo) / (hi - lo) : 0.5, rgb);
     } else {
       ViridisColor(hi > lo ? (distance - lo) / (hi - lo) : 0.0, rgb);
     }
   }
 
-  /// The colours' range: signed distances centred on 0 over [-m, m].
+  /// The colours' range: given, or the shown values' range (a signed
+  /// distance's centred on 0).
   void ColorRange(double* lo, double* hi) const {
     const bool anyFound = minDistance_ <= maxDistance_;
-    if (options_.signedDistance) {
-      const double m = !std::isnan(options_.colorMax) ? options_.colorMax
-                       : anyFound ? std::max(std::abs(minDistance_), std::abs(maxDistance_))
-                                  : kNan;
-      *lo = -m;
-      *hi = m;
+    if (signed_) {
+      *hi = !std::isnan(options_.colorMax) ? options_.colorMax
+            : anyFound                     ? std::max(std::abs(minDistance_), std::abs(maxDistance_))
+                                           : kNan;
+      *lo = -*hi;
       return;
     }
     *lo = !std::isnan(options_.colorMin) ? options_.colorMin : anyFound ? minDistance_ : kNan;
     *hi = !std::isnan(options_.colorMax) ? options_.colorMax : anyFound ? maxDistance_ : kNan;
   }
 
+  /// Offsets in a record of the status byte and of the distance.
+  static constexpr std::size_t kStatusOffset = 3 * 8;
+  static constexpr std::size_t kDistanceOffset = 3 * 8 + 1 + 2 * 4 + 6 * 8;
+  /// Offset of the colours, right after the distance.
+  static constexpr std::size_t kColorOffset = kDistanceOffset + 8;
+
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double* points, std::size_t count, const Results& results,
-                 const double* signedDistances) override {
+  void WriteRows(const double* points, std::size_t count, const Results& results, const double* extra) override {
     if (points == nullptr && count > 0) throw std::invalid_argument("ResultWriter: PLY output needs the query points");
     for (std::size_t i = 0; i < count; ++i) {
       char* const start = out_.Reserve(recordBytes_);
@@ -240,24 +272,21 @@ class PlyResultWriter : public ResultWriter {
         StoreLittleEndian<double>(p, value);
         p += 8;
       }
-      double shown = values[6];
-      if (options_.signedDistance) {
-        shown = found ? signedDistances[i] : kNan;
-        StoreLittleEndian<double>(p, shown);
-        p += 8;
-      }
       if (options_.colorByDistance) {
         unsigned char rgb[3] = {kNoColor, kNoColor, kNoColor};
+        const double shown = !found ? kNan : signed_ ? extra[i * extraColumns_ + options_.signedColorColumn] : values[6];
         if (found && !twoPass_) {
-          double lo = options_.colorMin, hi = options_.colorMax;
-          if (options_.signedDistance) lo = -hi;
-          Color(shown, lo, hi, rgb);
+          Color(shown, signed_ ? -options_.colorMax : options_.colorMin, options_.colorMax, rgb);
         }
         if (found && std::isfinite(shown)) {
           minDistance_ = std::min(minDistance_, shown);
           maxDistance_ = std::max(maxDistance_, shown);
         }
         std::memcpy(p, rgb, 3);
+        p += 3;
+      }
+      for (std::size_t k = 0; k < extraColumns_; ++k, p += 8) {
+        StoreLittleEndian<double>(p, found ? extra[i * extraColumns_ + k] : kNan);
       }
       out_.Advance(recordBytes_);
     }
@@ -283,18 +312,19 @@ class PlyResultWriter : public ResultWriter {
       out_.ReadAt(offset, block.data(), block.size());
       for (std::int64_t r = 0; r < n; ++r) {
         char* record = block.data() + static_cast<std::size_t>(r) * recordBytes_;
-        if (record[24] != static_cast<char>(Status::Found)) continue;
-        // The shown distance (signed_distance when written) just before the colours.
-        const double distance = LoadValue<double>(record + recordBytes_ - 3 - 8, false);
-        Color(distance, lo, hi, reinterpret_cast<unsigned char*>(record + recordBytes_ - 3));
+        if (record[kStatusOffset] != static_cast<char>(Status::Found)) continue;
+        const std::size_t shownOffset = signed_ ? kColorOffset + 3 + 8 * options_.signedColorColumn : kDistanceOffset;
+        const double distance = LoadValue<double>(record + shownOffset, false);
+        Color(distance, lo, hi, reinterpret_cast<unsigned char*>(record + kColorOffset));
       }
       out_.WriteAt(offset, block.data(), block.size());
     }
   }
 
   ResultWriteOptions options_;
-  std::size_t recordBytes_ = 0;          ///< 89 bytes, 8 more signed, 3 more with colours.
+  std::size_t recordBytes_ = 0;          ///< 89 bytes, 92 with colours, 8 more per extra column.
   bool twoPass_ = false;                 ///< Colours wait for the distance range at Complete.
+  bool signed_ = false;                  ///< Colours show ResultWriteOptions::signedColorColumn.
   std::int64_t countOffset_ = 0;         ///< Offset of the vertex count digits.
   std::int64_t colorCommentOffset_ = 0;  ///< Offset of the colour comment line.
   std::int64_t dataOffset_ = 0;          ///< Offset of the first record.
@@ -307,21 +337,23 @@ class PlyResultWriter : public ResultWriter {
 class NpyResultWriter : public ResultWriter {
  public:
   /// Creates the file with a fixed-size header for 0 rows.
-  NpyResultWriter(const std::string& path, int dim, bool signedDistance)
-      : ResultWriter(path, dim), columns_(signedDistance ? 12 : 11) {
-    out_.Write(FixedNpyHeader("<f8", 0, columns_));
+  NpyResultWriter(const std::string& path, int dim, std::size_t extraColumns)
+      : ResultWriter(path, dim, extraColumns) {
+    out_.Write(FixedNpyHeader("<f8", 0, static_cast<int>(kColumns + extraColumns_)));
   }
 
  private:
+  /// The CSV columns.
+  static constexpr int kColumns = 11;
+
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double*, std::size_t count, const Results& results, const double* signedDistances) override {
+  void WriteRows(const double*, std::size_t count, const Results& results, const double* extra) override {
     for (std::size_t i = 0; i < count; ++i) {
       const bool found = results.status[i] == Status::Found;
-      double row[12] = {static_cast<double>(rows_ + static_cast<std::int64_t>(i)),
+      double row[kColumns] = {static_cast<double>(rows_ + static_cast<std::int64_t>(i)),
                               static_cast<double>(results.status[i]),
                               -1.0,
                               -1.0,
-                              kNan,
                               kNan,
                               kNan,
                               kNan,
@@ -335,37 +367,27 @@ class NpyResultWriter : public ResultWriter {
         for (int k = 0; k < 3; ++k) row[4 + k] = results.params[3 * i + k];
         for (int k = 0; k < dim_; ++k) row[7 + k] = results.closest[3 * i + k];
         row[10] = results.distance[i];
-        if (signedDistances) row[11] = signedDistances[i];
       }
-      const std::size_t bytes = static_cast<std::size_t>(columns_) * 8;
-      char* p = out_.Reserve(bytes);
-      for (int c = 0; c < columns_; ++c) {
-        StoreLittleEndian<double>(p, row[c]);
+      char* p = out_.Reserve(sizeof(row) + 8 * extraColumns_);
+      for (double value : row) {
+        StoreLittleEndian<double>(p, value);
         p += 8;
       }
-      out_.Advance(bytes);
+      for (std::size_t k = 0; k < extraColumns_; ++k, p += 8) {
+        StoreLittleEndian<double>(p, found ? extra[i * extraColumns_ + k] : kNan);
+      }
+      out_.Advance(sizeof(row) + 8 * extraColumns_);
     }
   }
 
   /// Rewrites the header with the row count.
   void Complete() override {
-    const std::string header = FixedNpyHeader("<f8", rows_, columns_);
+    const std::string header = FixedNpyHeader("<f8", rows_, static_cast<int>(kColumns + extraColumns_));
     out_.WriteAt(0, header.data(), header.size());
   }
-
-  int columns_;  ///< The CSV columns: 11, or 12 with the signed distance.
 };
 
 }  // namespace
-
-void ViridisColor(double t, unsigned char rgb[3]) {
-  if (std::isnan(t)) {
-    rgb[0] = rgb[1] = rgb[2] = kNoColor;
-    return;
-  }
-  const int level = static_cast<int>(std::lround(std::min(std::max(t, 0.0), 1.0) * 255.0));
-  std::memcpy(rgb, kViridis[level], 3);
-}
 
 void DivergingColor(double t, unsigned char rgb[3]) {
   if (std::isnan(t)) {
@@ -380,8 +402,17 @@ void DivergingColor(double t, unsigned char rgb[3]) {
   }
 }
 
+void ViridisColor(double t, unsigned char rgb[3]) {
+  if (std::isnan(t)) {
+    rgb[0] = rgb[1] = rgb[2] = kNoColor;
+    return;
+  }
+  const int level = static_cast<int>(std::lround(std::min(std::max(t, 0.0), 1.0) * 255.0));
+  std::memcpy(rgb, kViridis[level], 3);
+}
+
 void ResultWriter::WriteChunk(const double* points, std::size_t count, const Results& results,
-                              std::int64_t firstIndex, const double* signedDistances) {
+                              std::int64_t firstIndex, const double* extra) {
   if (finished_) throw std::logic_error("ResultWriter::WriteChunk after Finish");
   if (firstIndex != rows_) {
     throw std::invalid_argument("ResultWriter::WriteChunk: firstIndex " + std::to_string(firstIndex) + " but " +
@@ -391,10 +422,10 @@ void ResultWriter::WriteChunk(const double* points, std::size_t count, const Res
       results.distance.size() < count || results.params.size() < 3 * count || results.closest.size() < 3 * count) {
     throw std::invalid_argument("ResultWriter::WriteChunk: results hold fewer than count points");
   }
-  if (signedColumn_ && signedDistances == nullptr && count > 0) {
-    throw std::invalid_argument("ResultWriter::WriteChunk: the signed distances are missing");
+  if (extraColumns_ > 0 && extra == nullptr && count > 0) {
+    throw std::invalid_argument("ResultWriter::WriteChunk: the extra columns need their values");
   }
-  WriteRows(points, count, results, signedColumn_ ? signedDistances : nullptr);
+  WriteRows(points, count, results, extra);
   rows_ += static_cast<std::int64_t>(count);
 }
 
@@ -408,14 +439,9 @@ void ResultWriter::Finish() {
 std::unique_ptr<ResultWriter> OpenResultWriter(const std::string& path, int dim, const ResultWriteOptions& options) {
   if (dim != 2 && dim != 3) throw std::invalid_argument("OpenResultWriter: dim must be 2 or 3");
   const std::string ext = LowerExtension(path);
-  std::unique_ptr<ResultWriter> writer;
-  if (ext == ".csv") writer = std::make_unique<CsvResultWriter>(path, dim, options.signedDistance);
-  if (ext == ".ply") writer = std::make_unique<PlyResultWriter>(path, dim, options);
-  if (ext == ".npy") writer = std::make_unique<NpyResultWriter>(path, dim, options.signedDistance);
-  if (writer) {
-    writer->signedColumn_ = options.signedDistance;
-    return writer;
-  }
+  if (ext == ".csv") return std::make_unique<CsvResultWriter>(path, dim, options.extraColumns);
+  if (ext == ".ply") return std::make_unique<PlyResultWriter>(path, dim, options);
+  if (ext == ".npy") return std::make_unique<NpyResultWriter>(path, dim, options.extraColumns.size());
   throw InputError(path, 0, "unknown result file extension '" + ext + "' (expected .csv, .ply or .npy)",
                    InputError::Kind::Output);
 }

@@ -6,8 +6,8 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
-#include <cstdint>
 #include <limits>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -19,12 +19,16 @@
 #include <string>
 #include <vector>
 
+#include "fem/register_readers.h"
+#include "invmap/fields.h"
 #include "invmap/invmap.h"
+#include "io/field_geometry_file.h"
 #include "io/geometry_file.h"
 #include "io/geometry_json.h"
 #include "io/input_error.h"
 #include "python/cad_binding.h"
 #include "python/errors.h"
+#include "python/fields_binding.h"
 #include "python/geometry_state.h"
 #include "python/grid_binding.h"
 #include "python/numpy_points.h"
@@ -50,10 +54,19 @@ class PyManifold {
     cad_ = source.model;
   }
 
+  /// The same with the node fields of the geometry's file (kept for probe).
+  PyManifold(FieldGeometry&& model, const std::string& nameForMessages) : PyManifold(model.geometry, nameForMessages) {
+    if (model.fields.empty()) return;
+    state_ = SerializeModel(state_, model.fields);
+    fields_ = std::make_shared<const FieldGeometry>(std::move(model));
+  }
+
   const Manifold& manifold() const { return manifold_; }
   /// The CAD model the manifold was read from, or null.
   const cad::Model* cad() const { return cad_.get(); }
-  /// SerializeGeometry of the geometry (the pickled state).
+  /// The geometry and its node fields; null without fields.
+  const FieldGeometry* fields() const { return fields_.get(); }
+  /// SerializeGeometry of the geometry, with the fields (SerializeModel): the pickled state.
   const std::string& state() const { return state_; }
   int dimension() const { return dimension_; }
   std::size_t patches() const { return patches_; }
@@ -71,6 +84,7 @@ class PyManifold {
   std::shared_ptr<const cad::Model> cad_;
   Manifold manifold_;
   std::string state_;
+  std::shared_ptr<const FieldGeometry> fields_;
   int dimension_;
   std::size_t patches_;
   std::int64_t cells_ = 0;
@@ -87,14 +101,14 @@ bool IsReadableFile(const std::string& path) {
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
   if (IsCadPath(path)) return PyManifold(LoadCad(path), path);
-  Geometry geometry;
+  FieldGeometry model;
   try {
-    geometry = io::ReadGeometryFile(path);
+    model = io::ReadGeometryWithFields(path);
   } catch (const io::InputError& e) {
     if (!IsReadableFile(path)) throw FileError(e.what());
     throw InputError(e.what());
   }
-  return PyManifold(geometry, path);
+  return PyManifold(std::move(model), path);
 }
 
 /// invmap.load of JSON text (or a dict, dumped to text by __init__.py).
@@ -115,13 +129,18 @@ PyManifold FromState(const py::bytes& state) {
   const std::string bytes = state;
   py::gil_scoped_release noGil;
   if (IsCadState(bytes)) return PyManifold(LoadCadState(bytes), "pickled CAD model");
-  Geometry geometry;
+  FieldGeometry model;
   try {
-    geometry = DeserializeGeometry(bytes);
+    std::string geometryState;
+    ParseModel(bytes, &geometryState, &model.fields);
+    model.geometry = DeserializeGeometry(geometryState);
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }
-  return PyManifold(geometry, "pickled manifold");
+  if (std::string problem = CheckFields(model.geometry, model.fields); !problem.empty()) {
+    throw InputError("pickled manifold: " + problem);
+  }
+  return PyManifold(std::move(model), "pickled manifold");
 }
 
 /// `values` as a C-ordered float64 array (converted when needed), or
@@ -268,6 +287,30 @@ Results InvertPoints(const PyManifold& self, const py::handle& points, const Inv
   return results;
 }
 
+/// Results as the dict of numpy arrays Manifold.invert returns (see its docstring).
+py::dict ResultsDict(Results&& results, int dim) {
+  const auto n = static_cast<py::ssize_t>(results.status.size());
+  if (dim == 2) {
+    // The engine writes z = 0 in 2D; packing the rows in place (the write
+    // index never passes the read index) gives (N, 2) without a copy.
+    for (py::ssize_t i = 0; i < n; ++i) {
+      results.closest[2 * i] = results.closest[3 * i];
+      results.closest[2 * i + 1] = results.closest[3 * i + 1];
+    }
+    results.closest.resize(2 * n);
+  }
+  // Status is a uint8 enum holding the FORMATS.md codes: its vector is the uint8 array.
+  static_assert(sizeof(Status) == sizeof(std::uint8_t));
+  py::dict out;
+  out["status"] = Adopt(std::move(results.status), {n}, py::dtype::of<std::uint8_t>());
+  out["patch"] = Adopt(std::move(results.patch), {n}, py::dtype::of<std::int32_t>());
+  out["cell"] = Adopt(std::move(results.cell), {n}, py::dtype::of<std::int64_t>());
+  out["params"] = Adopt(std::move(results.params), {n, 3}, py::dtype::of<double>());
+  out["closest"] = Adopt(std::move(results.closest), {n, dim}, py::dtype::of<double>());
+  out["distance"] = Adopt(std::move(results.distance), {n}, py::dtype::of<double>());
+  return out;
+}
+
 /// The signed distances of the points of `results` (the `signed` option of
 /// invert and trim): InputError unless the manifold is a CAD model whose
 /// shells are closed.
@@ -287,33 +330,26 @@ std::vector<double> Signed(const PyManifold& self, const py::handle& points, con
   return SignedDistances(*self.cad(), xyz.data(), n, results, threads);
 }
 
-/// Manifold.invert: the Results as numpy arrays (see its docstring).
+/// Manifold.invert: the Results as numpy arrays.
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
                 std::optional<int> threads, bool signedDistance) {
   Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads));
-  std::vector<double> signedDistances;
-  if (signedDistance) signedDistances = Signed(self, points, results, threads.value_or(0));
-  const auto n = static_cast<py::ssize_t>(results.status.size());
-  const int dim = self.dimension();
-  if (dim == 2) {
-    // The engine writes z = 0 in 2D; packing the rows in place (the write
-    // index never passes the read index) gives (N, 2) without a copy.
-    for (py::ssize_t i = 0; i < n; ++i) {
-      results.closest[2 * i] = results.closest[3 * i];
-      results.closest[2 * i + 1] = results.closest[3 * i + 1];
-    }
-    results.closest.resize(2 * n);
-  }
-  // Status is a uint8 enum holding the FORMATS.md codes: its vector is the uint8 array.
-  static_assert(sizeof(Status) == sizeof(std::uint8_t));
-  py::dict out;
-  out["status"] = Adopt(std::move(results.status), {n}, py::dtype::of<std::uint8_t>());
-  out["patch"] = Adopt(std::move(results.patch), {n}, py::dtype::of<std::int32_t>());
-  out["cell"] = Adopt(std::move(results.cell), {n}, py::dtype::of<std::int64_t>());
-  out["params"] = Adopt(std::move(results.params), {n, 3}, py::dtype::of<double>());
-  out["closest"] = Adopt(std::move(results.closest), {n, dim}, py::dtype::of<double>());
-  out["distance"] = Adopt(std::move(results.distance), {n}, py::dtype::of<double>());
-  if (signedDistance) out["signed_distance"] = Adopt(std::move(signedDistances), {n}, py::dtype::of<double>());
+  if (!signedDistance) return ResultsDict(std::move(results), self.dimension());
+  std::vector<double> sd = Signed(self, points, results, threads.value_or(0));
+  const auto n = static_cast<py::ssize_t>(sd.size());
+  py::dict out = ResultsDict(std::move(results), self.dimension());
+  out["signed_distance"] = Adopt(std::move(sd), {n}, py::dtype::of<double>());
+  return out;
+}
+
+/// Manifold.probe: Manifold.invert's dict with "fields" added.
+py::dict Probe(const PyManifold& self, const py::handle& points, const std::optional<std::vector<std::string>>& names,
+               std::optional<double> maxDistance, std::optional<int> threads) {
+  const InversionOptions options = MakeOptions(maxDistance, threads);
+  Results results = InvertPoints(self, points, options);
+  py::dict fields = ProbeFieldsDict(self.fields(), results, names, options.threads);
+  py::dict out = ResultsDict(std::move(results), self.dimension());
+  out["fields"] = fields;
   return out;
 }
 
@@ -331,7 +367,9 @@ py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double 
     const std::vector<double> sd = Signed(self, points, results, 0);
     py::array_t<bool> mask(static_cast<py::ssize_t>(sd.size()));
     bool* out = mask.mutable_data();
-    for (std::size_t i = 0; i < sd.size(); ++i) out[i] = !std::isnan(sd[i]) && (keepFar ? sd[i] > maxDistance : sd[i] <= maxDistance);
+    for (std::size_t i = 0; i < sd.size(); ++i) {
+      out[i] = !std::isnan(sd[i]) && (keepFar ? sd[i] > maxDistance : sd[i] <= maxDistance);
+    }
     return mask;
   }
   const Results results = InvertPoints(self, points, options);
@@ -372,6 +410,7 @@ py::dict Info(const PyManifold& self) {
 
 PYBIND11_MODULE(_invmap, m) {
   using namespace invmap::python;
+  invmap::fem::RegisterFemReaders();
   m.doc() = "Compiled core of the invmap package; use `import invmap`.";
   m.attr("__version__") = invmap::Version();
 
@@ -425,11 +464,27 @@ Returns a dict of numpy arrays, one row per point in input order:
   distance (N,) float64, NaN when not found
   signed_distance (N,) float64, with signed=True
 CAD models (invmap.load of .step, .iges, .brep): patch is the face in
-OpenCascade's face-map order, params the face surface's own (u, v).
-The GIL is released while the engine works.
+OpenCascade's face-map order, params the face surface's own (u, v)
+(docs/cad.md). The GIL is released while the engine works.
 
 Raises InputError for points of the wrong shape or type and for bad options.
 )doc")
+      .def("probe", &Probe, py::arg("points"), py::arg("names") = py::none(), py::arg("max_distance") = py::none(),
+           py::arg("threads") = py::none(), R"doc(
+The node fields of the geometry at the closest point of every query point
+(as `invmap probe`; docs/fields.md).
+
+points, max_distance, threads: as invert. names: the fields to give, in
+order (default: every field of the file: gmsh $NodeData views, VTU point
+data arrays, Exodus nodal variables).
+
+Returns invert's dict plus "fields": {name: array}, (N,) for a scalar and
+(N, components) for a vector or tensor, each field interpolated with its
+cell's basis at the found parameters; NaN where the point is not found.
+Raises InputError for an unknown name or a manifold without fields.
+)doc")
+      .def_property_readonly("fields", [](const PyManifold& self) { return FieldComponents(self.fields()); },
+                             "The node fields the manifold carries: {name: components}.")
       .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near",
            py::arg("signed") = false, R"doc(
 Boolean mask of the points `invmap trim` keeps: those within max_distance

@@ -304,12 +304,15 @@ TEST(NpyResults, HeaderAndValues) {
 // ---------------------------------------------------------------------------
 // Signed distances (CAD solids): a last column in every format
 
-TEST(SignedResults, LastColumnInCsvPlyAndNpy) {
+TEST(SignedResults, LastColumnAndColoursCentredOnZero) {
+  // CAD solids' signed distances: the extra column signed_distance, last in
+  // every format, and the colours it drives.
   ScratchDir dir;
   const Batch batch = MakeBatch(3);
   const double signedDistances[4] = {-0.125, 0.30000000000000004, kNan, kNan};
   ResultWriteOptions options;
-  options.signedDistance = true;
+  options.extraColumns = {"signed_distance"};
+  options.signedColorColumn = 0;
   auto write = [&](const std::string& path, const ResultWriteOptions& o) {
     const auto writer = OpenResultWriter(path, 3, o);
     writer->WriteChunk(batch.points.data(), 4, batch.results, 0, signedDistances);
@@ -325,37 +328,27 @@ TEST(SignedResults, LastColumnInCsvPlyAndNpy) {
             "2,none,-1,-1,,,,,,,,\n"
             "3,invalid,-1,-1,,,,,,,,\n");
 
-  const std::string npy = dir.Path("s.npy");
-  write(npy, options);
-  const std::string bytes = ReadAll(npy);
-  ASSERT_EQ(bytes.size(), 128u + 4 * 12 * 8);
-  EXPECT_NE(bytes.find("'shape': (4, 12)"), std::string::npos);
-  EXPECT_EQ(LoadValue<double>(bytes.data() + 128 + 11 * 8, false), -0.125);
-
-  // PLY: the property after distance; colours centred on 0 (white) over
-  // [-m, m], m the largest |signed distance| found.
+  // PLY: the colours centred on 0 (white) over [-m, m], m the largest
+  // |signed distance| found; the property last.
   const std::string ply = dir.Path("s.ply");
   ResultWriteOptions colored = options;
   colored.colorByDistance = true;
   write(ply, colored);
   const std::string text = ReadAll(ply);
-  EXPECT_NE(text.find("property double distance\nproperty double signed_distance\nproperty uchar red"),
-            std::string::npos);
+  EXPECT_NE(text.find("property uchar blue\nproperty double signed_distance\nend_header"), std::string::npos);
   EXPECT_NE(text.find("cool-warm colormap of signed_distance from -0.30000000000000004 to 0.30000000000000004"),
             std::string::npos);
   const std::size_t data = text.find("end_header\n") + 11;
-  const std::size_t record = 3 * 8 + 1 + 2 * 4 + 8 * 8 + 3;
+  const std::size_t record = 3 * 8 + 1 + 2 * 4 + 7 * 8 + 3 + 8;
   ASSERT_EQ(text.size(), data + 4 * record);
   unsigned char first[3], second[3];
   DivergingColor((-0.125 + 0.30000000000000004) / 0.6000000000000001, first);
   DivergingColor(1.0, second);
+  const std::size_t colors = 3 * 8 + 1 + 2 * 4 + 7 * 8;
   for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(static_cast<unsigned char>(text[data + record - 3 + k]), first[k]);
-    EXPECT_EQ(static_cast<unsigned char>(text[data + 2 * record - 3 + k]), second[k]);
+    EXPECT_EQ(static_cast<unsigned char>(text[data + colors + k]), first[k]);
+    EXPECT_EQ(static_cast<unsigned char>(text[data + record + colors + k]), second[k]);
   }
-  // Without the signed distances the writer refuses the chunk.
-  const auto writer = OpenResultWriter(dir.Path("t.csv"), 3, options);
-  EXPECT_THROW(writer->WriteChunk(batch.points.data(), 4, batch.results, 0), std::invalid_argument);
 }
 
 TEST(SignedResults, DivergingMapEndsAndMiddle) {
