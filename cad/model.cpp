@@ -16,7 +16,7 @@
 #include "cad/model_impl.h"
 #include "cad/shape_reader.h"
 #include "common/parallel.h"
-#include "invmap/cad.h"
+#include "cad/model.h"
 
 namespace invmap::cad {
 

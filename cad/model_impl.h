@@ -8,7 +8,7 @@
 
 #include "cad/model_conversion.h"
 #include "cad/pseudo_normals.h"
-#include "invmap/cad.h"
+#include "cad/model.h"
 
 namespace invmap::cad {
 

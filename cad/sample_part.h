@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "invmap/cad.h"
+#include "cad/model.h"
 
 namespace invmap::cad {
 

@@ -9,7 +9,7 @@
 #include "cli/commands.h"
 #include "cli/deviation_summary.h"
 #include "cli/run_summary.h"
-#include "invmap/cad.h"
+#include "cad/model.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 #include "io/point_reader.h"

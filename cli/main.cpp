@@ -8,6 +8,7 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "cad/register_readers.h"
 #include "fem/register_readers.h"
 #include "invmap/invmap.h"
 #include "io/input_error.h"
@@ -44,6 +45,7 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 
 int main(int argc, char** argv) {
   invmap::fem::RegisterFemReaders();
+  invmap::cad::RegisterCadReaders();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("invmap ") + invmap::Version());

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "invmap/cad.h"
+#include "cad/model.h"
 
 namespace invmap::python {
 

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "cad/register_readers.h"
 #include "fem/register_readers.h"
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
@@ -411,6 +412,7 @@ py::dict Info(const PyManifold& self) {
 PYBIND11_MODULE(_invmap, m) {
   using namespace invmap::python;
   invmap::fem::RegisterFemReaders();
+  invmap::cad::RegisterCadReaders();
   m.doc() = "Compiled core of the invmap package; use `import invmap`.";
   m.attr("__version__") = invmap::Version();
 

@@ -119,6 +119,24 @@ TEST(CadFiles, StepAnswersAndInfoDescribesTheModel) {
   }
 }
 
+TEST(CadFiles, EveryCommandReadingAGeometryReadsCad) {
+  // generate points reads geometry through io's reader registry, where the
+  // command registers the CAD readers; a bad CAD file is the same exit 3.
+  const std::string points = ScratchDir() + "/around_screw.xyz";
+  std::filesystem::remove(points);
+  const CliRun run = RunCli("generate points -g " + Sample("step/screw.step") + " -n 50 --kind near -o " + points);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream in(points);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  EXPECT_EQ(lines, 50);
+  const std::string garbage = WriteText("garbage_for_generate.brep", "not a brep at all\n");
+  const CliRun bad = RunCli("generate points -g " + garbage + " -n 5 -o " + ScratchDir() + "/none.xyz");
+  EXPECT_EQ(bad.exitCode, 3) << bad.output;
+  EXPECT_NE(bad.output.find(garbage), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(ScratchDir() + "/none.xyz"));
+}
+
 }  // namespace
 }  // namespace invmap::cadtest
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "invmap/cad.h"
+#include "cad/model.h"
 #include "invmap/invmap.h"
 
 namespace invmap::cadtest {

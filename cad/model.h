@@ -1,6 +1,7 @@
 // invmap::cad: CAD models (STEP, IGES, OpenCascade BREP) as invmap geometry,
-// and signed distances to their solids. The library invmap::cad (target
-// invmap_cad) reads them with OpenCascade, which this header never names.
+// and signed distances to their solids. The library invmap_cad reads them
+// with OpenCascade, which this header never names. It is internal to this
+// build (the command and the Python module link it) and not installed.
 //
 //   invmap::cad::LoadResult loaded = invmap::cad::Model::Load("part.step");
 //   if (!loaded.error.empty()) { ... }               // "no faces (12 edges, 8 vertices) ..."
