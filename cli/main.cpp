@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
   AddInvertOptions(invertCommand, &invert, false);
   invertCommand->add_flag("--color", invert.color,
-                          ".ply output: colour the points by distance (viridis; --signed: blue-white-red centred on 0)");
+                          ".ply output: colour the points by distance (viridis; --signed: cool-warm, blue inside to red outside, centred on 0)");
   invertCommand->add_option("--tolerance", invert.tolerance, "--signed: report the share of points within +-T")
       ->check(kNonNegative);
 

@@ -113,7 +113,10 @@ class EmbreeMethod : public PeerMethod {
   std::string note() const override {
     return (label_.empty() ? std::string() : label_ + " of " + std::to_string(numTriangles_) + " triangles: ") +
            "triangle geometry (float), default build quality; callback: exact double point-triangle distance, "
-           "radius = distance + 16 float ulps";
+           "radius = distance + 16 float ulps" +
+           (label_.empty() ? std::string()
+                           : "; the mesh is not the model, so its farther columns and max diff are the "
+                             "tessellation's error against the exact distance, not wrong answers");
   }
 
  private:
@@ -138,7 +141,7 @@ PeerList MakeEmbreePeers(const GeometryCase& geometryCase) {
   // whose difference the comparison's "max diff" column shows.
   for (const GeometryCase::Tessellation& t : geometryCase.tessellations) {
     char label[64];
-    std::snprintf(label, sizeof label, "tessellation %.2g", t.deflection);
+    std::snprintf(label, sizeof label, "tessellation (deflection %.2g)", t.deflection);
     peers.push_back([&t, name = std::string(label)] { return std::make_unique<EmbreeMethod>(t.mesh, name); });
   }
   return peers;

@@ -95,3 +95,20 @@ def test_bad_cad_files(tmp_path):
         invmap.load(tmp_path / "missing.step")
     with pytest.raises(invmap.InputError, match="no faces"):
         invmap.load(SAMPLES / "occ" / "edge.brep")
+
+
+def test_dask_invert_signed(screw):
+    da = pytest.importorskip("dask.array")
+    import dask
+    import invmap.dask
+
+    points = points_around(screw, 600, seed=5)
+    result = invmap.dask.invert(da.from_array(points, chunks=(200, 3)), screw, signed=True)
+    signed, distance = dask.compute(result["signed_distance"], result["distance"], scheduler="synchronous")
+    for start in range(0, 600, 200):  # each chunk's rows are Manifold.invert's on that chunk
+        alone = screw.invert(points[start:start + 200], signed=True)
+        np.testing.assert_array_equal(signed[start:start + 200], alone["signed_distance"])
+        np.testing.assert_array_equal(distance[start:start + 200], alone["distance"])
+    face = invmap.load(SAMPLES / "occ" / "face1.brep")
+    with pytest.raises(invmap.InputError, match="face 0"):  # at the call, not in a worker
+        invmap.dask.invert(points, face, signed=True)
