@@ -81,7 +81,8 @@ SplineCurve FromBSpline(Handle(BSpline) spline, double first, double last, int d
 
 }  // namespace
 
-ConvertedCurve ConvertCurve(const Handle(Geom_Curve)& input, double first, double last, double tolerance) {
+ConvertedCurve ConvertCurve(const Handle(Geom_Curve)& input, double first, double last, double tolerance,
+                            double arcSpan) {
   Handle(Geom_Curve) curve = input;
   while (curve->IsKind(STANDARD_TYPE(Geom_TrimmedCurve))) curve = Handle(Geom_TrimmedCurve)::DownCast(curve)->BasisCurve();
   ConvertedCurve result;
@@ -98,7 +99,7 @@ ConvertedCurve ConvertCurve(const Handle(Geom_Curve)& input, double first, doubl
       Coordinates(circle->Location(), c);
       Coordinates(circle->Position().XDirection(), circle->Radius(), x);
       Coordinates(circle->Position().YDirection(), circle->Radius(), y);
-      result.curve = ArcCurve(3, c, x, y, first, last);
+      result.curve = ArcCurve(3, c, x, y, first, last, arcSpan);
       return result;
     }
     if (auto ellipse = Handle(Geom_Ellipse)::DownCast(curve)) {
@@ -106,7 +107,7 @@ ConvertedCurve ConvertCurve(const Handle(Geom_Curve)& input, double first, doubl
       Coordinates(ellipse->Location(), c);
       Coordinates(ellipse->Position().XDirection(), ellipse->MajorRadius(), x);
       Coordinates(ellipse->Position().YDirection(), ellipse->MinorRadius(), y);
-      result.curve = ArcCurve(3, c, x, y, first, last);
+      result.curve = ArcCurve(3, c, x, y, first, last, arcSpan);
       return result;
     }
     Handle(Geom_BSplineCurve) spline = Handle(Geom_BSplineCurve)::DownCast(curve);

@@ -5,6 +5,7 @@
 #include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
 
+#include "cad/spline_builders.h"
 #include "invmap/invmap.h"
 
 namespace invmap::cad {
@@ -21,7 +22,9 @@ struct ConvertedCurve {
 
 /// `curve` over [first, last] (first < last), its parameter kept: lines and
 /// B-splines by their knots, circles and ellipses as angular arcs.
-ConvertedCurve ConvertCurve(const Handle(Geom_Curve)& curve, double first, double last, double tolerance);
+/// Circles and ellipses in spans of at most `arcSpan` (spline_builders.h).
+ConvertedCurve ConvertCurve(const Handle(Geom_Curve)& curve, double first, double last, double tolerance,
+                            double arcSpan = kArcSpan);
 ConvertedCurve ConvertCurve2d(const Handle(Geom2d_Curve)& curve, double first, double last, double tolerance);
 
 }  // namespace invmap::cad

@@ -14,12 +14,9 @@ SplineCurve LineCurve(int dim, const double* p0, const double* p1, double t0, do
   return line;
 }
 
-SplineCurve ArcCurve(int dim, const double* center, const double* x, const double* y, double a, double b) {
-  // At most a twelfth of a turn per span: the weights then differ by at most
-  // 3.5 % (cos 15 degrees), within the 5 % where the cell search's curvature
-  // bounds hold for rational cells (kernels/curvature_bounds.h), and the
-  // arc's parameter stays close to its angle.
-  const int spans = std::max(1, static_cast<int>(std::ceil((b - a) / (M_PI / 6.0) - 1e-9)));
+SplineCurve ArcCurve(int dim, const double* center, const double* x, const double* y, double a, double b,
+                     double maxSpan) {
+  const int spans = std::max(1, static_cast<int>(std::ceil((b - a) / maxSpan - 1e-9)));
   SplineCurve arc;
   arc.degree = 2;
   arc.angular = true;
@@ -63,7 +60,8 @@ SurfaceSpline Revolve(const SplineCurve& profile, const double* origin, const do
   // Each control point of the profile turns on a circle about the axis; the
   // circle's arc, scaled by the point's weight, is a row of the net.
   const double unit[3] = {0, 0, 0};
-  const SplineCurve shape = ArcCurve(3, unit, x, y, a, b);  // angles and weights of one row
+  const double maxSpan = profile.weights.empty() ? kArcSpan : kDoublyCurvedArcSpan;
+  const SplineCurve shape = ArcCurve(3, unit, x, y, a, b, maxSpan);  // angles and weights of one row
   SurfaceSpline surface;
   surface.degrees[0] = 2;
   surface.degrees[1] = profile.degree;
@@ -88,7 +86,7 @@ SurfaceSpline Revolve(const SplineCurve& profile, const double* origin, const do
       r0[k] = px * x[k] + py * y[k];
       r90[k] = -py * x[k] + px * y[k];
     }
-    const SplineCurve row = ArcCurve(3, center, r0, r90, a, b);
+    const SplineCurve row = ArcCurve(3, center, r0, r90, a, b, maxSpan);
     surface.points.insert(surface.points.end(), row.points.begin(), row.points.end());
     const double w = profile.weights.empty() ? 1.0 : profile.weights[j];
     for (int i = 0; i < nu; ++i) surface.weights.push_back(w * row.weights[i]);
@@ -127,6 +125,93 @@ SurfaceSpline PlanePatch(const double* origin, const double* x, const double* y,
     }
   }
   return surface;
+}
+
+namespace {
+
+/// Control point (row i along direction d, column j across it) of `s`.
+const double* ControlPoint(const SurfaceSpline& s, int d, int i, int j) {
+  const int index = d == 0 ? j * s.counts[0] + i : i * s.counts[0] + j;
+  return &s.points[3 * static_cast<std::size_t>(index)];
+}
+
+double Length(const double* a, const double* b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+}  // namespace
+
+void BalanceSpans(SurfaceSpline* s) {
+  for (int d = 0; d < 2; ++d) {
+    const int e = 1 - d;
+    if (s->degrees[d] != 1 || s->degrees[e] < 2) continue;
+    // The longest control-polygon run of one span across (direction e).
+    double across = 0.0;
+    for (int i = 0; i < s->counts[d]; ++i) {
+      double run = 0.0;
+      for (int j = 1; j < s->counts[e]; ++j) {
+        run += Length(ControlPoint(*s, d, i, j - 1), ControlPoint(*s, d, i, j));
+        if (j % s->degrees[e] == 0) {
+          across = std::max(across, run);
+          run = 0.0;
+        }
+      }
+      across = std::max(across, run);
+    }
+    if (!(across > 0.0)) continue;
+    // New rows along d: each span cut into as many equal pieces as make it
+    // no longer than the longest span across.
+    const int n = s->counts[d], m = s->counts[e];
+    const std::vector<double>& knots = s->knots[d];
+    std::vector<double> newKnots{knots[0], knots[1]};
+    std::vector<std::vector<double>> rows;  // homogeneous (w x, w y, w z, w) per column
+    auto row = [&](int i) {
+      std::vector<double> r(4 * static_cast<std::size_t>(m));
+      for (int j = 0; j < m; ++j) {
+        const double* p = ControlPoint(*s, d, i, j);
+        const int index = d == 0 ? j * s->counts[0] + i : i * s->counts[0] + j;
+        const double w = s->weights.empty() ? 1.0 : s->weights[index];
+        for (int k = 0; k < 3; ++k) r[4 * j + k] = w * p[k];
+        r[4 * j + 3] = w;
+      }
+      return r;
+    };
+    rows.push_back(row(0));
+    for (int i = 1; i < n; ++i) {
+      const std::vector<double> a = rows.back(), b = row(i);
+      double along = 0.0;
+      for (int j = 0; j < m; ++j) along = std::max(along, Length(ControlPoint(*s, d, i - 1, j), ControlPoint(*s, d, i, j)));
+      const int pieces = std::min(64, std::max(1, static_cast<int>(std::ceil(along / across - 1e-9))));
+      const double t0 = knots[i], t1 = knots[i + 1];
+      for (int k = 1; k < pieces; ++k) {
+        const double f = static_cast<double>(k) / pieces;
+        std::vector<double> r(a.size());
+        for (std::size_t c = 0; c < r.size(); ++c) r[c] = (1.0 - f) * a[c] + f * b[c];
+        rows.push_back(std::move(r));
+        newKnots.push_back(t0 + f * (t1 - t0));
+      }
+      rows.push_back(b);
+      newKnots.push_back(t1);
+    }
+    newKnots.push_back(knots.back());
+    if (static_cast<int>(rows.size()) == n) continue;
+    // Back to Cartesian points and weights, u fastest.
+    const int rowsAlong = static_cast<int>(rows.size());
+    SurfaceSpline out = *s;
+    out.knots[d] = newKnots;
+    out.counts[d] = rowsAlong;
+    out.points.assign(3 * static_cast<std::size_t>(rowsAlong) * m, 0.0);
+    if (!s->weights.empty()) out.weights.assign(static_cast<std::size_t>(rowsAlong) * m, 1.0);
+    for (int i = 0; i < rowsAlong; ++i) {
+      for (int j = 0; j < m; ++j) {
+        const int index = d == 0 ? j * rowsAlong + i : i * out.counts[0] + j;
+        const double w = rows[i][4 * j + 3];
+        for (int k = 0; k < 3; ++k) out.points[3 * static_cast<std::size_t>(index) + k] = rows[i][4 * j + k] / w;
+        if (!out.weights.empty()) out.weights[index] = w;
+      }
+    }
+    *s = std::move(out);
+  }
 }
 
 void SetSurface(const SurfaceSpline& surface, Patch* patch) {
