@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace invmap::cli {
 
 /// Options shared by invert and trim.
@@ -61,5 +65,10 @@ struct GridCommandOptions {
 };
 
 int RunGrid(const GridCommandOptions& options);
+
+/// `invmap distance` (docs/distance.md): AddDistanceCommand registers
+/// the subcommand and its options on `app`; RunDistance runs it once parsed.
+CLI::App* AddDistanceCommand(CLI::App* app);
+int RunDistance();
 
 }  // namespace invmap::cli

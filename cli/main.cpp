@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 
+  CLI::App* distanceCommand = invmap::cli::AddDistanceCommand(&app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -109,6 +111,7 @@ int main(int argc, char** argv) {
       return invmap::cli::RunTrim(trim);
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
+    if (*distanceCommand) return invmap::cli::RunDistance();
     if (*generateCommand) {
       if (generate.what == "points" && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate points: --geometry is required\n");

@@ -75,6 +75,12 @@ Pose Pose::FromAxisAngle(const double* axis, double angle, const double* transla
   return pose;
 }
 
+std::string CheckPose(const Pose& pose, int dimension) {
+  kernels::RigidMotion motion;
+  std::string error;
+  return engine::ToMotion(pose, dimension, &motion, &error) ? std::string() : error;
+}
+
 namespace engine {
 
 bool ToMotion(const Pose& pose, int dimension, kernels::RigidMotion* motion, std::string* error) {

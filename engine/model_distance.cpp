@@ -114,7 +114,12 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
 
   // Pairs whose search ran out of its budget, and the bound of what it
   // left open: they matter only if that is below the final answer.
-  std::vector<std::pair<double, std::pair<std::int64_t, std::int64_t>>> open;
+  struct OpenPair {
+    double openBound2;  ///< Lower bound of what its search left open.
+    double bound2;      ///< The bound it was searched under.
+    std::int64_t a, b;
+  };
+  std::vector<OpenPair> open;
   auto accept = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
     if (!(r.distance * r.distance < best2)) return;
     best2 = r.distance * r.distance;
@@ -129,7 +134,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   };
   auto consider = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
     if (r.status == kernels::PairStatus::Farther) return;
-    if (r.status == kernels::PairStatus::NotCertified) open.push_back({r.openBound2, {ia, ib}});
+    if (r.status == kernels::PairStatus::NotCertified) open.push_back({r.openBound2, best2, ia, ib});
     accept(ia, ib, r);
   };
 
@@ -202,13 +207,17 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   // An open pair is settled when its open parts lie beyond the answer; one
   // that may still hold a closer pair is searched again under the answer's
   // bound (which prunes far more than its first search's own best did).
-  for (const auto& [openBound2, pair] : open) {
-    if (openBound2 >= best2) continue;
-    const kernels::PairSolveResult again =
-        SolvePlacedCells(a, pair.first, b, pair.second, nullptr, nullptr, best2, ws);
+  for (const OpenPair& pair : open) {
+    if (pair.openBound2 >= best2) continue;
+    // Searched under this very bound already: a second search ends the same way.
+    if (pair.bound2 <= best2) {
+      answer.certified = false;
+      continue;
+    }
+    const kernels::PairSolveResult again = SolvePlacedCells(a, pair.a, b, pair.b, nullptr, nullptr, best2, ws);
     if (again.status == kernels::PairStatus::Farther) continue;
     if (again.status == kernels::PairStatus::NotCertified && again.openBound2 < best2) answer.certified = false;
-    accept(pair.first, pair.second, again);
+    accept(pair.a, pair.b, again);
   }
 
   // A model inside a volume meets none of its boundary faces.

@@ -406,6 +406,71 @@ void PairNets::HessianRanges(const double* sideA, const double* sideB, double le
   }
 }
 
+bool PairNets::MostBentEdgeAt(const double* sideA, const double* sideB, int argA, int argB, int* side,
+                              int* factor, int* vi, int* vj) const {
+  const int d = ambientDim_;
+  const int na = size_[0], nb = size_[1];
+  // Q_ij / WW_ij of one coefficient of the joint net.
+  auto quotient = [&](int i, int j) {
+    double q = sideA[i] * sideB[(d + 1) * nb + j] + sideA[(d + 1) * na + i] * sideB[j];
+    for (int k = 0; k < d; ++k) q -= 2.0 * sideA[(1 + k) * na + i] * sideB[(1 + k) * nb + j];
+    return q / (sideA[(d + 1) * na + i] * sideB[(d + 1) * nb + j]);
+  };
+  const double center = quotient(argA, argB);
+  double most = 0.0;
+  for (int s = 0; s < 2; ++s) {
+    const CellShape& shape = shape_[s];
+    const Strides strides(shape);
+    const int at = s == 0 ? argA : argB;
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      const SimplexIndex& index = SimplexIndex::Get(fac.dim, fac.degree);
+      const int position = (at / strides.stride[f]) % strides.count[f];
+      const int base = at - position * strides.stride[f];
+      const std::array<int, 4>& alpha = index.multi(position);
+      for (int i = 0; i <= fac.dim; ++i) {
+        for (int j = i + 1; j <= fac.dim; ++j) {
+          // Three coefficients in a row along the edge: one unit moved from
+          // barycentric index i to j (delta) and back, through this one, or
+          // shifted inward where it sits on the net's boundary.
+          std::array<int, 4> step = alpha;
+          bool shifted = false;
+          if (alpha[i] == 0 && alpha[j] >= 2) {
+            ++step[i];
+            --step[j];
+            shifted = true;
+          } else if (alpha[j] == 0 && alpha[i] >= 2) {
+            --step[i];
+            ++step[j];
+            shifted = true;
+          } else if (alpha[i] == 0 || alpha[j] == 0) {
+            continue;
+          }
+          std::array<int, 4> lower = step, upper = step;
+          --lower[i];
+          ++lower[j];
+          ++upper[i];
+          --upper[j];
+          auto coefficient = [&](const std::array<int, 4>& m) { return base + index.Position(m) * strides.stride[f]; };
+          const int mid = coefficient(step), low = coefficient(lower), high = coefficient(upper);
+          const double vm = !shifted ? center : (s == 0 ? quotient(mid, argB) : quotient(argA, mid));
+          const double vl = s == 0 ? quotient(low, argB) : quotient(argA, low);
+          const double vh = s == 0 ? quotient(high, argB) : quotient(argA, high);
+          const double bend = std::abs(vl - 2.0 * vm + vh);
+          if (bend > most) {
+            most = bend;
+            *side = s;
+            *factor = f;
+            *vi = i;
+            *vj = j;
+          }
+        }
+      }
+    }
+  }
+  return most > 0.0;
+}
+
 void PairNets::HessianRangesInBasis(const double* sideA, const double* sideB, double level, const double* basis,
                                     double* lo, double* hi, std::vector<double>* scratch) const {
   const int d = ambientDim_;

@@ -58,6 +58,18 @@ class PairNets {
   /// subdomains. Entries whose net is not finite get [-inf, inf].
   void HessianRanges(const double* sideA, const double* sideB, double level, double* lo, double* hi,
                      std::vector<double>* scratch) const;
+  /// Where the joint net bends most next to its least coefficient (argA,
+  /// argB, from LowerBound): over every edge (vi, vj) of every simplex
+  /// factor of either side, the largest absolute second difference of the
+  /// quotients Q / WW along that edge through the coefficient (one-sided at
+  /// the net's boundary). The net's least coefficient lies below the
+  /// distance's least value by about those differences there, so splitting
+  /// along that edge raises the bound most; along a valley of equal
+  /// distances that runs along a parameter (a point of one model on the
+  /// axis of the other's torus) the difference is zero, and the splits go
+  /// across the valley. False when the net is linear along every edge there.
+  bool MostBentEdgeAt(const double* sideA, const double* sideB, int argA, int argB, int* side, int* factor,
+                      int* vi, int* vj) const;
   /// The same bounds for u^T H w over the columns u, w of `basis` (n x n,
   /// column c at basis[c n]): each entry from the joint net of its own
   /// directional second derivative, so a direction along which g does not

@@ -118,6 +118,11 @@ class PairSearch {
     return slot[kHasSeed] != 0.0 || (best_.kkt.kkt && Contains(slot, best_.w));
   }
   void ChooseSplitByVariation(double* slot, int* side, int* factor, int* vi, int* vj) const;
+  /// Splits along the edge where the joint net bends most next to its
+  /// least coefficient (PairNets::MostBentEdgeAt), as the cell search
+  /// splits where its net bends most (kernels/bernstein_net.h); by length
+  /// where the net is linear there.
+  void ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi, int* vj) const;
   PairLocalResult Local(const double* start) {
     PairLocalResult local = PairLocalSolve(a_, b_, layout_, start, options_);
     iterations_ += local.iterations;
@@ -138,6 +143,7 @@ class PairSearch {
   int iterations_ = 0;
   PairLocalResult best_;
   double open_ = kInf;  ///< Least bound of the parts a search left open.
+  int examined_ = 0;
 };
 
 void PairSearch::SetRoot(double* slot) {
@@ -430,6 +436,17 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
   }
 }
 
+void PairSearch::ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi,
+                                   int* vj) const {
+  const double* sideA = slot + kHeaderSize;
+  const double* sideB = sideA + nets.sideLength(0);
+  int argA = 0, argB = 0;
+  nets.LowerBound(sideA, sideB, &ws_->scratch, &argA, &argB);
+  if (!nets.MostBentEdgeAt(sideA, sideB, argA, argB, side, factor, vi, vj)) {
+    ChooseSplit(slot, side, factor, vi, vj);
+  }
+}
+
 double PairSearch::RootLowerBound() {
   const PairNets nets(a_, b_);
   const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
@@ -449,6 +466,7 @@ PairSolveResult PairSearch::Finish(const PairLocalResult& best, bool certified, 
   std::copy(best.y, best.y + 3, result.pointB);
   result.distance = std::sqrt(best.squaredDistance);
   result.iterations = iterations_;
+  result.subdomains = examined_;
   if (!certified) {
     // Whatever its distance: some part of the pair may still hold a closer point.
     result.status = PairStatus::NotCertified;
@@ -528,7 +546,8 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     const int s = heap.back();
     heap.pop_back();
     if (pool[s][kLowerBound] >= pruneLevel()) break;  // every other subdomain is farther still
-    if (++examined > kMaxPairSubdomains) {
+    examined_ = ++examined;
+    if (examined > kMaxPairSubdomains) {
       // The heap's least bound holds for every part left open.
       certified = false;
       open_ = std::min(open_, pool[s][kLowerBound] - slack_);
@@ -573,7 +592,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     if (HoldsKktPoint(pool[s])) {
       ChooseSplitByVariation(pool[s], &side, &factor, &vi, &vj);
     } else {
-      ChooseSplit(pool[s], &side, &factor, &vi, &vj);
+      ChooseSplitByBend(pool[s], nets, &side, &factor, &vi, &vj);
     }
     for (int child = 0; child < 2; ++child) {
       const int keep = child == 0 ? vi : vj;

@@ -30,6 +30,7 @@ struct PairSolveResult {
   double distance = 0.0;
   PairStatus status = PairStatus::Farther;
   int iterations = 0;             ///< Newton iterations of every local solve.
+  int subdomains = 0;             ///< Pairs of subdomains the search examined.
   /// NotCertified: a lower bound of the squared distance over the parts of
   /// the pair the search left open (a caller that finds a closer pair
   /// elsewhere needs no more of this one); +inf otherwise.

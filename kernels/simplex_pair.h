@@ -8,7 +8,7 @@ namespace invmap::kernels {
 /// Closest points of the affine simplices A (vertices a[0..dimA]) and B
 /// (b[0..dimB]), dimA and dimB 1 (segment) or 2 (triangle), `ambientDim`
 /// coordinates per vertex (2 or 3). Writes the reference coordinates of each
-/// closest point (FORMATS.md section 1: x = v0 + s (v1 - v0) [+ t (v2 - v0)])
+/// closest point (docs/formats.md: x = v0 + s (v1 - v0) [+ t (v2 - v0)])
 /// and the points; returns the squared distance. Simplices that cross or
 /// touch give 0 and a common point (up to rounding). Degenerate simplices
 /// (coincident or collinear vertices) are handled: the answer is a closest

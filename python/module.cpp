@@ -26,41 +26,13 @@
 #include "python/geometry_state.h"
 #include "python/grid_binding.h"
 #include "python/numpy_points.h"
+#include "python/py_manifold.h"
+#include "python/distance_binding.h"
 
 namespace py = pybind11;
 
 namespace invmap::python {
 namespace {
-
-/// A built manifold together with the serialized geometry it was built from,
-/// which is what pickling sends (workers rebuild from it, not from a file).
-class PyManifold {
- public:
-  /// Builds `geometry`; a malformed one throws InputError
-  /// "<nameForMessages>: <reason>", worded as the command line words it.
-  /// Pure C++: callers may release the GIL around it.
-  PyManifold(const Geometry& geometry, const std::string& nameForMessages)
-      : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
-    BuildResult built = Manifold::Build(geometry);
-    if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
-    manifold_ = std::move(built.manifold);
-    for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
-  }
-
-  const Manifold& manifold() const { return manifold_; }
-  /// SerializeGeometry of the geometry (the pickled state).
-  const std::string& state() const { return state_; }
-  int dimension() const { return dimension_; }
-  std::size_t patches() const { return patches_; }
-  std::int64_t cells() const { return cells_; }
-
- private:
-  Manifold manifold_;
-  std::string state_;
-  int dimension_;
-  std::size_t patches_;
-  std::int64_t cells_ = 0;
-};
 
 /// True when `path` names a regular file this process can open, i.e. when a
 /// read failure is about the content (InputError), not the file (FileError).
@@ -400,4 +372,5 @@ Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
         py::arg("knots"), py::arg("weights"),
         "One B-spline patch from control points in file order, u fastest (see invmap.from_bspline).");
   RegisterGrid(m);
+  RegisterDistance(m);
 }

@@ -38,6 +38,10 @@ struct Pose {
   static Pose FromAxisAngle(const double* axis, double angle, const double* translation);
 };
 
+/// Empty when `pose` is a rigid motion for models of `dimension` (2 or 3),
+/// else why not ("the pose's 3 x 3 part is not a rotation ...").
+std::string CheckPose(const Pose& pose, int dimension);
+
 /// One side of a distance answer: where on its model the point lies.
 struct ModelPoint {
   std::int32_t patch = -1;  ///< -1 when not found.

