@@ -55,6 +55,37 @@ void ProductRange(int terms, const double* const* x, int nx, const double* const
   *hi = h;
 }
 
+/// An enclosure of ProductRange's range that reads each y net only through
+/// its own range: sum_t x[t][i] y_t over every y_t in [min y[t], max y[t]],
+/// independently per t. It loses what ties y's nets together, and costs
+/// nx + ny coefficient reads instead of nx ny.
+void BoxedRange(int terms, const double* const* x, int nx, const double* const* y, int ny, double* lo, double* hi) {
+  double ylo[kMaxTerms], yhi[kMaxTerms];
+  for (int t = 0; t < terms; ++t) {
+    const auto [least, most] = std::minmax_element(y[t], y[t] + ny);
+    ylo[t] = *least;
+    yhi[t] = *most;
+  }
+  double l = kInf, h = -kInf, check = 0.0;
+  for (int i = 0; i < nx; ++i) {
+    double low = 0.0, high = 0.0;
+    for (int t = 0; t < terms; ++t) {
+      const double a = x[t][i] * ylo[t], b = x[t][i] * yhi[t];
+      low += std::min(a, b);
+      high += std::max(a, b);
+    }
+    l = std::min(l, low);
+    h = std::max(h, high);
+    check += (low + high) * 0.0;
+  }
+  if (check != 0.0 || !(l <= h)) {
+    l = -kInf;
+    h = kInf;
+  }
+  *lo = l;
+  *hi = h;
+}
+
 /// The parameters of a cell shape as (factor, direction within the factor).
 void ParameterFactors(const CellShape& shape, int* factor, int* dir) {
   for (int f = 0; f < shape.numFactors(); ++f) {
@@ -327,8 +358,8 @@ double PairNets::LeastWeight(const double* sideA, const double* sideB) const {
   return *std::min_element(wa, wa + size_[0]) * *std::min_element(wb, wb + size_[1]);
 }
 
-void PairNets::HessianRanges(const double* sideA, const double* sideB, double level, double* lo, double* hi,
-                             std::vector<double>* scratch) const {
+void PairNets::HessianRanges(const double* sideA, const double* sideB, double level, bool boxed, double* lo,
+                             double* hi, std::vector<double>* scratch) const {
   const int d = ambientDim_;
   const int na = size_[0], nb = size_[1];
   const int pa = shape_[0].paramDim(), pb = shape_[1].paramDim();
@@ -380,7 +411,7 @@ void PairNets::HessianRanges(const double* sideA, const double* sideB, double le
       if (!Derivatives(shape_[0], terms, alphaNets, p, q, &second, &size2)) continue;
       for (int t = 0; t < terms; ++t) x[t] = second.data() + t * size2;
       double l, h;
-      ProductRange(terms, x, size2, betaNets, nb, &l, &h);
+      (boxed ? BoxedRange : ProductRange)(terms, x, size2, betaNets, nb, &l, &h);
       set(p, q, l, h);
     }
   }
@@ -389,7 +420,7 @@ void PairNets::HessianRanges(const double* sideA, const double* sideB, double le
       if (!Derivatives(shape_[1], terms, betaNets, p, q, &second, &size2)) continue;
       for (int t = 0; t < terms; ++t) y[t] = second.data() + t * size2;
       double l, h;
-      ProductRange(terms, alphaNets, na, y, size2, &l, &h);
+      (boxed ? BoxedRange : ProductRange)(terms, y, size2, alphaNets, na, &l, &h);
       set(pa + p, pa + q, l, h);
     }
   }
@@ -400,7 +431,7 @@ void PairNets::HessianRanges(const double* sideA, const double* sideB, double le
       if (!hasB1[q]) continue;
       for (int t = 0; t < terms; ++t) y[t] = firstB[q].data() + t * sizeB1[q];
       double l, h;
-      ProductRange(terms, x, sizeA1[p], y, sizeB1[q], &l, &h);
+      (boxed ? BoxedRange : ProductRange)(terms, x, sizeA1[p], y, sizeB1[q], &l, &h);
       set(p, pa + q, l, h);
     }
   }

@@ -55,8 +55,11 @@ class PairNets {
   /// Bounds of the Hessian of g = Q - level WW over the joint parameters (n
   /// x n, row-major, both triangles): the least and largest coefficient of
   /// each entry's joint net, which hold every value of that entry over the
-  /// subdomains. Entries whose net is not finite get [-inf, inf].
-  void HessianRanges(const double* sideA, const double* sideB, double level, double* lo, double* hi,
+  /// subdomains. Entries whose net is not finite get [-inf, inf]. With
+  /// `boxed`, a cheaper enclosure that reads one side's nets through their
+  /// ranges only (exact per coefficient of the other side): looser, but
+  /// costs the sum of the nets' sizes instead of their product.
+  void HessianRanges(const double* sideA, const double* sideB, double level, bool boxed, double* lo, double* hi,
                      std::vector<double>* scratch) const;
   /// Where the joint net bends most next to its least coefficient (argA,
   /// argB, from LowerBound): over every edge (vi, vj) of every simplex

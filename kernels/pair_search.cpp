@@ -224,7 +224,7 @@ bool PairSearch::CertifyWith(double* slot, const double* w, double value, const 
   const double* sideB = sideA + nets.sideLength(0);
   const int n = n_;
   double lo[kMaxPairParams * kMaxPairParams], hi[kMaxPairParams * kMaxPairParams];
-  nets.HessianRanges(sideA, sideB, value, lo, hi, &ws_->hessianScratch);
+  nets.HessianRanges(sideA, sideB, value, true, lo, hi, &ws_->hessianScratch);
 
   PairCertificateInput input;
   input.n = n;
@@ -305,6 +305,9 @@ bool PairSearch::CertifyWith(double* slot, const double* w, double value, const 
   input.numVertices = count;
   input.vertices = vertices;
   input.allowed = std::max(0.0, value - pruneLevel) * nets.LeastWeight(sideA, sideB);
+  // The cheap enclosure first, then the joint nets' own ranges.
+  if (ProvesPairBound(input)) return true;
+  nets.HessianRanges(sideA, sideB, value, false, lo, hi, &ws_->hessianScratch);
   if (ProvesPairBound(input)) return true;
   // The bounds of the Hessian's entries lose what ties them together: along
   // a valley of equal distances (parallel cylinders) g does not change in
