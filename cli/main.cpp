@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
   AddInvertOptions(invertCommand, &invert, false);
   invertCommand->add_flag("--color", invert.color, ".ply output: colour the points by distance (viridis)");
+  invertCommand->add_flag("--all-minima", invert.allMinima, "every local minimum of each point's distance (.csv, .npy)");
 
   invmap::cli::InvertOptions trim;
   std::string keep = "near";

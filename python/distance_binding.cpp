@@ -13,6 +13,7 @@
 
 #include "invmap/distance.h"
 #include "python/errors.h"
+#include "python/numpy_points.h"
 #include "python/py_manifold.h"
 
 namespace py = pybind11;
@@ -176,9 +177,74 @@ class PyDistanceTracker {
   std::unique_ptr<DistanceTracker> tracker_;
 };
 
+/// A numpy array that owns `values` (moved, not copied).
+template <typename T>
+py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
+  auto owned = std::make_unique<std::vector<T>>(std::move(values));
+  py::capsule owner(owned.get(), [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  const void* data = owned.release()->data();
+  return py::array(py::dtype::of<T>(), std::move(shape), data, owner);
+}
+
+/// Manifold.local_minima: every local minimum of each point's distance.
+py::dict LocalMinimaPy(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
+                       std::optional<int> threads) {
+  const NumpyPoints view = ReadNumpyPoints(points, self.dimension());
+  const DistanceOptions checked = MakeOptions(false, maxDistance, threads);
+  InversionOptions options;
+  options.maxDistance = checked.maxDistance;
+  options.threads = checked.threads;
+  LocalMinimaResults results;
+  std::string message;
+  Error error;
+  {
+    py::gil_scoped_release noGil;
+    error = LocalMinima(self.manifold(), view.view, options, &results, &message);
+  }
+  ThrowOnError(error, message);
+  Results& rows = results.minima;
+  const auto n = static_cast<py::ssize_t>(rows.status.size());
+  const int dim = self.dimension();
+  if (dim == 2) {
+    for (py::ssize_t i = 0; i < n; ++i) {
+      rows.closest[2 * i] = rows.closest[3 * i];
+      rows.closest[2 * i + 1] = rows.closest[3 * i + 1];
+    }
+    rows.closest.resize(2 * n);
+  }
+  std::vector<std::uint8_t> status(rows.status.size());
+  for (std::size_t i = 0; i < status.size(); ++i) status[i] = static_cast<std::uint8_t>(rows.status[i]);
+  py::array_t<bool> certified(static_cast<py::ssize_t>(results.certified.size()));
+  for (std::size_t i = 0; i < results.certified.size(); ++i) certified.mutable_data()[i] = results.certified[i] != 0;
+  py::dict out;
+  const auto offsetCount = static_cast<py::ssize_t>(results.offsets.size());
+  out["offsets"] = Adopt(std::move(results.offsets), {offsetCount});
+  out["status"] = Adopt(std::move(status), {n});
+  out["patch"] = Adopt(std::move(rows.patch), {n});
+  out["cell"] = Adopt(std::move(rows.cell), {n});
+  out["params"] = Adopt(std::move(rows.params), {n, 3});
+  out["closest"] = Adopt(std::move(rows.closest), {n, dim});
+  out["distance"] = Adopt(std::move(rows.distance), {n});
+  out["certified"] = certified;
+  return out;
+}
+
 }  // namespace
 
 void RegisterDistance(py::module_& m) {
+  py::object manifold = m.attr("Manifold");
+  manifold.attr("local_minima") = py::cpp_function(
+      &LocalMinimaPy, py::is_method(manifold), py::arg("points"), py::arg("max_distance") = py::none(),
+      py::arg("threads") = py::none(), R"doc(
+Every local minimum of each point's distance within max_distance (as
+`invmap invert --all-minima`), nearest first, each once.
+
+Returns a dict of numpy arrays: offsets (N + 1,) int64 (point i's rows are
+offsets[i]:offsets[i + 1]); per row status, patch, cell, params, closest,
+distance as Manifold.invert gives them (a point with no minimum has one row
+of status 1, an invalid point one of status 2); certified (N,) bool, False
+where some cell's enumeration ran out of its budget (a continuum of minima).
+)doc");
   m.def("distance", &Distance, py::arg("a"), py::arg("b"), py::arg("pose_a") = py::none(),
         py::arg("pose_b") = py::none(), py::arg("all_minima") = false, py::arg("max_distance") = py::none(),
         py::arg("threads") = py::none(), R"doc(

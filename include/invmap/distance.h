@@ -145,4 +145,22 @@ class DistanceTracker {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Every local minimum of each point's distance to the manifold within
+/// options.maxDistance, nearest first, each once (a minimum on an edge that
+/// cells share is one minimum, and counts only where the distance grows
+/// into every cell that meets there). Point i's rows are
+/// [offsets[i], offsets[i + 1]) of `minima` (Results' fields): status Found
+/// for each minimum, or one row of status None (no minimum within
+/// maxDistance) or Invalid (a NaN or infinite coordinate).
+struct LocalMinimaResults {
+  std::vector<std::int64_t> offsets;  ///< points + 1 entries.
+  Results minima;
+  /// Per point: 0 where some cell's enumeration ran out of its budget (a
+  /// continuum of minima, such as a circle of them seen from a torus's axis).
+  std::vector<std::uint8_t> certified;
+};
+
+Error LocalMinima(const Manifold& manifold, const PointsView& points, const InversionOptions& options,
+                  LocalMinimaResults* results, std::string* message = nullptr);
+
 }  // namespace invmap

@@ -110,3 +110,24 @@ def test_same_fields_as_the_command(cli, geometry_files, tmp_path):
     assert python["distance"] == command["distance"]
     assert python["a"] == command["a"] and python["b"] == command["b"]
     assert python["certified"] == command["certified"]
+
+
+def test_local_minima_of_points(geometry_files):
+    torus = invmap.load(geometry_files["torus"])
+    r = torus.local_minima(np.array([[2.0, 0, 3], [np.nan, 0, 0], [2.0, 0, -3]]))
+    assert list(r["offsets"]) == [0, 1, 2, 3]
+    assert list(r["status"]) == [0, 2, 0]
+    assert r["distance"][0] == pytest.approx(2.3, abs=1e-9)
+    assert r["closest"][2] == pytest.approx([2, 0, -0.7], abs=1e-9)
+    assert r["certified"].all()
+    # Every minimum is a point invert also reaches from the same query when
+    # it is the nearest: the first row of each point is invert's answer.
+    points = np.array([[0.5, 3.1, 0.2], [3.0, 1.0, 1.5]])
+    rows = torus.local_minima(points)
+    nearest = torus.invert(points)
+    for i in range(2):
+        first = rows["offsets"][i]
+        assert rows["distance"][first] == pytest.approx(nearest["distance"][i], abs=1e-9)
+        assert list(rows["distance"][first:rows["offsets"][i + 1]]) == sorted(rows["distance"][first:rows["offsets"][i + 1]])
+    none = torus.local_minima(np.array([[2.0, 0, 3]]), max_distance=1.0)
+    assert list(none["status"]) == [1]

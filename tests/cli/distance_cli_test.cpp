@@ -169,3 +169,46 @@ TEST_F(DistanceCliTest, InputAndOutputErrors) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(DistanceCliTest, InvertAllMinima) {
+  // Above and below the torus's tube core at (2, 0, 0): the tube's top or
+  // bottom is the one minimum (2.3 away); a NaN point is invalid; nothing
+  // lies within 1 of (2, 0, 3).
+  WriteFile("points.xyz", "2 0 3\nnan 0 0\n2 0 -3\n");
+  std::string out;
+  ASSERT_EQ(Run("invert -g " + Path("torus.json") + " -p " + Path("points.xyz") + " -o " + Path("m.csv") +
+                    " --all-minima -q",
+                &out),
+            0)
+      << out;
+  std::istringstream rows(ReadFile(Path("m.csv")));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "index,status,patch,cell,u,v,w,x,y,z,distance");
+  std::vector<std::string> lines;
+  while (std::getline(rows, line)) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0].rfind("0,found,", 0), 0u);
+  EXPECT_NEAR(std::stod(lines[0].substr(lines[0].rfind(',') + 1)), 2.3, 1e-9);
+  EXPECT_EQ(lines[1], "1,invalid,-1,-1,,,,,,,");
+  EXPECT_EQ(lines[2].rfind("2,found,", 0), 0u);
+  EXPECT_NEAR(std::stod(lines[2].substr(lines[2].rfind(',') + 1)), 2.3, 1e-9);
+  // Within 1: none.
+  ASSERT_EQ(Run("invert -g " + Path("torus.json") + " -p " + Path("points.xyz") + " -o " + Path("n.csv") +
+                " --all-minima --max-distance 1 -q"),
+            0);
+  EXPECT_NE(ReadFile(Path("n.csv")).find("\n0,none,-1,-1,,,,,,,\n"), std::string::npos);
+  // npy: (rows, 11); PLY cannot hold several rows per point.
+  ASSERT_EQ(Run("invert -g " + Path("torus.json") + " -p " + Path("points.xyz") + " -o " + Path("m.npy") +
+                " --all-minima -q"),
+            0);
+  EXPECT_EQ(fs::file_size(Path("m.npy")), 128u + 3u * 11u * 8u);
+  EXPECT_EQ(Run("invert -g " + Path("torus.json") + " -p " + Path("points.xyz") + " -o " + Path("m.ply") +
+                " --all-minima"),
+            2);
+  EXPECT_FALSE(fs::exists(Path("m.ply")));
+}
+
+}  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "tests/support/closest_reference.h"
@@ -164,13 +165,14 @@ double BoxDistance2(const PlacedCell& a, const PlacedCell& b) {
 
 /// Projected Gauss-Newton (Levenberg-Marquardt damped) on the joint
 /// parameters of two placed cells, from (ua, ub): the polish.
+/// `b` without a source cell is the fixed point of its pose's translation.
 double Polish(const PlacedCell& a, const PlacedCell& b, double* ua, double* ub) {
-  const int pa = a.source->cell.paramDim(), pb = b.source->cell.paramDim();
+  const int pa = a.source->cell.paramDim(), pb = b.source ? b.source->cell.paramDim() : 0;
   const int n = pa + pb;
   auto evaluate = [&](const double* u, const double* v, V3* x, V3* y, double jac[3][6]) {
     RefJet ja, jb;
     RefEvaluateJet(a.source->cell, u, 1, &ja);
-    RefEvaluateJet(b.source->cell, v, 1, &jb);
+    if (b.source) RefEvaluateJet(b.source->cell, v, 1, &jb);
     double px[3], py[3];
     ApplyRows(a.pose, ja.x, px);
     ApplyRows(b.pose, jb.x, py);
@@ -191,7 +193,7 @@ double Polish(const PlacedCell& a, const PlacedCell& b, double* ua, double* ub) 
     }
   };
   ProjectDomain(a.source->cell.type, ua);
-  ProjectDomain(b.source->cell.type, ub);
+  if (b.source) ProjectDomain(b.source->cell.type, ub);
   V3 x, y;
   double jac[3][6] = {};
   evaluate(ua, ub, &x, &y, jac);
@@ -203,7 +205,7 @@ double Polish(const PlacedCell& a, const PlacedCell& b, double* ua, double* ub) 
       tv[i] = ub[i] + (i < pb ? t * step[pa + i] : 0.0);
     }
     ProjectDomain(a.source->cell.type, tu);
-    ProjectDomain(b.source->cell.type, tv);
+    if (b.source) ProjectDomain(b.source->cell.type, tv);
     evaluate(tu, tv, xt, yt, jt);
     return Distance2(*xt, *yt);
   };
@@ -441,6 +443,186 @@ std::vector<PairReferenceAnswer> BruteForcePairMinima(const Geometry& a, const P
   std::sort(minima.begin(), minima.end(),
             [](const PairReferenceAnswer& x, const PairReferenceAnswer& y) { return x.distance < y.distance; });
   return minima;
+}
+
+std::vector<PairReferencePoint> BruteForcePointMinima(const Geometry& geometry, const double* point, double maxDistance,
+                                                      double mergeTolerance, int divisions) {
+  const std::vector<PatchCell> cells = GeometryCells(geometry);
+  PairReferenceOptions options;
+  for (int& d : options.divisions) d = divisions;
+  const std::vector<PlacedCell> placed = PlaceCells(cells, IdentityRows(), options);
+  const V3 p{point[0], point[1], geometry.dimension > 2 ? point[2] : 0.0};
+  struct Sample {
+    std::size_t cell, index;
+    double d2;
+  };
+  std::vector<Sample> samples;
+  for (std::size_t c = 0; c < placed.size(); ++c) {
+    // Cells beyond reach hold no minimum within maxDistance (their neighbours
+    // within reach still see their samples as neighbours: a margin).
+    double gap2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double gap = std::max({placed[c].lo[k] - p[k], 0.0, p[k] - placed[c].hi[k]});
+      gap2 += gap * gap;
+    }
+    if (std::sqrt(gap2) > 1.5 * maxDistance + 1e-12) continue;
+    for (std::size_t i = 0; i < placed[c].points.size(); ++i) samples.push_back({c, i, Distance2(placed[c].points[i], p)});
+  }
+  auto pointOf = [&](const Sample& s) { return placed[s.cell].points[s.index]; };
+  // The polish's second side: the fixed point p.
+  PlacedCell probe;
+  probe.pose = IdentityRows();
+  probe.pose[3] = p[0];
+  probe.pose[7] = p[1];
+  probe.pose[11] = p[2];
+  double largestSpacing = 0.0;
+  for (const PlacedCell& c : placed) largestSpacing = std::max(largestSpacing, c.spacing);
+  // Lattice neighbours lie within a few spacings: a grid of that size
+  // finds them without comparing every pair of samples.
+  struct Grid {
+    double cellSize;
+    std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> buckets;
+    std::array<std::int64_t, 3> Key(const V3& x) const {
+      return {static_cast<std::int64_t>(std::floor(x[0] / cellSize)), static_cast<std::int64_t>(std::floor(x[1] / cellSize)),
+              static_cast<std::int64_t>(std::floor(x[2] / cellSize))};
+    }
+    std::vector<std::size_t> Near(const V3& x) const {
+      std::vector<std::size_t> out;
+      const auto key = Key(x);
+      for (int i = -1; i <= 1; ++i) {
+        for (int j = -1; j <= 1; ++j) {
+          for (int k = -1; k <= 1; ++k) {
+            const auto found = buckets.find({key[0] + i, key[1] + j, key[2] + k});
+            if (found != buckets.end()) out.insert(out.end(), found->second.begin(), found->second.end());
+          }
+        }
+      }
+      return out;
+    }
+  } grid{4.0 * largestSpacing + 1e-300, {}};
+  for (std::size_t s = 0; s < samples.size(); ++s) grid.buckets[grid.Key(pointOf(samples[s]))].push_back(s);
+  std::vector<PairReferencePoint> minima;
+  std::vector<double> minimaDistance;
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const Sample& sample = samples[s];
+    if (std::sqrt(sample.d2) > maxDistance * 1.1 + 1e-12) continue;
+    const PlacedCell& cell = placed[sample.cell];
+    const V3 at = pointOf(sample);
+    const double step = 1.0 / cell.divisions;
+    bool least = true;
+    for (const std::size_t t : grid.Near(at)) {
+      if (!least) break;
+      if (t == s) continue;
+      bool neighbour;
+      if (samples[t].cell == sample.cell) {
+        double most = 0.0;
+        for (int k = 0; k < 3; ++k) most = std::max(most, std::abs(cell.refs[samples[t].index][k] - cell.refs[sample.index][k]));
+        neighbour = most <= step * 1.0001;
+      } else {
+        neighbour = Distance2(pointOf(samples[t]), at) <= 1e-24;
+      }
+      if (neighbour && samples[t].d2 < sample.d2) least = false;
+    }
+    if (!least) continue;
+    double u[3] = {cell.refs[sample.index][0], cell.refs[sample.index][1], cell.refs[sample.index][2]};
+    double v[3] = {0, 0, 0};
+    const double d = Polish(cell, probe, u, v);
+    if (d > maxDistance) continue;
+    const PairReferencePoint found = MakePoint(cell, u);
+    // A point the polish held on its cell's edge is no minimum if the
+    // distance still falls across that edge: a sample nearby is closer.
+    bool beaten = false;
+    for (const std::size_t t : grid.Near(found.point)) {
+      const Sample& other = samples[t];
+      if (Distance2(pointOf(other), found.point) <= 4.0 * largestSpacing * largestSpacing && std::sqrt(other.d2) < d - 1e-12) {
+        beaten = true;
+        break;
+      }
+    }
+    if (beaten) continue;
+    // Held on its cell's edge: in every other cell that holds the point, a
+    // polish from there must not get closer (the distance must grow into
+    // that cell too).
+    for (std::size_t c2 = 0; c2 < placed.size() && !beaten; ++c2) {
+      if (c2 == sample.cell) continue;
+      const PlacedCell& other = placed[c2];
+      bool inBox = true;
+      for (int k = 0; k < 3; ++k) inBox = inBox && found.point[k] >= other.lo[k] - 1e-9 && found.point[k] <= other.hi[k] + 1e-9;
+      if (!inBox) continue;
+      PlacedCell target;
+      target.pose = IdentityRows();
+      target.pose[3] = found.point[0];
+      target.pose[7] = found.point[1];
+      target.pose[11] = found.point[2];
+      std::size_t nearest = 0;
+      for (std::size_t i = 0; i < other.points.size(); ++i) {
+        if (Distance2(other.points[i], found.point) < Distance2(other.points[nearest], found.point)) nearest = i;
+      }
+      double w[3] = {other.refs[nearest][0], other.refs[nearest][1], other.refs[nearest][2]}, none[3] = {0, 0, 0};
+      if (Polish(other, target, w, none) > 1e-9) continue;  // not on this cell
+      beaten = Polish(other, probe, w, none) < d - 1e-10;
+    }
+    if (beaten) continue;
+    bool known = false;
+    for (const PairReferencePoint& m : minima) known = known || std::sqrt(Distance2(m.point, found.point)) <= mergeTolerance;
+    if (!known) {
+      minima.push_back(found);
+      minimaDistance.push_back(d);
+    }
+  }
+  // Nearest first.
+  std::vector<std::size_t> order(minima.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return minimaDistance[x] < minimaDistance[y]; });
+  std::vector<PairReferencePoint> sorted;
+  for (const std::size_t i : order) sorted.push_back(minima[i]);
+  return sorted;
+}
+
+bool VerifyLocalMinimum(const Geometry& geometry, const double* point, const double* x, double tolerance) {
+  const std::vector<PatchCell> cells = GeometryCells(geometry);
+  PairReferenceOptions options;
+  for (int& d : options.divisions) d = 6;
+  const std::vector<PlacedCell> placed = PlaceCells(cells, IdentityRows(), options);
+  const V3 p{point[0], point[1], geometry.dimension > 2 ? point[2] : 0.0};
+  const V3 at{x[0], x[1], geometry.dimension > 2 ? x[2] : 0.0};
+  const double d = std::sqrt(Distance2(at, p));
+  PlacedCell target;
+  target.pose = IdentityRows();
+  target.pose[3] = at[0];
+  target.pose[7] = at[1];
+  target.pose[11] = at[2];
+  int holders = 0;
+  for (const PlacedCell& cell : placed) {
+    bool inBox = true;
+    for (int k = 0; k < 3; ++k) inBox = inBox && at[k] >= cell.lo[k] - 1e-9 && at[k] <= cell.hi[k] + 1e-9;
+    if (!inBox) continue;
+    std::size_t nearest = 0;
+    for (std::size_t i = 0; i < cell.points.size(); ++i) {
+      if (Distance2(cell.points[i], at) < Distance2(cell.points[nearest], at)) nearest = i;
+    }
+    double u[3] = {cell.refs[nearest][0], cell.refs[nearest][1], cell.refs[nearest][2]}, none[3] = {0, 0, 0};
+    if (Polish(cell, target, u, none) > 1e-9) continue;  // x is not on this cell
+    ++holders;
+    const int pd = cell.source->cell.paramDim();
+    for (const double radius : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6}) {
+      const int directions = pd == 1 ? 2 : 16;
+      for (int k = 0; k < directions; ++k) {
+        double v[3] = {u[0], u[1], u[2]};
+        if (pd == 1) {
+          v[0] += k == 0 ? radius : -radius;
+        } else {
+          const double angle = 2.0 * 3.14159265358979323846 * k / directions;
+          v[0] += radius * std::cos(angle);
+          v[1] += radius * std::sin(angle);
+          if (pd == 3) v[2] += radius * std::sin(3.0 * angle);
+        }
+        ProjectDomain(cell.source->cell.type, v);
+        if (std::sqrt(Distance2(PlacedPoint(cell, v), p)) < d - tolerance) return false;
+      }
+    }
+  }
+  return holders > 0;
 }
 
 namespace {

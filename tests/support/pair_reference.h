@@ -63,6 +63,24 @@ std::vector<PairReferenceAnswer> BruteForcePairMinima(const Geometry& a, const P
                                                       const PoseRows& poseB, double maxDistance,
                                                       double mergeTolerance, const PairReferenceOptions& options = {});
 
+/// Every local minimum of the distance from `point` to `geometry` up to
+/// `maxDistance`, as a dense lattice of each cell shows them: the samples no
+/// neighbouring sample beats (one lattice step away in their cell, or the
+/// same point of another cell and its neighbours), polished by a projected
+/// Gauss-Newton solve in their cell, kept when no sample within two lattice
+/// steps of the polished point (in any cell) is closer to the point, and
+/// merged where the polished points coincide (within `mergeTolerance`).
+std::vector<PairReferencePoint> BruteForcePointMinima(const Geometry& geometry, const double* point, double maxDistance,
+                                                      double mergeTolerance, int divisions);
+
+/// True when `x`, a point of `geometry`, is a local minimum of the distance
+/// to `point` as the tests' own evaluator sees it: in every cell that holds
+/// x (a polish of x onto the cell reaches it), no point on rings of
+/// reference coordinates around it (radii 1e-2 down to 1e-6, projected into
+/// the cell's domain) is closer to `point` than x by more than `tolerance`.
+/// For minima too shallow for a lattice to resolve.
+bool VerifyLocalMinimum(const Geometry& geometry, const double* point, const double* x, double tolerance);
+
 /// Exact distance between triangles (a0 a1 a2) and (b0 b1 b2) in 3D, from
 /// the vertex-to-triangle distances, the edge-to-edge distances (each a
 /// convex function of one edge parameter, minimized exactly) and the
