@@ -9,6 +9,7 @@
 
 #include "engine/distance_model.h"
 #include "engine/manifold_access.h"
+#include "engine/model_minima.h"
 #include "kernels/active_set.h"
 
 namespace invmap {
@@ -47,6 +48,20 @@ void CheckModels(const DistanceModel& a, const DistanceModel& b, const DistanceO
     throw std::invalid_argument("options: maxDistance " + std::to_string(options.maxDistance) + ", expected >= 0");
   }
   if (options.threads < 0) throw std::invalid_argument("options: threads must be >= 0 (0 = all cores)");
+}
+
+/// result->minima: every local minimum of the distance (engine/model_minima.h).
+void AddAllMinima(const DistanceModel::Impl& a, const kernels::RigidMotion& ma, const DistanceModel::Impl& b,
+                  const kernels::RigidMotion& mb, double maxDistance, engine::ModelDistanceWorkspace* ws,
+                  DistanceResult* result) {
+  bool certified = true;
+  const std::vector<engine::CellPairAnswer> minima =
+      engine::AllPairMinima(engine::Place(a, ma), engine::Place(b, mb), maxDistance, &certified, ws);
+  for (const engine::CellPairAnswer& m : minima) {
+    DistanceAnswer answer = engine::ToAnswer(m, a, b);
+    answer.certified = certified;
+    result->minima.push_back(answer);
+  }
 }
 
 kernels::RigidMotion MotionOrThrow(const Pose& pose, int dimension, const char* which) {
@@ -197,7 +212,6 @@ Error Distance(const DistanceModel& a, const Pose& poseA, const DistanceModel& b
     const DistanceModel::Impl& ib = *DistanceAccess::Get(b);
     const kernels::RigidMotion ma = MotionOrThrow(poseA, dim, "pose of A");
     const kernels::RigidMotion mb = MotionOrThrow(poseB, dim, "pose of B");
-    if (options.allMinima) throw std::invalid_argument("options: allMinima is not available yet");
     engine::ModelDistanceOptions engineOptions;
     engineOptions.maxDistance = options.maxDistance;
     engineOptions.threads = options.threads;
@@ -206,6 +220,7 @@ Error Distance(const DistanceModel& a, const Pose& poseA, const DistanceModel& b
         engine::NearestPair(engine::Place(ia, ma), engine::Place(ib, mb), engineOptions, &ws);
     *result = DistanceResult();
     result->nearest = engine::ToAnswer(answer, ia, ib);
+    if (options.allMinima) AddAllMinima(ia, ma, ib, mb, options.maxDistance, &ws, result);
     return Error::Ok;
   });
 }
@@ -253,7 +268,6 @@ Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::st
   return Guarded(message, [&] {
     if (!impl_->setupError.empty()) throw std::invalid_argument(impl_->setupError);
     if (!result) throw std::invalid_argument("result: null");
-    if (impl_->options.allMinima) throw std::invalid_argument("options: allMinima is not available yet");
     const DistanceModel::Impl& ia = *DistanceAccess::Get(impl_->a);
     const DistanceModel::Impl& ib = *DistanceAccess::Get(impl_->b);
     const kernels::RigidMotion mb = MotionOrThrow(poseB, impl_->b.manifold().Info().dimension, "pose of B");
@@ -269,6 +283,9 @@ Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::st
     }
     *result = DistanceResult();
     result->nearest = engine::ToAnswer(answer, ia, ib);
+    if (impl_->options.allMinima) {
+      AddAllMinima(ia, impl_->motionA, ib, mb, impl_->options.maxDistance, &impl_->ws, result);
+    }
     return Error::Ok;
   });
 }

@@ -12,36 +12,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// The pair kernels' view of distance cell `cell` of model `m`. Affine cells
-/// keep no nets; where a curved partner needs them they are built into the
-/// workspace (`slot` 0 or 1, one per side, reused while the cell stays).
-kernels::PairSide SideOf(const PlacedModel& m, std::int64_t cell, int slot, bool needNets,
-                         ModelDistanceWorkspace* ws) {
-  const DistanceCell& c = m.cells->cell(cell);
-  kernels::PairSide side;
-  side.cell = c.view;
-  side.motion = m.motion;
-  side.size = c.size;
-  side.affine = c.affine;
-  side.nets = m.cells->nets(cell);
-  if (!side.nets && needNets) {
-    if (ws->scratchNetsModel[slot] != m.cells || ws->scratchNetsCell[slot] != cell) {
-      BuildCellNets(c.view, c.boxLo, c.boxHi, &ws->scratchNets[slot]);
-      ws->scratchNetsModel[slot] = m.cells;
-      ws->scratchNetsCell[slot] = cell;
-    }
-    side.nets = &ws->scratchNets[slot];
-  }
-  return side;
-}
-
-/// x -> motion^-1 x.
-void ToModelFrame(const kernels::RigidMotion& motion, const double* world, double* local) {
-  double d[3];
-  for (int k = 0; k < 3; ++k) d[k] = world[k] - motion.translation[k];
-  for (int k = 0; k < 3; ++k) local[k] = motion.rotation[0][k] * d[0] + motion.rotation[1][k] * d[1] + motion.rotation[2][k] * d[2];
-}
-
 /// The inside test of a volume model X against model Y: one point of each
 /// of Y's distance cells (its centre), inverted into X. A point at distance
 /// 0 (X's volume holds it) makes the models intersect; Y's cells that do not
@@ -92,12 +62,42 @@ std::int64_t FirstCellInside(const PlacedModel& x, const PlacedModel& y, double 
 
 }  // namespace
 
+/// The pair kernels' view of distance cell `cell` of model `m`. Affine cells
+/// keep no nets; where a curved partner needs them they are built into the
+/// workspace (`slot` 0 or 1, one per side, reused while the cell stays).
+kernels::PairSide PlacedSide(const PlacedModel& m, std::int64_t cell, int slot, bool needNets,
+                         ModelDistanceWorkspace* ws) {
+  const DistanceCell& c = m.cells->cell(cell);
+  kernels::PairSide side;
+  side.cell = c.view;
+  side.motion = m.motion;
+  side.size = c.size;
+  side.affine = c.affine;
+  side.nets = m.cells->nets(cell);
+  if (!side.nets && needNets) {
+    if (ws->scratchNetsModel[slot] != m.cells || ws->scratchNetsCell[slot] != cell) {
+      BuildCellNets(c.view, c.boxLo, c.boxHi, &ws->scratchNets[slot]);
+      ws->scratchNetsModel[slot] = m.cells;
+      ws->scratchNetsCell[slot] = cell;
+    }
+    side.nets = &ws->scratchNets[slot];
+  }
+  return side;
+}
+
+/// x -> motion^-1 x.
+void ToModelFrame(const kernels::RigidMotion& motion, const double* world, double* local) {
+  double d[3];
+  for (int k = 0; k < 3; ++k) d[k] = world[k] - motion.translation[k];
+  for (int k = 0; k < 3; ++k) local[k] = motion.rotation[0][k] * d[0] + motion.rotation[1][k] * d[1] + motion.rotation[2][k] * d[2];
+}
+
 kernels::PairSolveResult SolvePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,
                                           std::int64_t cellB, const double* startA, const double* startB,
                                           double bound2, ModelDistanceWorkspace* ws) {
   const bool convex = a.cells->cell(cellA).affine && b.cells->cell(cellB).affine;
-  const kernels::PairSide sideA = SideOf(a, cellA, 0, !convex, ws);
-  const kernels::PairSide sideB = SideOf(b, cellB, 1, !convex, ws);
+  const kernels::PairSide sideA = PlacedSide(a, cellA, 0, !convex, ws);
+  const kernels::PairSide sideB = PlacedSide(b, cellB, 1, !convex, ws);
   return kernels::SolveCellPair(sideA, sideB, startA, startB, &ws->pair, bound2);
 }
 

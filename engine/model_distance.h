@@ -66,6 +66,15 @@ struct ModelDistanceWorkspace {
 CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const ModelDistanceOptions& options,
                            ModelDistanceWorkspace* ws);
 
+/// The pair kernels' view of distance cell `cell` of model `m`. An affine
+/// cell keeps no nets; with `needNets` they are built into the workspace
+/// (`slot` 0 or 1, one per side, reused while the cell stays the same).
+kernels::PairSide PlacedSide(const PlacedModel& m, std::int64_t cell, int slot, bool needNets,
+                             ModelDistanceWorkspace* ws);
+
+/// x -> motion^-1 x.
+void ToModelFrame(const kernels::RigidMotion& motion, const double* world, double* local);
+
 /// The pair solve of one cell pair, as NearestPair runs it (`start`: both
 /// sides' reference coordinates, or null); `bound2` as SolveCellPair's.
 kernels::PairSolveResult SolvePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,

@@ -138,6 +138,23 @@ bool ProvesByExtents(const PairCertificateInput& in, const Transformed& data, co
 
 }  // namespace
 
+bool IntervalPositiveDefinite(int n, const double* lo, const double* hi) {
+  Matrix mid(n, n), rad(n, n);
+  for (int a = 0; a < n; ++a) {
+    if (!(lo[a * n + a] > 0.0)) return false;
+    for (int b = 0; b < n; ++b) {
+      if (!std::isfinite(lo[a * n + b]) || !std::isfinite(hi[a * n + b])) return false;
+      mid(a, b) = 0.5 * (lo[a * n + b] + hi[a * n + b]);
+      rad(a, b) = 0.5 * (hi[a * n + b] - lo[a * n + b]);
+    }
+  }
+  Vector scale(n);
+  for (int a = 0; a < n; ++a) scale[a] = 1.0 / std::sqrt(mid(a, a));
+  mid = scale.asDiagonal() * mid * scale.asDiagonal();
+  rad = scale.asDiagonal() * rad * scale.asDiagonal();
+  return LeastEigenvalue(mid, rad) > 1e-12;
+}
+
 bool ProvesPairBound(const PairCertificateInput& in) {
   const int n = in.n;
   Matrix mid(n, n), rad(n, n);

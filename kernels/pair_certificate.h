@@ -56,4 +56,8 @@ struct PairCertificateInput {
 /// True when g >= -allowed is proved over the whole of S.
 bool ProvesPairBound(const PairCertificateInput& input);
 
+/// True when every symmetric n x n matrix within the bounds (row-major) is
+/// positive definite (its diagonal scaled to one, Weyl's bound).
+bool IntervalPositiveDefinite(int n, const double* lo, const double* hi);
+
 }  // namespace invmap::kernels

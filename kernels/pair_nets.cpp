@@ -350,6 +350,20 @@ double PairNets::LowerBound(const double* sideA, const double* sideB, std::vecto
   return least;
 }
 
+double PairNets::UpperBound(const double* sideA, const double* sideB) const {
+  const int d = ambientDim_;
+  const int na = size_[0], nb = size_[1];
+  double most = -kInf;
+  for (int i = 0; i < na; ++i) {
+    for (int j = 0; j < nb; ++j) {
+      double q = sideA[i] * sideB[(d + 1) * nb + j] + sideA[(d + 1) * na + i] * sideB[j];
+      for (int k = 0; k < d; ++k) q -= 2.0 * sideA[(1 + k) * na + i] * sideB[(1 + k) * nb + j];
+      most = std::max(most, q / (sideA[(d + 1) * na + i] * sideB[(d + 1) * nb + j]));
+    }
+  }
+  return most;
+}
+
 double PairNets::LeastWeight(const double* sideA, const double* sideB) const {
   if (!rational_) return 1.0;
   const int d = ambientDim_;
@@ -500,6 +514,52 @@ bool PairNets::MostBentEdgeAt(const double* sideA, const double* sideB, int argA
     }
   }
   return most > 0.0;
+}
+
+void PairNets::GradientRanges(const double* sideA, const double* sideB, double level, double* lo, double* hi,
+                              std::vector<double>* scratch) const {
+  const int d = ambientDim_;
+  const int na = size_[0], nb = size_[1];
+  const int pa = shape_[0].paramDim(), pb = shape_[1].paramDim();
+  const int terms = d + 2;
+  scratch->resize(static_cast<size_t>(terms) * (na + nb));
+  double* alpha = scratch->data();
+  double* beta = alpha + terms * na;
+  const double* aw = sideA + (d + 1) * na;
+  const double* bw = sideB + (d + 1) * nb;
+  for (int i = 0; i < na; ++i) {
+    alpha[i] = sideA[i] - level * aw[i];
+    alpha[na + i] = aw[i];
+  }
+  for (int j = 0; j < nb; ++j) {
+    beta[j] = bw[j];
+    beta[nb + j] = sideB[j];
+  }
+  for (int k = 0; k < d; ++k) {
+    std::copy(sideA + (1 + k) * na, sideA + (2 + k) * na, alpha + (2 + k) * na);
+    for (int j = 0; j < nb; ++j) beta[(2 + k) * nb + j] = -2.0 * sideB[(1 + k) * nb + j];
+  }
+  const double* alphaNets[8];
+  const double* betaNets[8];
+  for (int t = 0; t < terms; ++t) {
+    alphaNets[t] = alpha + t * na;
+    betaNets[t] = beta + t * nb;
+  }
+  std::vector<double> first;
+  const double* x[8];
+  int size1 = 0;
+  for (int p = 0; p < pa + pb; ++p) {
+    lo[p] = hi[p] = 0.0;
+    const int side = p < pa ? 0 : 1;
+    const int q = side == 0 ? p : p - pa;
+    if (!Derivatives(shape_[side], terms, side == 0 ? alphaNets : betaNets, q, -1, &first, &size1)) continue;
+    for (int t = 0; t < terms; ++t) x[t] = first.data() + t * size1;
+    if (side == 0) {
+      ProductRange(terms, x, size1, betaNets, nb, &lo[p], &hi[p]);
+    } else {
+      ProductRange(terms, alphaNets, na, x, size1, &lo[p], &hi[p]);
+    }
+  }
 }
 
 void PairNets::HessianRangesInBasis(const double* sideA, const double* sideB, double level, const double* basis,

@@ -47,6 +47,9 @@ class PairNets {
   /// coefficient indices that reach it.
   double LowerBound(const double* sideA, const double* sideB, std::vector<double>* scratch, int* argA = nullptr,
                     int* argB = nullptr) const;
+  /// max over (i, j) of Q_ij / WW_ij: an upper bound of the squared
+  /// distance over the pair of subdomains.
+  double UpperBound(const double* sideA, const double* sideB) const;
   /// A lower bound of WW over the subdomains.
   double LeastWeight(const double* sideA, const double* sideB) const;
   /// The rounding of the quotients Q_ij / WW_ij (squared distance units).
@@ -73,6 +76,11 @@ class PairNets {
   /// across the valley. False when the net is linear along every edge there.
   bool MostBentEdgeAt(const double* sideA, const double* sideB, int argA, int argB, int* side, int* factor,
                       int* vi, int* vj) const;
+  /// Bounds of the gradient of g = Q - level WW over the subdomains (n
+  /// values each, in their own coordinates): each entry's joint net's least
+  /// and largest coefficient.
+  void GradientRanges(const double* sideA, const double* sideB, double level, double* lo, double* hi,
+                      std::vector<double>* scratch) const;
   /// The same bounds for u^T H w over the columns u, w of `basis` (n x n,
   /// column c at basis[c n]): each entry from the joint net of its own
   /// directional second derivative, so a direction along which g does not

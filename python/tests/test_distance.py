@@ -131,3 +131,14 @@ def test_local_minima_of_points(geometry_files):
         assert list(rows["distance"][first:rows["offsets"][i + 1]]) == sorted(rows["distance"][first:rows["offsets"][i + 1]])
     none = torus.local_minima(np.array([[2.0, 0, 3]]), max_distance=1.0)
     assert list(none["status"]) == [1]
+
+
+def test_all_minima_between_models(geometry_files):
+    torus = invmap.load(geometry_files["torus"])
+    stick = segment([0, 0, 3], [0, 0, 4])
+    r = invmap.distance(torus, stick, pose_b=translation(2.5, 0, -2), all_minima=True)
+    assert r["minima"], r
+    assert r["minima"][0]["distance"] == pytest.approx(r["distance"], abs=1e-12)
+    distances = [m["distance"] for m in r["minima"]]
+    assert distances == sorted(distances)
+    assert "minima" not in invmap.distance(torus, stick)

@@ -172,6 +172,21 @@ TEST_F(DistanceCliTest, InputAndOutputErrors) {
 
 namespace {
 
+TEST_F(DistanceCliTest, DistanceAllMinima) {
+  // The stick beside the tube (x = 2.5): its low end is the nearest; the
+  // list holds every local minimum, nearest first, the nearest the answer.
+  std::string out;
+  ASSERT_EQ(Run(Models() + " --pose-b 1,0,0,2.5,0,1,0,0,0,0,1,-2 --all-minima", &out), 0) << out;
+  const json answer = json::parse(out);
+  ASSERT_TRUE(answer["minima"].is_array());
+  ASSERT_GE(answer["minima"].size(), 1u);
+  EXPECT_EQ(answer["minima"][0]["distance"], answer["distance"]);
+  for (std::size_t i = 1; i < answer["minima"].size(); ++i) {
+    EXPECT_LE(answer["minima"][i - 1]["distance"].get<double>(), answer["minima"][i]["distance"].get<double>());
+  }
+  EXPECT_EQ(answer["minima"][0]["certified"], true);
+}
+
 TEST_F(DistanceCliTest, InvertAllMinima) {
   // Above and below the torus's tube core at (2, 0, 0): the tube's top or
   // bottom is the one minimum (2.3 away); a NaN point is invalid; nothing

@@ -294,6 +294,43 @@ PairReferencePoint MakePoint(const PlacedCell& cell, const double* ref) {
   return p;
 }
 
+/// The reference coordinates of `x` on `cell`, when the cell holds it.
+bool RefOn(const PlacedCell& cell, const V3& x, double* ref) {
+  bool inBox = true;
+  for (int k = 0; k < 3; ++k) inBox = inBox && x[k] >= cell.lo[k] - 1e-9 && x[k] <= cell.hi[k] + 1e-9;
+  if (!inBox) return false;
+  PlacedCell target;
+  target.pose = IdentityRows();
+  target.pose[3] = x[0];
+  target.pose[7] = x[1];
+  target.pose[11] = x[2];
+  std::size_t nearest = 0;
+  for (std::size_t i = 0; i < cell.points.size(); ++i) {
+    if (Distance2(cell.points[i], x) < Distance2(cell.points[nearest], x)) nearest = i;
+  }
+  for (int k = 0; k < 3; ++k) ref[k] = cell.refs[nearest][k];
+  double none[3] = {0, 0, 0};
+  return Polish(cell, target, ref, none) <= 1e-9;
+}
+
+/// True when some pair of cells holding the answer's two points polishes
+/// from them to a pair closer than `d` (the answer sits on cells' edges
+/// where the distance still falls across them).
+bool CloserAcrossCells(const std::vector<PlacedCell>& placedA, const std::vector<PlacedCell>& placedB,
+                       const PairReferenceAnswer& answer, double d) {
+  for (const PlacedCell& ca : placedA) {
+    double ua[3];
+    if (!RefOn(ca, answer.a.point, ua)) continue;
+    for (const PlacedCell& cb : placedB) {
+      double ub[3];
+      if (!RefOn(cb, answer.b.point, ub)) continue;
+      double u[3] = {ua[0], ua[1], ua[2]}, v[3] = {ub[0], ub[1], ub[2]};
+      if (Polish(ca, cb, u, v) < d - 1e-10) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 PoseRows IdentityRows() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}; }
@@ -432,6 +469,9 @@ std::vector<PairReferenceAnswer> BruteForcePairMinima(const Geometry& a, const P
       answer.distance = d;
       answer.a = MakePoint(ca, ua);
       answer.b = MakePoint(cb, ub);
+      // Held on an edge of its cells: in every pair of cells that holds the
+      // two points, a polish from there must not get closer.
+      if (CloserAcrossCells(placedA, placedB, answer, d)) continue;
       bool known = false;
       for (const PairReferenceAnswer& m : minima) {
         known = known || (std::sqrt(Distance2(m.a.point, answer.a.point)) <= mergeTolerance &&
