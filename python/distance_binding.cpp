@@ -177,6 +177,48 @@ class PyDistanceTracker {
   std::unique_ptr<DistanceTracker> tracker_;
 };
 
+/// invmap.PointTracker: keeps the manifold alive (a Python reference).
+class PyPointTracker {
+ public:
+  PyPointTracker(py::object manifold, std::optional<double> maxDistance)
+      : manifold_(std::move(manifold)), dimension_(manifold_.cast<const PyManifold&>().dimension()) {
+    const DistanceOptions checked = MakeOptions(false, maxDistance, std::nullopt);
+    tracker_ = std::make_unique<PointTracker>(manifold_.cast<const PyManifold&>().manifold(), checked.maxDistance);
+  }
+
+  py::dict Update(const py::handle& point) {
+    const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(point);
+    if (!array || array.ndim() != 1 || array.shape(0) != dimension_) {
+      throw InputError("point: expected " + std::to_string(dimension_) + " coordinates");
+    }
+    double p[3] = {0, 0, 0};
+    std::copy(array.data(), array.data() + dimension_, p);
+    PointAnswer answer;
+    std::string message;
+    Error error;
+    {
+      py::gil_scoped_release noGil;
+      error = tracker_->Update(p, &answer, &message);
+    }
+    ThrowOnError(error, message);
+    py::dict out;
+    out["status"] = static_cast<int>(answer.status);
+    out["patch"] = answer.patch;
+    out["cell"] = answer.cell;
+    out["params"] = py::make_tuple(answer.params[0], answer.params[1], answer.params[2]);
+    py::list closest;
+    for (int k = 0; k < dimension_; ++k) closest.append(answer.closest[k]);
+    out["closest"] = py::tuple(closest);
+    out["distance"] = answer.distance;
+    return out;
+  }
+
+ private:
+  py::object manifold_;
+  int dimension_;
+  std::unique_ptr<PointTracker> tracker_;
+};
+
 /// A numpy array that owns `values` (moved, not copied).
 template <typename T>
 py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
@@ -271,6 +313,17 @@ each update starts from the previous answer and is verified globally.
       .def("update", &PyDistanceTracker::Update, py::arg("pose_b"),
            "The answer for b's next pose: the dict invmap.distance returns.")
       .def("set_pose_a", &PyDistanceTracker::SetPoseA, py::arg("pose_a"), "Moves a (for the following updates).");
+  py::class_<PyPointTracker>(m, "PointTracker", R"doc(
+One moving point (a haptic probe) against a manifold: each update starts
+from the previous answer and is verified over the whole manifold, so it is
+never a stale local minimum.
+)doc")
+      .def(py::init<py::object, std::optional<double>>(), py::arg("manifold"), py::arg("max_distance") = py::none())
+      .def("update", &PyPointTracker::Update, py::arg("point"), R"doc(
+The record Manifold.invert gives for this one point, as a dict of scalars:
+status (0 found, 1 none, 2 invalid), patch, cell, params (3 floats, NaN
+where unused), closest (dimension floats), distance.
+)doc");
 }
 
 }  // namespace invmap::python

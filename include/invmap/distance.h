@@ -145,6 +145,39 @@ class DistanceTracker {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The answer for one point, as invert reports it (Results' fields).
+struct PointAnswer {
+  Status status = Status::Invalid;
+  std::int32_t patch = -1;
+  std::int64_t cell = -1;
+  double params[3] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+                      std::numeric_limits<double>::quiet_NaN()};
+  double closest[3] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+                       std::numeric_limits<double>::quiet_NaN()};
+  double distance = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// One moving point (a haptic probe) against a manifold: Update(p) returns
+/// the record Manifold::Invert gives for p, starting from the previous
+/// answer's cell and verified globally (the whole BVH is searched under that
+/// answer's bound, so it is never a stale local minimum). The manifold must
+/// outlive the tracker. Not thread-safe: one tracker per thread.
+class PointTracker {
+ public:
+  explicit PointTracker(const Manifold& manifold, double maxDistance = std::numeric_limits<double>::infinity());
+  ~PointTracker();
+  PointTracker(PointTracker&&) noexcept;
+  PointTracker& operator=(PointTracker&&) noexcept;
+
+  /// `point`: the manifold's dimension of coordinates. A point with a NaN
+  /// or infinite coordinate gets Status::Invalid (not an error).
+  Error Update(const double* point, PointAnswer* answer, std::string* message = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Every local minimum of each point's distance to the manifold within
 /// options.maxDistance, nearest first, each once (a minimum on an edge that
 /// cells share is one minimum, and counts only where the distance grows

@@ -142,3 +142,25 @@ def test_all_minima_between_models(geometry_files):
     distances = [m["distance"] for m in r["minima"]]
     assert distances == sorted(distances)
     assert "minima" not in invmap.distance(torus, stick)
+
+
+def test_point_tracker_matches_invert(geometry_files):
+    surface = invmap.load(geometry_files["surface"])
+    tracker = invmap.PointTracker(surface)
+    rng = np.random.default_rng(5)
+    point = np.array([0.4, 0.5, 0.1])
+    info = surface.info()
+    for step in range(60):
+        point = point + rng.uniform(-0.005, 0.005, 3)
+        if step == 30:
+            point = np.array(info["bounds_hi"]) + 0.1
+        got = tracker.update(point)
+        expected = surface.invert(point[None, :])
+        assert got["status"] == expected["status"][0]
+        assert got["distance"] == pytest.approx(expected["distance"][0], abs=1e-11)
+        assert np.allclose(got["closest"], expected["closest"][0], atol=1e-8)
+    assert tracker.update([np.nan, 0, 0])["status"] == 2
+    with pytest.raises(invmap.InputError, match="coordinates"):
+        tracker.update([1.0, 2.0])
+    far = invmap.PointTracker(surface, max_distance=1e-3).update([0.5, 0.5, 5.0])
+    assert far["status"] == 1 and far["patch"] == -1
