@@ -36,10 +36,14 @@ Error Guarded(std::string* message, Body&& body) {
   }
 }
 
+/// The model's dimension (Manifold::Info gathers far more, too slowly for
+/// every query).
+int DimensionOf(const DistanceModel& model) { return DistanceAccess::Get(model)->cells.dimension(); }
+
 /// The checks every query makes of its models and options.
 void CheckModels(const DistanceModel& a, const DistanceModel& b, const DistanceOptions& options) {
   if (!a.valid() || !b.valid()) throw std::invalid_argument("a distance model is empty (not built)");
-  const int da = a.manifold().Info().dimension, db = b.manifold().Info().dimension;
+  const int da = DimensionOf(a), db = DimensionOf(b);
   if (da != db) {
     throw std::invalid_argument("the models' dimensions differ (" + std::to_string(da) + " and " +
                                 std::to_string(db) + ")");
@@ -207,7 +211,7 @@ Error Distance(const DistanceModel& a, const Pose& poseA, const DistanceModel& b
   return Guarded(message, [&] {
     if (!result) throw std::invalid_argument("result: null");
     CheckModels(a, b, options);
-    const int dim = a.manifold().Info().dimension;
+    const int dim = DimensionOf(a);
     const DistanceModel::Impl& ia = *DistanceAccess::Get(a);
     const DistanceModel::Impl& ib = *DistanceAccess::Get(b);
     const kernels::RigidMotion ma = MotionOrThrow(poseA, dim, "pose of A");
@@ -243,7 +247,7 @@ DistanceTracker::DistanceTracker(const DistanceModel& a, const DistanceModel& b,
   impl_->options = options;
   try {
     CheckModels(a, b, options);
-    impl_->motionA = MotionOrThrow(poseA, a.manifold().Info().dimension, "pose of A");
+    impl_->motionA = MotionOrThrow(poseA, DimensionOf(a), "pose of A");
   } catch (const std::exception& e) {
     impl_->setupError = e.what();
   }
@@ -258,7 +262,7 @@ Error DistanceTracker::SetPoseA(const Pose& poseA, std::string* message) {
     if (!impl_->setupError.empty() && impl_->setupError.rfind("pose of A", 0) != 0) {
       throw std::invalid_argument(impl_->setupError);
     }
-    impl_->motionA = MotionOrThrow(poseA, impl_->a.manifold().Info().dimension, "pose of A");
+    impl_->motionA = MotionOrThrow(poseA, DimensionOf(impl_->a), "pose of A");
     impl_->setupError.clear();
     return Error::Ok;
   });
@@ -270,7 +274,7 @@ Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::st
     if (!result) throw std::invalid_argument("result: null");
     const DistanceModel::Impl& ia = *DistanceAccess::Get(impl_->a);
     const DistanceModel::Impl& ib = *DistanceAccess::Get(impl_->b);
-    const kernels::RigidMotion mb = MotionOrThrow(poseB, impl_->b.manifold().Info().dimension, "pose of B");
+    const kernels::RigidMotion mb = MotionOrThrow(poseB, DimensionOf(impl_->b), "pose of B");
     engine::ModelDistanceOptions engineOptions;
     engineOptions.maxDistance = impl_->options.maxDistance;
     engineOptions.threads = impl_->options.threads;

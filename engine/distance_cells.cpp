@@ -323,6 +323,39 @@ void DistanceCells::Build(const CellStore& store) {
     }
   }
   bvh_ = BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
+  BuildOrientedBounds();
+}
+
+void DistanceCells::BuildOrientedBounds() {
+  const std::vector<BvhNode>& nodes = bvh_.Nodes();
+  nodeOriented_.assign(nodes.size(), OrientedBounds());
+  std::vector<PointMoments> moments(nodes.size());
+  const double* origin = bvh_.Origin();
+  std::vector<double> points;
+  // Children come after their parent: leaves from their cells' control
+  // points, inner nodes along their points' principal axes around their
+  // children's corners.
+  for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
+    const BvhNode& node = nodes[i];
+    points.clear();
+    if (node.count > 0) {
+      for (int item = node.first; item < node.first + node.count; ++item) {
+        const kernels::CellView& view = cells_[bvh_.Items()[item]].view;
+        const int ad = view.ambientDim;
+        for (int p = 0; p < view.shape.numControlPoints(); ++p) {
+          double x[3] = {0, 0, 0};
+          for (int k = 0; k < ad; ++k) x[k] = view.points[static_cast<std::size_t>(p) * ad + k];
+          points.insert(points.end(), x, x + 3);
+        }
+      }
+      moments[i] = PointMoments::Of(points.data(), points.size() / 3);
+    } else {
+      points.resize(2 * 8 * 3);
+      moments[i] = PointMoments::Merge(moments[node.first], moments[node.first + 1]);
+      for (int child = 0; child < 2; ++child) OrientedCorners(nodeOriented_[node.first + child], points.data() + child * 24);
+    }
+    nodeOriented_[i] = FitOrientedBounds(moments[i], origin, points.data(), static_cast<int>(points.size() / 3));
+  }
 }
 
 void DistanceCells::ToSourceRef(std::int64_t i, const double* ref, double* sourceRef) const {
@@ -342,7 +375,8 @@ void DistanceCells::ToSourceRef(std::int64_t i, const double* ref, double* sourc
 
 std::size_t DistanceCells::MemoryBytes() const {
   std::size_t bytes = cells_.capacity() * sizeof(DistanceCell) + nets_.capacity() * sizeof(void*) +
-                      (facePoints_.capacity() + faceWeights_.capacity()) * sizeof(double) + bvh_.MemoryBytes();
+                      (facePoints_.capacity() + faceWeights_.capacity()) * sizeof(double) + bvh_.MemoryBytes() +
+                      nodeOriented_.capacity() * sizeof(OrientedBounds);
   for (const auto& nets : faceNets_) bytes += nets->MemoryBytes() + sizeof(kernels::DistanceNets);
   return bytes;
 }

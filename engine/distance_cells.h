@@ -10,6 +10,7 @@
 
 #include "engine/bvh_build.h"
 #include "engine/cell_store.h"
+#include "engine/pair_bounds.h"
 #include "kernels/distance_net.h"
 #include "kernels/pair_problem.h"
 
@@ -45,6 +46,9 @@ class DistanceCells {
   /// them on the rare pair that needs them, kernels::PairSide::nets).
   const kernels::DistanceNets* nets(std::int64_t i) const { return nets_[i]; }
   const Bvh& bvh() const { return bvh_; }
+  /// Oriented bounds of BVH node i's cells' control points (along their
+  /// principal axes: thin where the cells are flat, as on a fine mesh).
+  const OrientedBounds& nodeOriented(int i) const { return nodeOriented_[i]; }
   const CellStore& store() const { return *store_; }
   int dimension() const { return store_->dimension(); }
   /// True when the model has volume cells (then a model inside it is at
@@ -57,6 +61,8 @@ class DistanceCells {
   std::size_t MemoryBytes() const;
 
  private:
+  void BuildOrientedBounds();
+
   const CellStore* store_ = nullptr;
   std::vector<DistanceCell> cells_;
   std::vector<const kernels::DistanceNets*> nets_;
@@ -65,6 +71,7 @@ class DistanceCells {
   std::vector<double> faceWeights_;
   std::vector<std::unique_ptr<kernels::DistanceNets>> faceNets_;
   Bvh bvh_;
+  std::vector<OrientedBounds> nodeOriented_;
   bool hasVolumes_ = false;
   double modelSize_ = 0.0;
 };

@@ -107,7 +107,8 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   const DistanceCells& cellsA = *a.cells;
   const DistanceCells& cellsB = *b.cells;
   if (cellsA.size() == 0 || cellsB.size() == 0) return answer;
-  const BoxPairBound bound(RelativeMotion(a.motion, b.motion));
+  const kernels::RigidMotion bIntoA = RelativeMotion(a.motion, b.motion);
+  const BoxPairBound bound(bIntoA);
   // Found means within maxDistance: the bound admits a pair at exactly it.
   double best2 = options.maxDistance < kInf ? options.maxDistance * options.maxDistance * (1.0 + 1e-15) : kInf;
   const double zero = kernels::kDistanceTolerance * std::max(cellsA.modelSize(), cellsB.modelSize());
@@ -150,7 +151,12 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   auto nodeBound = [&](int na, int nb) {
     const BvhBox boxA = treeA.NodeBounds(na);
     const BvhBox boxB = treeB.NodeBounds(nb);
-    return bound.LowerBound(boxA.lo, boxA.hi, boxB.lo, boxB.hi);
+    const double lb = bound.LowerBound(boxA.lo, boxA.hi, boxB.lo, boxB.hi);
+    if (!(lb * lb < best2)) return lb;
+    // The axis-aligned boxes of a tilted patch are fat; its oriented ones
+    // are as thin as it is flat.
+    return std::max(lb, OrientedPairLowerBound(cellsA.nodeOriented(na), cellsB.nodeOriented(nb), bIntoA,
+                                               std::sqrt(best2)));
   };
   auto diagonal2 = [](const BvhBox& box) {
     double d2 = 0.0;
@@ -160,6 +166,50 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   auto heapOrder = [](const ModelDistanceWorkspace::Entry& x, const ModelDistanceWorkspace::Entry& y) {
     return x.lowerBound > y.lowerBound;
   };
+  // Two leaves: their cell pairs, nearest boxes first.
+  auto solveLeaves = [&](const BvhNode& nodeA, const BvhNode& nodeB) {
+    auto& candidates = ws->candidates;
+    candidates.clear();
+    for (int i = nodeA.first; i < nodeA.first + nodeA.count; ++i) {
+      const BvhBox& boxA = treeA.ItemBoxes()[i];
+      for (int j = nodeB.first; j < nodeB.first + nodeB.count; ++j) {
+        const BvhBox& boxB = treeB.ItemBoxes()[j];
+        const double lb = bound.LowerBound(boxA.lo, boxA.hi, boxB.lo, boxB.hi);
+        if (lb * lb < best2) candidates.push_back({lb, {treeA.Items()[i], treeB.Items()[j]}});
+      }
+    }
+    std::sort(candidates.begin(), candidates.end());
+    for (const auto& [lb, pair] : candidates) {
+      if (!(lb * lb < best2) || !(best2 > zero * zero)) break;
+      consider(pair.first, pair.second, SolvePlacedCells(a, pair.first, b, pair.second, nullptr, nullptr, best2, ws));
+    }
+  };
+  // Descend the larger node (a leaf stays whole).
+  auto splitsA = [&](int na, int nb) {
+    const BvhNode& nodeA = treeA.Nodes()[na];
+    const BvhNode& nodeB = treeB.Nodes()[nb];
+    return nodeB.count > 0 || (nodeA.count == 0 && diagonal2(treeA.NodeBounds(na)) >= diagonal2(treeB.NodeBounds(nb)));
+  };
+
+  // Without a bound yet, one dive to the nearer child at every level gives
+  // a first pair: the search below then prunes from its first step.
+  if (!(best2 < kInf)) {
+    int na = 0, nb = 0;
+    for (;;) {
+      const BvhNode& nodeA = treeA.Nodes()[na];
+      const BvhNode& nodeB = treeB.Nodes()[nb];
+      if (nodeA.count > 0 && nodeB.count > 0) {
+        solveLeaves(nodeA, nodeB);
+        break;
+      }
+      const bool splitA = splitsA(na, nb);
+      const int first = splitA ? nodeA.first : nodeB.first;
+      const double lb0 = splitA ? nodeBound(first, nb) : nodeBound(na, first);
+      const double lb1 = splitA ? nodeBound(first + 1, nb) : nodeBound(na, first + 1);
+      (splitA ? na : nb) = lb1 < lb0 ? first + 1 : first;
+    }
+  }
+
   std::vector<ModelDistanceWorkspace::Entry>& heap = ws->heap;
   heap.clear();
   heap.push_back({nodeBound(0, 0), 0, 0});
@@ -171,28 +221,10 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     const BvhNode& nodeA = treeA.Nodes()[entry.nodeA];
     const BvhNode& nodeB = treeB.Nodes()[entry.nodeB];
     if (nodeA.count > 0 && nodeB.count > 0) {
-      // Two leaves: their cell pairs, nearest boxes first.
-      auto& candidates = ws->candidates;
-      candidates.clear();
-      for (int i = nodeA.first; i < nodeA.first + nodeA.count; ++i) {
-        const BvhBox& boxA = treeA.ItemBoxes()[i];
-        for (int j = nodeB.first; j < nodeB.first + nodeB.count; ++j) {
-          const BvhBox& boxB = treeB.ItemBoxes()[j];
-          const double lb = bound.LowerBound(boxA.lo, boxA.hi, boxB.lo, boxB.hi);
-          if (lb * lb < best2) candidates.push_back({lb, {treeA.Items()[i], treeB.Items()[j]}});
-        }
-      }
-      std::sort(candidates.begin(), candidates.end());
-      for (const auto& [lb, pair] : candidates) {
-        if (!(lb * lb < best2) || !(best2 > zero * zero)) break;
-        consider(pair.first, pair.second, SolvePlacedCells(a, pair.first, b, pair.second, nullptr, nullptr, best2, ws));
-      }
+      solveLeaves(nodeA, nodeB);
       continue;
     }
-    // Descend the larger node (a leaf stays whole).
-    const bool splitA = nodeB.count > 0 ||
-                        (nodeA.count == 0 && diagonal2(treeA.NodeBounds(entry.nodeA)) >=
-                                                 diagonal2(treeB.NodeBounds(entry.nodeB)));
+    const bool splitA = splitsA(entry.nodeA, entry.nodeB);
     for (int child = 0; child < 2; ++child) {
       const int na = splitA ? nodeA.first + child : entry.nodeA;
       const int nb = splitA ? entry.nodeB : nodeB.first + child;

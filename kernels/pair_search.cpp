@@ -649,6 +649,16 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
     const double* pa[3] = {va[0], va[1], va[2]};
     const double* pb[3] = {vb[0], vb[1], vb[2]};
     PairSolveResult result;
+    if (bound2 < kInf) {
+      // Most nearby pairs of two meshes face each other across a gap that
+      // one triangle's normal bounds; only the rest need the closed form.
+      const double gap = SimplexPlaneGap(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3);
+      if (gap * gap >= bound2) {
+        result.distance = gap;
+        result.status = PairStatus::Farther;
+        return result;
+      }
+    }
     const double d2 = ClosestPointsOfSimplices(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3,
                                                result.refA, result.refB, result.pointA, result.pointB);
     result.distance = std::sqrt(d2);

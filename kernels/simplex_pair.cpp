@@ -245,4 +245,36 @@ double ClosestPointsOfSimplices(int dimA, const double* const* a, int dimB, cons
   return Distance2(x, y);
 }
 
+double SimplexPlaneGap(int dimA, const double* const* a, int dimB, const double* const* b, int ambientDim) {
+  if (ambientDim != 3) return 0.0;
+  double gap = 0.0, magnitude = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    if ((side == 0 ? dimA : dimB) != 2) continue;
+    const double* const* u = side == 0 ? a : b;
+    const double* const* w = side == 0 ? b : a;
+    const int count = (side == 0 ? dimB : dimA) + 1;
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) {
+      e1[k] = u[1][k] - u[0][k];
+      e2[k] = u[2][k] - u[0][k];
+      for (int v = 0; v < 3; ++v) magnitude = std::max(magnitude, std::abs(u[v][k]));
+      for (int v = 0; v < count; ++v) magnitude = std::max(magnitude, std::abs(w[v][k]));
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(length > 0.0)) continue;
+    const double offset = n[0] * u[0][0] + n[1] * u[0][1] + n[2] * u[0][2];
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int v = 0; v < count; ++v) {
+      const double q = n[0] * w[v][0] + n[1] * w[v][1] + n[2] * w[v][2] - offset;
+      lo = std::min(lo, q);
+      hi = std::max(hi, q);
+    }
+    gap = std::max(gap, std::max(lo, -hi) / length);
+  }
+  // Rounding of the normal and the projections: a few ulps of the
+  // coordinates' magnitude (the unit normal's direction errs by ulps of it).
+  return std::max(0.0, gap - 64.0 * std::numeric_limits<double>::epsilon() * magnitude);
+}
+
 }  // namespace invmap::kernels

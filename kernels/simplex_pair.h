@@ -18,4 +18,11 @@ namespace invmap::kernels {
 double ClosestPointsOfSimplices(int dimA, const double* const* a, int dimB, const double* const* b, int ambientDim,
                                 double* refA, double* refB, double* pointA, double* pointB);
 
+/// A lower bound of the distance between the same simplices, cheap next to
+/// ClosestPointsOfSimplices: the largest gap between their projections on a
+/// triangle's normal (3D triangles only; 0 otherwise), less its rounding.
+/// Two nearly parallel faces, the common case between meshes' nearby
+/// triangles, are bounded almost exactly.
+double SimplexPlaneGap(int dimA, const double* const* a, int dimB, const double* const* b, int ambientDim);
+
 }  // namespace invmap::kernels
