@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 
@@ -25,6 +26,13 @@ namespace {
 template <class T>
 T Load(const char* p) {
   return LoadValue<T>(p, false);
+}
+
+/// A double as %g writes it ("0", "nan", "1e+300").
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
 }
 
 /// "x", "y" or "z".
@@ -166,10 +174,10 @@ LasLayout ReadLasHeader(InputBuffer& input, const std::string& path) {
     layout.scale[axis] = Load<double>(h + las::kScale + 8 * axis);
     layout.offset[axis] = Load<double>(h + las::kOffset + 8 * axis);
     if (!std::isfinite(layout.scale[axis]) || layout.scale[axis] == 0.0) {
-      throw InputError(path, 0, std::string(AxisName(axis)) + " scale factor is " + std::to_string(layout.scale[axis]));
+      throw InputError(path, 0, std::string(AxisName(axis)) + " scale factor is " + Number(layout.scale[axis]));
     }
     if (!std::isfinite(layout.offset[axis])) {
-      throw InputError(path, 0, std::string(AxisName(axis)) + " offset is " + std::to_string(layout.offset[axis]));
+      throw InputError(path, 0, std::string(AxisName(axis)) + " offset is " + Number(layout.offset[axis]));
     }
   }
   const auto legacyCount = Load<std::uint32_t>(h + las::kLegacyPointCount);
