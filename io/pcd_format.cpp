@@ -90,6 +90,7 @@ class HeaderParser {
     if (keyword == "FIELDS" || keyword == "COLUMNS") {
       if (values == 0) Fail("FIELDS names no field");
       if (values > kMaxPcdFields) Fail(std::to_string(values) + " fields (at most " + std::to_string(kMaxPcdFields) + ")");
+      fieldsLine_ = lineNumber_;
       layout_.fields.resize(values);
       for (std::size_t i = 0; i < values; ++i) layout_.fields[i].name = std::string(tokens[i + 1]);
       return false;
@@ -174,14 +175,14 @@ class HeaderParser {
       if (!field.isPadding()) stored += field.bytes();
       for (int axis = 0; axis < 3; ++axis) {
         if (field.name != names[axis]) continue;
-        if (layout_.coordinateField[axis] >= 0) Fail(sizeLine_, std::string("two fields named '") + names[axis] + "'");
+        if (layout_.coordinateField[axis] >= 0) Fail(fieldsLine_, std::string("two fields named '") + names[axis] + "'");
         layout_.coordinateField[axis] = static_cast<int>(i);
       }
     }
     layout_.pointBytes = offset;
     layout_.storedPointBytes = stored;
     layout_.valuesPerLine = value;
-    if (layout_.coordinateField[0] < 0 || layout_.coordinateField[1] < 0) Fail("the fields have no x or no y");
+    if (layout_.coordinateField[0] < 0 || layout_.coordinateField[1] < 0) Fail(fieldsLine_, "the fields have no x or no y");
     // PCL's rules: without WIDTH and HEIGHT the cloud is POINTS wide;
     // without HEIGHT it is one row high.
     if (layout_.widthLine < 0) {
@@ -214,7 +215,8 @@ class HeaderParser {
   PcdLayout layout_;
   Seen seen_;
   std::int64_t lineNumber_ = 0;
-  std::int64_t sizeLine_ = 0;  ///< Line of SIZE (0: none yet), for errors found at the end.
+  std::int64_t fieldsLine_ = 0;  ///< Line of FIELDS, for errors found at the end.
+  std::int64_t sizeLine_ = 0;  ///< Line of SIZE (0: none yet).
   std::int64_t typeLine_ = 0;  ///< Line of TYPE (0: none yet).
 };
 

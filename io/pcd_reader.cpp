@@ -126,9 +126,12 @@ class PcdPointReader : public PointReader {
                          "field '" + pcd.fields[field].name + "': '" + std::string(token) + "' is not a number");
       }
       for (int axis = 0; axis < dim_; ++axis) {
-        if (values == pcd.fields[static_cast<std::size_t>(pcd.coordinateField[axis])].firstValue) {
-          chunk->xyz[at + static_cast<std::size_t>(axis)] = value;
-        }
+        const PcdField& coordinate = pcd.fields[static_cast<std::size_t>(pcd.coordinateField[axis])];
+        if (values != coordinate.firstValue) continue;
+        // The value the field holds, as in a binary file: a float field's
+        // text ("0.1") is rounded to float, as PCL reads it.
+        const bool isFloat = coordinate.type == 'F' && coordinate.size == 4;
+        chunk->xyz[at + static_cast<std::size_t>(axis)] = isFloat ? static_cast<float>(value) : value;
       }
       ++values;
     }
