@@ -74,13 +74,13 @@ case "$mode" in
     # The parsers under libFuzzer (clang, ASan/UBSan), a bounded time each.
     CC=clang CXX=clang++ configure_and_build "$root/build/fuzz" RelWithDebInfo -DINVMAP_BUILD_FUZZ=ON \
       -DINVMAP_SANITIZE=ON -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF -DINVMAP_BUILD_PYTHON=OFF \
-      --target fuzz_geometry fuzz_points
+      --target fuzz_geometry fuzz_points fuzz_las fuzz_pcd
     echo "== Release suite"
     ctest --test-dir "$root/build/release" -j "$jobs" --output-on-failure --timeout 900
     echo "== Debug + ASan/UBSan suite"
     ctest --test-dir "$root/build/asan" -j "$jobs" --output-on-failure --timeout 900 -L sanitize
     echo "== Fuzzing the parsers (${INVMAP_FUZZ_SECONDS:-20} s each)"
-    for target in fuzz_geometry fuzz_points; do
+    for target in fuzz_geometry fuzz_points fuzz_las fuzz_pcd; do
       corpus="$root/build/fuzz/corpus/$target"
       mkdir -p "$corpus"
       "$root/build/fuzz/fuzz/$target" -max_total_time="${INVMAP_FUZZ_SECONDS:-20}" -rss_limit_mb=2048 -timeout=10 \
