@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 
 #include "io/input_error.h"
+#include "io/positional_file.h"
 
 namespace invmap::io {
 namespace las {
@@ -90,15 +90,13 @@ void CheckEvlrs(const LasLayout& layout) {
                          ") is not after the point records (bytes " + std::to_string(layout.pointDataOffset) + " to " +
                          std::to_string(layout.pointDataEnd()) + ")");
   }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path, 0, "cannot open");
+  const PositionalFile file(path);
   std::uint64_t position = layout.evlrStart;
   for (std::uint32_t i = 0; i < layout.evlrCount; ++i) {
     const std::string which =
         "extended variable length record " + std::to_string(i + 1) + " of " + std::to_string(layout.evlrCount);
     char header[las::kEvlrHeaderBytes];
-    if (layout.fileSize - position < las::kEvlrHeaderBytes ||
-        !file.seekg(static_cast<std::streamoff>(position)).read(header, sizeof header)) {
+    if (layout.fileSize - position < las::kEvlrHeaderBytes || file.ReadAt(position, header, sizeof header) != sizeof header) {
       throw InputError(path, 0, which + " at byte " + std::to_string(position) + " runs past the end of the file");
     }
     const auto length = Load<std::uint64_t>(header + 20);

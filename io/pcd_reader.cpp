@@ -72,7 +72,9 @@ class PcdPointReader : public PointReader {
     std::string_view line;
     std::string_view raw;
     std::size_t count = 0;
-    while (count < want) {
+    // Lines may be long (padding, many values): the chunk also ends once
+    // its records reach the byte cap.
+    while (count < want && chunk->raw.size() < kMaxChunkRecordBytes) {
       if (!input_.ReadLine(&line, &raw)) {
         throw InputError(path_, input_.lineNumber(),
                          "the file ends after " + std::to_string(done_ + count) + " of its " +

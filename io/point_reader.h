@@ -1,8 +1,8 @@
-// Streaming input of query points (FORMATS.md section 3): text (.xyz, .txt,
-// .csv), PLY, npy, LAS and PCD files are read sequentially in chunks, so
-// inputs larger than memory work and memory stays bounded by the chunk size. Each chunk
-// also carries the points' records verbatim so that `trim` can write kept
-// points back unchanged with all their attributes.
+// Streaming input of query points (docs/formats.md, point files): text
+// (.xyz, .txt, .csv), PLY, npy, LAS and PCD files are read sequentially in
+// chunks, so inputs larger than memory work and memory stays bounded by the
+// chunk size. Each chunk also carries the points' records verbatim so that
+// `trim` can write kept points back unchanged with all their attributes.
 #pragma once
 
 #include <cstddef>
