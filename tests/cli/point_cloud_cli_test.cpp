@@ -3,8 +3,6 @@
 // independent writers write the kept points, bad files answered with exit
 // code 3 naming the file.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/cli/cli_fixture.h"
 #include "tests/support/las_writer.h"
 #include "tests/support/pcd_writer.h"
 
@@ -26,47 +25,20 @@ namespace fs = std::filesystem;
 using invmap::testing::LasFile;
 using invmap::testing::PcdTestCloud;
 
-class PointCloudCliTest : public ::testing::Test {
+/// CliTest with the torus of `invmap generate torus` in its directory.
+class PointCloudCliTest : public invmap::testing::CliTest {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("invmap_clouds_" + std::string(info->name()) + "_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    CliTest::SetUp();
     ASSERT_EQ(Run("generate torus -o " + Path("torus.json")), 0);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-
-  /// Runs invmap; returns the exit code, with stdout and stderr in `out`.
-  int Run(const std::string& args, std::string* out = nullptr) const {
-    const std::string log = Path("run.log");
-    const std::string command = std::string(INVMAP_CLI_PATH) + " " + args + " > " + log + " 2>&1 < /dev/null";
-    const int status = std::system(command.c_str());
-    if (out) *out = Read(log);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-
-  static std::string Read(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-
-  void Write(const std::string& name, const std::string& bytes) const {
-    std::ofstream(Path(name), std::ios::binary) << bytes;
   }
 
   /// `invert` of `points` onto the torus, to CSV; the result's text.
   std::string Invert(const std::string& points) {
     const std::string out = Path("result.csv");
     EXPECT_EQ(Run("invert -g " + Path("torus.json") + " -p " + Path(points) + " -o " + out + " -q"), 0) << points;
-    return Read(out);
+    return ReadFile(out);
   }
-
-  fs::path dir_;
 };
 
 /// Points around the torus (R = 2, r = 0.7) as LAS record values with
@@ -113,8 +85,8 @@ TEST_F(PointCloudCliTest, InvertAndTrimOnLasMatchTheSamePointsAsXyz) {
   for (const auto& [minor, format] : {std::pair{0, 1}, {2, 3}, {3, 5}, {4, 6}, {4, 10}}) {
     SCOPED_TRACE("LAS 1." + std::to_string(minor) + " format " + std::to_string(format));
     const LasFile file = TorusLas(minor, format, 3000, &rng);
-    Write("scan.las", invmap::testing::WriteLas(file));
-    Write("scan.xyz", LasAsXyz(file));
+    WriteFile("scan.las", invmap::testing::WriteLas(file));
+    WriteFile("scan.xyz", LasAsXyz(file));
     const std::string fromXyz = Invert("scan.xyz");
     ASSERT_NE(fromXyz.find("\n2999,"), std::string::npos);
     EXPECT_TRUE(Invert("scan.las") == fromXyz);
@@ -124,10 +96,10 @@ TEST_F(PointCloudCliTest, InvertAndTrimOnLasMatchTheSamePointsAsXyz) {
     ASSERT_EQ(Run(trim + Path("scan.las") + " -o " + Path("near.las")), 0);
     LasFile kept = file;
     kept.points.clear();
-    for (std::size_t i : KeptIndices(Read(Path("near.xyz")))) kept.points.push_back(file.points[i]);
+    for (std::size_t i : KeptIndices(ReadFile(Path("near.xyz")))) kept.points.push_back(file.points[i]);
     ASSERT_GT(kept.points.size(), 100u);
     ASSERT_LT(kept.points.size(), file.points.size());
-    EXPECT_TRUE(Read(Path("near.las")) == invmap::testing::WriteLas(kept));
+    EXPECT_TRUE(ReadFile(Path("near.las")) == invmap::testing::WriteLas(kept));
   }
 }
 
@@ -145,25 +117,25 @@ TEST_F(PointCloudCliTest, InvertAndTrimOnPcdMatchTheSamePointsAsXyz) {
     std::snprintf(line, sizeof line, "%.17g %.17g %.17g %zu\n", v[0], v[2], v[9], i);
     xyz += line;
   }
-  Write("scan.xyz", xyz);
+  WriteFile("scan.xyz", xyz);
   const std::string fromXyz = Invert("scan.xyz");
   ASSERT_NE(fromXyz.find("\n5,invalid,"), std::string::npos);
   ASSERT_EQ(Run("trim -g " + Path("torus.json") + " --max-distance 0.2 -q -p " + Path("scan.xyz") + " -o " +
                 Path("near.xyz")),
             0);
-  const std::vector<std::size_t> indices = KeptIndices(Read(Path("near.xyz")));
+  const std::vector<std::size_t> indices = KeptIndices(ReadFile(Path("near.xyz")));
   ASSERT_GT(indices.size(), 10u);
   PcdTestCloud kept = cloud;
   kept.points.clear();
   for (std::size_t i : indices) kept.points.push_back(cloud.points[i]);
   for (const char* encoding : {"ascii", "binary", "binary_compressed"}) {
     SCOPED_TRACE(encoding);
-    Write("scan.pcd", invmap::testing::WritePcd(cloud, encoding));
+    WriteFile("scan.pcd", invmap::testing::WritePcd(cloud, encoding));
     EXPECT_TRUE(Invert("scan.pcd") == fromXyz);
     ASSERT_EQ(Run("trim -g " + Path("torus.json") + " --max-distance 0.2 -q -p " + Path("scan.pcd") + " -o " +
                   Path("near.pcd")),
               0);
-    const std::string trimmed = Read(Path("near.pcd"));
+    const std::string trimmed = ReadFile(Path("near.pcd"));
     EXPECT_NE(trimmed.find("\nWIDTH " + std::to_string(indices.size()) + "\n"), std::string::npos);
     EXPECT_NE(trimmed.find("\nPOINTS " + std::to_string(indices.size()) + "\n"), std::string::npos);
     if (std::string(encoding) != "binary_compressed") {
@@ -182,27 +154,27 @@ TEST_F(PointCloudCliTest, BadCloudsExitWith3NamingTheFileAndLeaveNoOutput) {
   std::mt19937_64 rng(19);
   std::string las = invmap::testing::WriteLas(TorusLas(2, 1, 10, &rng));
   las[107] = 11;  // 11 point records claimed, 10 present
-  Write("lying.las", las);
+  WriteFile("lying.las", las);
   std::string out;
   EXPECT_EQ(Run("invert -g " + Path("torus.json") + " -p " + Path("lying.las") + " -o " + Path("r.csv"), &out), 3);
   EXPECT_NE(out.find(Path("lying.las") + ": the header's 11 point records"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(Path("r.csv")));
 
-  Write("scan.laz", las);
+  WriteFile("scan.laz", las);
   EXPECT_EQ(Run("trim -g " + Path("torus.json") + " -p " + Path("scan.laz") + " -o " + Path("t.las") +
                 " --max-distance 1", &out),
             3);
   EXPECT_NE(out.find(Path("scan.laz") + ": compressed LAZ is not supported"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(Path("t.las")));
 
-  Write("bad.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nDATA ascii\n1 2 3\n4 5 six\n");
+  WriteFile("bad.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nDATA ascii\n1 2 3\n4 5 six\n");
   EXPECT_EQ(Run("invert -g " + Path("torus.json") + " -p " + Path("bad.pcd") + " -o " + Path("r.csv"), &out), 3);
   EXPECT_NE(out.find(Path("bad.pcd") + ":7: field 'z': 'six' is not a number"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(Path("r.csv")));
 
   // A .las result is not offered: results carry closest points, cells and
   // parameters that LAS's integer coordinates cannot hold.
-  Write("scan.las", invmap::testing::WriteLas(TorusLas(2, 1, 10, &rng)));
+  WriteFile("scan.las", invmap::testing::WriteLas(TorusLas(2, 1, 10, &rng)));
   EXPECT_NE(Run("invert -g " + Path("torus.json") + " -p " + Path("scan.las") + " -o " + Path("r.las"), &out), 0);
   EXPECT_NE(out.find("unknown result file extension '.las'"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(Path("r.las")));
