@@ -8,6 +8,7 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "invmap/invmap.h"
 #include "io/input_error.h"
 
 namespace {
@@ -40,7 +41,7 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 int main(int argc, char** argv) {
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "invmap 0.1.0");
+  app.set_version_flag("--version", std::string("invmap ") + invmap::Version());
 
   invmap::cli::InvertOptions invert;
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");

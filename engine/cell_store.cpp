@@ -6,8 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "common/parallel.h"
 #include "engine/bezier_extraction.h"
-#include "engine/parallel.h"
 
 namespace invmap::engine {
 namespace {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "common/check.h"
 #include "engine/affine_regions.h"
-#include "engine/check.h"
 #include "engine/tet_adjacency.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
