@@ -38,11 +38,12 @@ std::string Number(double value) {
 /// "x", "y" or "z".
 const char* AxisName(int axis) { return axis == 0 ? "x" : (axis == 1 ? "y" : "z"); }
 
-/// A fixed-length char field as text, up to its first NUL.
+/// A fixed-length char field as text for a message, up to its first NUL;
+/// bytes that are not printable ASCII (a corrupt file's) show as '?'.
 std::string FixedText(const char* p, std::size_t length) {
-  std::size_t n = 0;
-  while (n < length && p[n] != '\0') ++n;
-  return std::string(p, n);
+  std::string text;
+  for (std::size_t n = 0; n < length && p[n] != '\0'; ++n) text.push_back(p[n] >= ' ' && p[n] <= '~' ? p[n] : '?');
+  return text;
 }
 
 /// The variable length records between the header and the point records:
