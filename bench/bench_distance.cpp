@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "cli/sample_geometries.h"
+#include "samples/sample_geometries.h"
 #include "invmap/distance.h"
 #include "invmap/invmap.h"
 

@@ -10,7 +10,7 @@
 
 namespace CLI {
 class App;
-}
+}  // namespace CLI
 
 namespace invmap::cli {
 
@@ -70,6 +70,22 @@ struct GridCommandOptions {
 };
 
 int RunGrid(const GridCommandOptions& options);
+
+/// `invmap probe`: node fields at the closest points (docs/fields.md).
+struct ProbeOptions {
+  std::string geometry;
+  std::string points;
+  std::string output;
+  std::vector<std::string> fields;  ///< --fields; empty: every field.
+  double maxDistance = std::numeric_limits<double>::infinity();
+  int threads = 0;
+  std::int64_t timeStep = 0;        ///< Exodus: 1-based time step; 0: the last.
+  bool quiet = false;
+};
+
+int RunProbe(const ProbeOptions& options);
+/// Adds the `probe` subcommand and its options to `app`.
+CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options);
 
 /// `invmap distance` (docs/distance.md): AddDistanceCommand registers
 /// the subcommand and its options on `app`; RunDistance runs it once parsed.

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "engine/bvh_build.h"
-#include "engine/check.h"
+#include "common/check.h"
 #include "engine/manifold_access.h"
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
 #include "kernels/cell_minima.h"
@@ -163,8 +163,8 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
     const std::int64_t n = static_cast<std::int64_t>(points.count);
     std::vector<std::vector<Candidate>> perPoint(n);
     std::vector<std::uint8_t> invalid(n, 0), certified(n, 1);
-    engine::ForEachBlock(
-        engine::ExecutionPolicy::Par, n, 4,
+    ForEachBlock(
+        ExecutionPolicy::Par, n, 4,
         [&](std::int64_t begin, std::int64_t end) {
           MinimaScratch scratch;
           for (std::int64_t i = begin; i < end; ++i) {

@@ -1,6 +1,7 @@
 // The manifold the Python module hands out (invmap.Manifold): a built
 // manifold with the serialized geometry it was built from, which is what
-// pickling sends, and its distance model, prepared on first use.
+// pickling sends (workers rebuild from it, not from a file), its node
+// fields if any, and its distance model, prepared on first use.
 #pragma once
 
 #include <cstdint>
@@ -9,8 +10,10 @@
 #include <string>
 
 #include "invmap/distance.h"
+#include "invmap/fields.h"
 #include "invmap/invmap.h"
 #include "python/errors.h"
+#include "python/fields_binding.h"
 #include "python/geometry_state.h"
 
 namespace invmap::python {
@@ -28,8 +31,17 @@ class PyManifold {
     for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
   }
 
+  /// The same with the node fields of the geometry's file (kept for probe).
+  PyManifold(FieldGeometry&& model, const std::string& nameForMessages) : PyManifold(model.geometry, nameForMessages) {
+    if (model.fields.empty()) return;
+    state_ = SerializeModel(state_, model.fields);
+    fields_ = std::make_shared<const FieldGeometry>(std::move(model));
+  }
+
   const Manifold& manifold() const { return manifold_; }
-  /// SerializeGeometry of the geometry (the pickled state).
+  /// The geometry and its node fields; null without fields.
+  const FieldGeometry* fields() const { return fields_.get(); }
+  /// SerializeGeometry of the geometry, with the fields (SerializeModel): the pickled state.
   const std::string& state() const { return state_; }
   int dimension() const { return dimension_; }
   std::size_t patches() const { return patches_; }
@@ -55,6 +67,7 @@ class PyManifold {
   };
   Manifold manifold_;
   std::string state_;
+  std::shared_ptr<const FieldGeometry> fields_;
   int dimension_;
   std::size_t patches_;
   std::int64_t cells_ = 0;

@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/sample_geometries.h"
+#include "samples/sample_geometries.h"
 #include "invmap/distance.h"
 #include "invmap/invmap.h"
 

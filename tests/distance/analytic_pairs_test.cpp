@@ -30,7 +30,7 @@ TEST(AnalyticPairs, SphereAndSphereUnderRandomPoses) {
     for (double& x : t) x *= scale;
     const PoseRows poseB = RotationRows(axis, 3.0 * u(rng), t);
     const PoseRows poseA = RotationRows({u(rng), u(rng), u(rng)}, u(rng), {0, 0, 0});
-    const DistanceResult r = Query(*a, poseA, *b, poseB);
+    const DistanceResult r = DistanceQuery(*a, poseA, *b, poseB);
     const double expected = Norm(t) - 1.5;
     EXPECT_NEAR(r.nearest.distance, expected, kTol) << "trial " << trial;
     EXPECT_TRUE(r.nearest.certified);
@@ -48,7 +48,7 @@ TEST(AnalyticPairs, OverlappingSpheresAreAtZeroWithACommonPoint) {
   const auto b = BuildModel(NurbsSphere({0, 0, 0}, 0.5));
   for (const double offset : {1.2, 0.9, 0.6, 1.5}) {
     const PoseRows poseB = RotationRows({0, 1, 1}, 0.4, {offset * 0.6, offset * 0.8, 0.0});
-    const DistanceResult r = Query(*a, IdentityRows(), *b, poseB);
+    const DistanceResult r = DistanceQuery(*a, IdentityRows(), *b, poseB);
     ASSERT_TRUE(r.nearest.found);
     EXPECT_EQ(r.nearest.distance, 0.0) << "offset " << offset;
     ExpectConsistent(*a, IdentityRows(), *b, poseB, r.nearest, 1e-9);
@@ -68,7 +68,7 @@ TEST(AnalyticPairs, SphereAndTorus) {
   const std::array<double, 3> centres[] = {{3.5, 0.4, 0.9}, {-1.2, 2.9, -1.1}, {1.4, -1.6, 0.2}};
   for (const auto& c : centres) {
     const PoseRows poseB = RotationRows({1, 2, 3}, 0.7, c);
-    const DistanceResult r = Query(*torus, IdentityRows(), *sphere, poseB);
+    const DistanceResult r = DistanceQuery(*torus, IdentityRows(), *sphere, poseB);
     const double expected = TorusDistance({0, 0, 0}, big, small, c.data()) - radius;
     EXPECT_NEAR(r.nearest.distance, expected, kTol) << c[0] << " " << c[1] << " " << c[2];
     EXPECT_TRUE(r.nearest.certified) << c[0] << " " << c[1] << " " << c[2];
@@ -81,7 +81,7 @@ TEST(AnalyticPairs, SphereAndTorus) {
   const std::array<double, 3> onAxis[] = {{0.2, -0.3, 0.1}, {0, 0, 1.6}};
   for (const auto& c : onAxis) {
     const PoseRows poseB = RotationRows({1, 2, 3}, 0.7, c);
-    const DistanceResult r = Query(*torus, IdentityRows(), *sphere, poseB);
+    const DistanceResult r = DistanceQuery(*torus, IdentityRows(), *sphere, poseB);
     const double expected = TorusDistance({0, 0, 0}, big, small, c.data()) - radius;
     EXPECT_NEAR(r.nearest.distance, expected, kTol) << c[0] << " " << c[1] << " " << c[2];
     ExpectConsistent(*torus, IdentityRows(), *sphere, poseB, r.nearest, 1e-9);
@@ -95,14 +95,14 @@ TEST(AnalyticPairs, CrossedAndParallelCylinders) {
     const double axes = 0.8 + gap;
     // B's axis along x (a quarter turn about y), crossing A's above it.
     const PoseRows crossed = RotationRows({0, 1, 0}, kPi / 2, {0.2, axes, 0.3});
-    const DistanceResult rc = Query(*a, IdentityRows(), *b, crossed);
+    const DistanceResult rc = DistanceQuery(*a, IdentityRows(), *b, crossed);
     EXPECT_NEAR(rc.nearest.distance, gap, kTol) << "crossed, gap " << gap;
     EXPECT_TRUE(rc.nearest.certified);
     ExpectConsistent(*a, IdentityRows(), *b, crossed, rc.nearest, 1e-9);
     // B's axis parallel to A's: the closest points form a segment (a valley
     // of equal distances: right, not always certified, as above).
     const PoseRows parallel = RotationRows({0, 0, 1}, 0.3, {axes * std::cos(0.6), axes * std::sin(0.6), 0.7});
-    const DistanceResult rp = Query(*a, IdentityRows(), *b, parallel);
+    const DistanceResult rp = DistanceQuery(*a, IdentityRows(), *b, parallel);
     EXPECT_NEAR(rp.nearest.distance, gap, kTol) << "parallel, gap " << gap;
     ExpectConsistent(*a, IdentityRows(), *b, parallel, rp.nearest, 1e-9);
   }
@@ -117,13 +117,13 @@ TEST(AnalyticPairs, ParallelAndSkewSegments) {
   const auto a = BuildModel(MeshGeometry(segmentA));
   // Parallel, overlapping in x: distance 1 along a whole stretch.
   const auto parallel = BuildModel(BezierCurve({{0.3, 1, 0}, {2, 1, 0}}));
-  DistanceResult r = Query(*a, IdentityRows(), *parallel, IdentityRows());
+  DistanceResult r = DistanceQuery(*a, IdentityRows(), *parallel, IdentityRows());
   EXPECT_NEAR(r.nearest.distance, 1.0, 1e-12);
   ExpectConsistent(*a, IdentityRows(), *parallel, IdentityRows(), r.nearest, 1e-12);
   EXPECT_GE(r.nearest.a.point[0], 0.3 - 1e-12);
   // Skew: the common perpendicular joins (0.5, 0, 0) and (0.5, 0, 1).
   const auto skew = BuildModel(BezierCurve({{0.5, -1, 1}, {0.5, 1, 1}}));
-  r = Query(*a, IdentityRows(), *skew, IdentityRows());
+  r = DistanceQuery(*a, IdentityRows(), *skew, IdentityRows());
   EXPECT_NEAR(r.nearest.distance, 1.0, 1e-12);
   EXPECT_NEAR(r.nearest.a.point[0], 0.5, 1e-12);
   EXPECT_NEAR(r.nearest.b.point[1], 0.0, 1e-12);
@@ -131,18 +131,18 @@ TEST(AnalyticPairs, ParallelAndSkewSegments) {
   // simplices of degree 1: the joint solve, not the closed form).
   const auto cubicA = BuildModel(BezierCurve({{0, 0, 0}, {1.0 / 3, 0, 0}, {2.0 / 3, 0, 0}, {1, 0, 0}}));
   const auto cubicSkew = BuildModel(BezierCurve({{0.5, -1, 1}, {0.5, -1.0 / 3, 1}, {0.5, 1.0 / 3, 1}, {0.5, 1, 1}}));
-  r = Query(*cubicA, IdentityRows(), *cubicSkew, IdentityRows());
+  r = DistanceQuery(*cubicA, IdentityRows(), *cubicSkew, IdentityRows());
   EXPECT_NEAR(r.nearest.distance, 1.0, 1e-12);
   EXPECT_NEAR(r.nearest.a.params[0], 0.5, 1e-9);
   EXPECT_NEAR(r.nearest.b.params[0], 0.5, 1e-9);
   // Crossing segments (2D-like, in a plane): distance 0 at the crossing.
   const auto crossing = BuildModel(BezierCurve({{0.25, -1, 0}, {0.25, 1, 0}}));
-  r = Query(*a, IdentityRows(), *crossing, IdentityRows());
+  r = DistanceQuery(*a, IdentityRows(), *crossing, IdentityRows());
   EXPECT_EQ(r.nearest.distance, 0.0);
   EXPECT_NEAR(r.nearest.a.point[0], 0.25, 1e-12);
   // Beyond an end, leaning away: the two end points.
   const auto beyond = BuildModel(BezierCurve({{1.5, 0.5, 0.5}, {3, 1, 1}}));
-  r = Query(*a, IdentityRows(), *beyond, IdentityRows());
+  r = DistanceQuery(*a, IdentityRows(), *beyond, IdentityRows());
   const double end[3] = {1, 0, 0}, start[3] = {1.5, 0.5, 0.5};
   EXPECT_NEAR(r.nearest.distance, PointDistance(end, start), 1e-12);
 }
@@ -153,7 +153,7 @@ TEST(AnalyticPairs, CurveTouchingASurface) {
   Geometry circle = NurbsCircle(3, Frame{{0, 0, 1}, {1, 0, 0}, {0, 0, 1}}, 1.0);
   const auto curve = BuildModel(circle);
   const auto plane = BuildModel(PlaneSquare(2.0));
-  DistanceResult r = Query(*plane, IdentityRows(), *curve, IdentityRows());
+  DistanceResult r = DistanceQuery(*plane, IdentityRows(), *curve, IdentityRows());
   ASSERT_TRUE(r.nearest.found);
   EXPECT_EQ(r.nearest.distance, 0.0);
   EXPECT_NEAR(r.nearest.a.point[0], 0.0, 1e-5);  // tangential contact: the point is resolved to sqrt(tolerance)
@@ -161,12 +161,12 @@ TEST(AnalyticPairs, CurveTouchingASurface) {
   ExpectConsistent(*plane, IdentityRows(), *curve, IdentityRows(), r.nearest, 1e-9);
   // Lifted by 0.01: the distance is 0.01, at the touching point.
   const PoseRows lifted = RotationRows({0, 0, 1}, 0.0, {0, 0, 0.01});
-  r = Query(*plane, IdentityRows(), *curve, lifted);
+  r = DistanceQuery(*plane, IdentityRows(), *curve, lifted);
   EXPECT_NEAR(r.nearest.distance, 0.01, kTol);
   EXPECT_NEAR(r.nearest.b.point[0], 0.0, 1e-7);
   // The same circle touching a sphere of radius 1 at the origin from outside.
   const auto sphere = BuildModel(NurbsSphere({0, 0, -1}, 1.0));
-  r = Query(*sphere, IdentityRows(), *curve, IdentityRows());
+  r = DistanceQuery(*sphere, IdentityRows(), *curve, IdentityRows());
   EXPECT_EQ(r.nearest.distance, 0.0);
   ExpectConsistent(*sphere, IdentityRows(), *curve, IdentityRows(), r.nearest, 1e-9);
 }
@@ -177,10 +177,10 @@ TEST(AnalyticPairs, MaxDistanceLeavesFarModelsNotFound) {
   const PoseRows poseB = RotationRows({0, 0, 1}, 0.0, {3, 0, 0});  // distance 1.5
   DistanceOptions options;
   options.maxDistance = 1.4;
-  DistanceResult r = Query(*a, IdentityRows(), *b, poseB, options);
+  DistanceResult r = DistanceQuery(*a, IdentityRows(), *b, poseB, options);
   EXPECT_FALSE(r.nearest.found);
   options.maxDistance = 1.6;
-  r = Query(*a, IdentityRows(), *b, poseB, options);
+  r = DistanceQuery(*a, IdentityRows(), *b, poseB, options);
   ASSERT_TRUE(r.nearest.found);
   EXPECT_NEAR(r.nearest.distance, 1.5, kTol);
 }
@@ -192,20 +192,20 @@ TEST(AnalyticPairs, VolumesAnswerFromTheirBoundaryAndContainment) {
   // Outside: the box distance of the centre less the radius.
   for (const std::array<double, 3> c : {std::array<double, 3>{2.0, 0.3, -0.2}, {1.6, 1.7, 1.8}, {0.1, -1.9, 0.4}}) {
     const PoseRows poseB = RotationRows({1, 0, 0}, 0.5, c);
-    const DistanceResult r = Query(*box, IdentityRows(), *sphere, poseB);
+    const DistanceResult r = DistanceQuery(*box, IdentityRows(), *sphere, poseB);
     EXPECT_NEAR(r.nearest.distance, BoxDistance(lo, hi, c.data()) - 0.25, kTol);
     ExpectConsistent(*box, IdentityRows(), *sphere, poseB, r.nearest, 1e-9);
   }
   // Wholly inside the box: no boundary face is near, the distance is 0.
   const PoseRows inside = RotationRows({1, 0, 0}, 0.5, {0.2, 0.1, -0.3});
-  DistanceResult r = Query(*box, IdentityRows(), *sphere, inside);
+  DistanceResult r = DistanceQuery(*box, IdentityRows(), *sphere, inside);
   ASSERT_TRUE(r.nearest.found);
   EXPECT_EQ(r.nearest.distance, 0.0);
   EXPECT_NEAR(PointDistance(r.nearest.a.point, r.nearest.b.point), 0.0, 1e-9);
   EXPECT_EQ(CheckOnModel(sphere->geometry, inside, r.nearest.b, 1e-9), "");
   // Crossing the box's face: 0 as well.
   const PoseRows crossing = RotationRows({1, 0, 0}, 0.5, {1.1, 0.1, -0.3});
-  r = Query(*box, IdentityRows(), *sphere, crossing);
+  r = DistanceQuery(*box, IdentityRows(), *sphere, crossing);
   EXPECT_EQ(r.nearest.distance, 0.0);
 }
 

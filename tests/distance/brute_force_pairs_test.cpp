@@ -33,7 +33,7 @@ void CompareWithBruteForce(const Case& c, int poses, std::uint64_t seed, double 
   for (int trial = 0; trial < poses; ++trial) {
     const PoseRows poseA = trial % 2 ? RandomPose(rng, 0.0) : IdentityRows();
     const PoseRows poseB = RandomPose(rng, reach);
-    const DistanceResult r = Query(*a, poseA, *b, poseB);
+    const DistanceResult r = DistanceQuery(*a, poseA, *b, poseB);
     const PairReferenceAnswer ref = BruteForcePairDistance(c.a, poseA, c.b, poseB);
     SCOPED_TRACE(std::string(c.name) + ", pose " + std::to_string(trial));
     ExpectConsistent(*a, poseA, *b, poseB, r.nearest, 1e-9 * size);
@@ -75,7 +75,7 @@ TEST(BruteForcePairs, TriangleMeshes) {
     const double norm = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
     for (double& x : t) x *= distance / norm;
     const PoseRows poseB = RotationRows({u(rng), u(rng), u(rng)}, 3.0 * u(rng), t);
-    const DistanceResult r = Query(*a, IdentityRows(), *b, poseB);
+    const DistanceResult r = DistanceQuery(*a, IdentityRows(), *b, poseB);
     const double expected = AllPairsMeshDistance(sphere, IdentityRows(), small, poseB);
     SCOPED_TRACE("pose " + std::to_string(trial));
     EXPECT_NEAR(r.nearest.distance, expected, 1e-12);

@@ -55,7 +55,7 @@ inline std::string CheckOnModel(const Geometry& geometry, const PoseRows& pose, 
 }
 
 /// Distance between the models under the poses, asserting success.
-inline DistanceResult Query(const BuiltModel& a, const PoseRows& poseA, const BuiltModel& b, const PoseRows& poseB,
+inline DistanceResult DistanceQuery(const BuiltModel& a, const PoseRows& poseA, const BuiltModel& b, const PoseRows& poseB,
                             DistanceOptions options = {}) {
   DistanceResult result;
   std::string message;

@@ -18,7 +18,7 @@ void CompareAllMinima(const Geometry& a, const Geometry& b, const PoseRows& pose
   DistanceOptions options;
   options.allMinima = true;
   options.maxDistance = maxDistance;
-  const DistanceResult r = Query(*ma, IdentityRows(), *mb, poseB, options);
+  const DistanceResult r = DistanceQuery(*ma, IdentityRows(), *mb, poseB, options);
   const std::vector<PairReferenceAnswer> reference =
       BruteForcePairMinima(a, IdentityRows(), b, poseB, maxDistance, 1e-5 * size);
   ASSERT_FALSE(r.minima.empty());
@@ -27,7 +27,9 @@ void CompareAllMinima(const Geometry& a, const Geometry& b, const PoseRows& pose
   EXPECT_NEAR(r.minima.front().distance, r.nearest.distance, 1e-9 * size);
   for (std::size_t i = 0; i < r.minima.size(); ++i) {
     ExpectConsistent(*ma, IdentityRows(), *mb, poseB, r.minima[i], 1e-9 * size);
-    if (i > 0) EXPECT_LE(r.minima[i - 1].distance, r.minima[i].distance);
+    if (i > 0) {
+      EXPECT_LE(r.minima[i - 1].distance, r.minima[i].distance);
+    }
     for (std::size_t j = 0; j < i; ++j) {
       EXPECT_FALSE(PointDistance(r.minima[i].a.point, r.minima[j].a.point) <= 1e-6 * size &&
                    PointDistance(r.minima[i].b.point, r.minima[j].b.point) <= 1e-6 * size)
@@ -72,11 +74,11 @@ TEST(PairMinima, SpheresHaveOneMinimumAndMaxDistanceCuts) {
   DistanceOptions options;
   options.allMinima = true;
   options.maxDistance = 1.0;
-  const DistanceResult r = Query(*a, IdentityRows(), *b, poseB, options);
+  const DistanceResult r = DistanceQuery(*a, IdentityRows(), *b, poseB, options);
   ASSERT_EQ(r.minima.size(), 1u);
   EXPECT_NEAR(r.minima[0].distance, std::sqrt(4.0 + 0.25 + 0.09) - 1.5, 1e-9);
   options.maxDistance = 0.5;
-  EXPECT_TRUE(Query(*a, IdentityRows(), *b, poseB, options).minima.empty());
+  EXPECT_TRUE(DistanceQuery(*a, IdentityRows(), *b, poseB, options).minima.empty());
 }
 
 }  // namespace

@@ -44,7 +44,7 @@ TEST(Trajectories, SphereOverASurfaceMatchesFreshQueries) {
     DistanceResult tracked;
     std::string message;
     ASSERT_EQ(tracker.Update(ToPose(poses[i]), &tracked, &message), Error::Ok) << message;
-    const DistanceResult fresh = Query(*surface, IdentityRows(), *sphere, poses[i]);
+    const DistanceResult fresh = DistanceQuery(*surface, IdentityRows(), *sphere, poses[i]);
     SCOPED_TRACE("pose " + std::to_string(i));
     ASSERT_TRUE(tracked.nearest.found);
     EXPECT_NEAR(tracked.nearest.distance, fresh.nearest.distance, 1e-10);
@@ -61,7 +61,7 @@ TEST(Trajectories, MeshAgainstMeshMatchesFreshQueries) {
   for (std::size_t i = 0; i < poses.size(); ++i) {
     DistanceResult tracked;
     ASSERT_EQ(tracker.Update(ToPose(poses[i]), &tracked), Error::Ok);
-    const DistanceResult fresh = Query(*big, IdentityRows(), *probe, poses[i]);
+    const DistanceResult fresh = DistanceQuery(*big, IdentityRows(), *probe, poses[i]);
     SCOPED_TRACE("pose " + std::to_string(i));
     EXPECT_NEAR(tracked.nearest.distance, fresh.nearest.distance, 1e-12);
     ExpectConsistent(*big, IdentityRows(), *probe, poses[i], tracked.nearest, 1e-12);

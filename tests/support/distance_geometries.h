@@ -6,7 +6,7 @@
 #include <array>
 #include <vector>
 
-#include "include/invmap/invmap.h"
+#include "invmap/invmap.h"
 
 namespace invmap::testing {
 

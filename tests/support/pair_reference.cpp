@@ -86,7 +86,9 @@ void ProjectSimplex(int d, double* x) {
   // Onto sum x = 1, x >= 0: x_i - theta clipped at 0 (sorting algorithm).
   double sorted[3];
   std::copy(x, x + d, sorted);
-  std::sort(sorted, sorted + d, std::greater<double>());
+  for (int i = 1; i < d; ++i) {  // descending (d <= 3)
+    for (int j = i; j > 0 && sorted[j - 1] < sorted[j]; --j) std::swap(sorted[j - 1], sorted[j]);
+  }
   double cumulative = 0.0, theta = 0.0;
   for (int i = 0; i < d; ++i) {
     cumulative += sorted[i];
