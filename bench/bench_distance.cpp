@@ -144,9 +144,10 @@ void BM_DistanceFresh(benchmark::State& state) {
 BENCHMARK(BM_DistanceFresh)->Unit(benchmark::kMicrosecond);
 
 void BM_DistanceFreshMeshes(benchmark::State& state) {
-  // An 81,920-triangle sphere and a 5,120-triangle one at random poses around it.
-  const auto a = Build(invmap::samples::BumpySphere(81920));
-  auto small = invmap::samples::BumpySphere(5120);
+  // A sphere of range(0) triangles and one of range(1) at 0.15 its size,
+  // at random poses around it.
+  const auto a = Build(invmap::samples::BumpySphere(state.range(0)));
+  auto small = invmap::samples::BumpySphere(state.range(1));
   for (double& x : small.patches[0].points) x *= 0.15;
   const auto b = Build(small);
   invmap::DistanceOptions options;
@@ -163,7 +164,7 @@ void BM_DistanceFreshMeshes(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_DistanceFreshMeshes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DistanceFreshMeshes)->Args({81920, 5120})->Args({1280, 320})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -329,32 +329,42 @@ void DistanceCells::Build(const CellStore& store) {
 void DistanceCells::BuildOrientedBounds() {
   const std::vector<BvhNode>& nodes = bvh_.Nodes();
   nodeOriented_.assign(nodes.size(), OrientedBounds());
-  std::vector<PointMoments> moments(nodes.size());
+  if (nodes.empty()) return;
   const double* origin = bvh_.Origin();
+  // Every control point in leaf order, and where each item's start.
   std::vector<double> points;
-  // Children come after their parent: leaves from their cells' control
-  // points, inner nodes along their points' principal axes around their
-  // children's corners.
+  std::vector<std::size_t> itemStart(bvh_.Items().size() + 1, 0);
+  for (std::size_t item = 0; item < bvh_.Items().size(); ++item) {
+    itemStart[item] = points.size() / 3;
+    const kernels::CellView& view = cells_[bvh_.Items()[item]].view;
+    const int ad = view.ambientDim;
+    for (int p = 0; p < view.shape.numControlPoints(); ++p) {
+      double x[3] = {0, 0, 0};
+      for (int k = 0; k < ad; ++k) x[k] = view.points[static_cast<std::size_t>(p) * ad + k];
+      points.insert(points.end(), x, x + 3);
+    }
+  }
+  itemStart.back() = points.size() / 3;
+  // Children come after their parent: the items below a node are a range
+  // in leaf order, and its moments its children's merged. Each node's box
+  // is fitted to its own points (not its children's boxes, which would
+  // grow a little at every level).
+  std::vector<PointMoments> moments(nodes.size());
+  std::vector<int> firstItem(nodes.size()), endItem(nodes.size());
   for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
     const BvhNode& node = nodes[i];
-    points.clear();
     if (node.count > 0) {
-      for (int item = node.first; item < node.first + node.count; ++item) {
-        const kernels::CellView& view = cells_[bvh_.Items()[item]].view;
-        const int ad = view.ambientDim;
-        for (int p = 0; p < view.shape.numControlPoints(); ++p) {
-          double x[3] = {0, 0, 0};
-          for (int k = 0; k < ad; ++k) x[k] = view.points[static_cast<std::size_t>(p) * ad + k];
-          points.insert(points.end(), x, x + 3);
-        }
-      }
-      moments[i] = PointMoments::Of(points.data(), points.size() / 3);
+      firstItem[i] = node.first;
+      endItem[i] = node.first + node.count;
+      moments[i] = PointMoments::Of(points.data() + 3 * itemStart[firstItem[i]],
+                                    itemStart[endItem[i]] - itemStart[firstItem[i]]);
     } else {
-      points.resize(2 * 8 * 3);
+      firstItem[i] = std::min(firstItem[node.first], firstItem[node.first + 1]);
+      endItem[i] = std::max(endItem[node.first], endItem[node.first + 1]);
       moments[i] = PointMoments::Merge(moments[node.first], moments[node.first + 1]);
-      for (int child = 0; child < 2; ++child) OrientedCorners(nodeOriented_[node.first + child], points.data() + child * 24);
     }
-    nodeOriented_[i] = FitOrientedBounds(moments[i], origin, points.data(), static_cast<int>(points.size() / 3));
+    const std::size_t begin = itemStart[firstItem[i]], end = itemStart[endItem[i]];
+    nodeOriented_[i] = FitOrientedBounds(moments[i], origin, points.data() + 3 * begin, static_cast<int>(end - begin));
   }
 }
 

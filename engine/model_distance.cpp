@@ -148,15 +148,10 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
 
   const Bvh& treeA = cellsA.bvh();
   const Bvh& treeB = cellsB.bvh();
+  // Nodes by their oriented bounds: the axis-aligned boxes of a tilted
+  // patch are fat, its oriented ones as thin as it is flat.
   auto nodeBound = [&](int na, int nb) {
-    const BvhBox boxA = treeA.NodeBounds(na);
-    const BvhBox boxB = treeB.NodeBounds(nb);
-    const double lb = bound.LowerBound(boxA.lo, boxA.hi, boxB.lo, boxB.hi);
-    if (!(lb * lb < best2)) return lb;
-    // The axis-aligned boxes of a tilted patch are fat; its oriented ones
-    // are as thin as it is flat.
-    return std::max(lb, OrientedPairLowerBound(cellsA.nodeOriented(na), cellsB.nodeOriented(nb), bIntoA,
-                                               std::sqrt(best2)));
+    return OrientedPairLowerBound(cellsA.nodeOriented(na), cellsB.nodeOriented(nb), bIntoA, std::sqrt(best2));
   };
   auto diagonal2 = [](const BvhBox& box) {
     double d2 = 0.0;

@@ -47,12 +47,17 @@ double BoxPairBound::LowerBound(const double* loA, const double* hiA, const doub
     d[k] = v - ca[k];
     magnitude += std::abs(ca[k]) + std::abs(v) + ha[k] + hb[k];
   }
-  double gap = 0.0;
+  // Along an orthonormal basis the gaps add in squares: every pair of
+  // points differs by at least gap_k along each axis k, so by at least
+  // sqrt(sum gap_k^2) (a box beside and above another is that far).
+  const double slack = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  double sumA = 0.0, sumB = 0.0;
   // A's axes.
   for (int k = 0; k < 3; ++k) {
     double rb = 0.0;
     for (int l = 0; l < 3; ++l) rb += absRotation_[k][l] * hb[l];
-    gap = std::max(gap, std::abs(d[k]) - ha[k] - rb);
+    const double g = std::max(0.0, std::abs(d[k]) - ha[k] - rb - slack);
+    sumA += g * g;
   }
   // B's axes (the rotation's columns).
   for (int l = 0; l < 3; ++l) {
@@ -61,8 +66,11 @@ double BoxPairBound::LowerBound(const double* loA, const double* hiA, const doub
       s += rotation_[k][l] * d[k];
       ra += absRotation_[k][l] * ha[k];
     }
-    gap = std::max(gap, std::abs(s) - ra - hb[l]);
+    const double g = std::max(0.0, std::abs(s) - ra - hb[l] - slack);
+    sumB += g * g;
   }
+  // (B's axes are orthonormal to rounding: a hair off the sum covers it.)
+  double gap = std::max(std::sqrt(sumA), std::sqrt(sumB) * (1.0 - 1e-14));
   // The line through the centres.
   const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   if (length > 0.0) {
@@ -73,10 +81,9 @@ double BoxPairBound::LowerBound(const double* loA, const double* hiA, const doub
       for (int k = 0; k < 3; ++k) s += rotation_[k][l] * d[k];
       rb += std::abs(s) * hb[l];
     }
-    gap = std::max(gap, length - (ra + rb) / length);
+    gap = std::max(gap, length - (ra + rb) / length - slack);
   }
-  // The bound's own rounding, so it never exceeds the true distance.
-  return std::max(0.0, gap - 16.0 * std::numeric_limits<double>::epsilon() * magnitude);
+  return std::max(0.0, gap);
 }
 
 OrientedBounds FitOrientedBounds(const PointMoments& moments, const double* origin, const double* xyz, int count) {
@@ -158,16 +165,26 @@ double OrientedPairLowerBound(const OrientedBounds& a, const OrientedBounds& b, 
     }
   }
   // A's axes, then B's: the thin boxes of flat patches facing each other.
+  // Along either box's orthonormal axes the gaps add in squares (see
+  // BoxPairBound); the axes are orthonormal to rounding, which the factor
+  // a hair below 1 covers.
+  constexpr double kBasis = 1.0 - 1e-14;
+  double sum = 0.0;
   for (int i = 0; i < 3; ++i) {
     const double rb = b.half[0] * absR[i][0] + b.half[1] * absR[i][1] + b.half[2] * absR[i][2];
-    gap = std::max(gap, std::abs(t[i]) - a.half[i] - rb);
+    const double g = std::max(0.0, std::abs(t[i]) - a.half[i] - rb - slack);
+    sum += g * g;
   }
+  gap = std::max(gap, std::sqrt(sum) * kBasis);
   if (gap >= target) return gap - slack;
+  sum = 0.0;
   for (int j = 0; j < 3; ++j) {
     const double ra = a.half[0] * absR[0][j] + a.half[1] * absR[1][j] + a.half[2] * absR[2][j];
     const double s = t[0] * r[0][j] + t[1] * r[1][j] + t[2] * r[2][j];
-    gap = std::max(gap, std::abs(s) - ra - b.half[j]);
+    const double g = std::max(0.0, std::abs(s) - ra - b.half[j] - slack);
+    sum += g * g;
   }
+  gap = std::max(gap, std::sqrt(sum) * kBasis);
   if (gap >= target) return gap - slack;
   // The 9 cross products a_i x b_j, of length sqrt(1 - r_ij^2).
   for (int i = 0; i < 3; ++i) {

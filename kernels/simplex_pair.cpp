@@ -216,19 +216,52 @@ double ClosestPointsOfSimplices(int dimA, const double* const* a, int dimB, cons
   } else {
     // Two triangles: a closest pair has a vertex of one against the other,
     // or an edge against an edge; crossing triangles have an edge of one
-    // through the other.
+    // through the other. Each candidate once: 6 vertices, 9 edge pairs.
+    const double vertexRef[3][2] = {{0, 0}, {1, 0}, {0, 1}};
     for (int side = 0; side < 2; ++side) {
       const double* const* from = side == 0 ? va : vb;
       const double* const* onto = side == 0 ? vb : va;
-      for (int e = 0; e < 3; ++e) {
-        Best edge;
-        SegmentTriangle(from[e], from[(e + 1) % 3], onto, false, &edge);
-        double fromRef[2];
-        EdgeToTriangle(e, edge.refA[0], fromRef);
+      for (int v = 0; v < 3; ++v) {
+        double ref[3], closest[3];
+        bool onBoundary = false;
+        const double d2 = ClosestPointOnSimplex(2, 3, onto, from[v], ref, closest, &onBoundary);
         if (side == 0) {
-          best.Offer(edge.d2, fromRef, edge.refB);
+          best.Offer(d2, vertexRef[v], ref);
         } else {
-          best.Offer(edge.d2, edge.refB, fromRef);
+          best.Offer(d2, ref, vertexRef[v]);
+        }
+      }
+    }
+    for (int ea = 0; ea < 3; ++ea) {
+      for (int eb = 0; eb < 3; ++eb) {
+        double s, t;
+        const double* p0 = va[ea];
+        const double* p1 = va[(ea + 1) % 3];
+        const double* q0 = vb[eb];
+        const double* q1 = vb[(eb + 1) % 3];
+        SegmentParameters(p0, p1, q0, q1, &s, &t);
+        Vec x, y;
+        PointOnSegment(p0, p1, s, x);
+        PointOnSegment(q0, q1, t, y);
+        double ra[2], rb[2];
+        EdgeToTriangle(ea, s, ra);
+        EdgeToTriangle(eb, t, rb);
+        best.Offer(Distance2(x, y), ra, rb);
+      }
+    }
+    if (best.d2 > 0.0) {
+      for (int side = 0; side < 2; ++side) {
+        const double* const* from = side == 0 ? va : vb;
+        const double* const* onto = side == 0 ? vb : va;
+        for (int e = 0; e < 3; ++e) {
+          double s, ref[2], fromRef[2];
+          if (!SegmentCrossesTriangle(from[e], from[(e + 1) % 3], onto, &s, ref)) continue;
+          EdgeToTriangle(e, s, fromRef);
+          if (side == 0) {
+            best.Offer(0.0, fromRef, ref);
+          } else {
+            best.Offer(0.0, ref, fromRef);
+          }
         }
       }
     }

@@ -1,7 +1,8 @@
 // The cheap lower bounds that prune pairs of BVH nodes and cells: never
 // above the true distance (random boxes and simplices under random rigid
 // motions, dense samples of both sets), and tight where they are meant to
-// be (thin boxes facing each other, parallel triangles).
+// be (thin boxes facing each other, parallel triangles). And the closed
+// form between two triangles against the tests' own.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 
 #include "engine/pair_bounds.h"
 #include "kernels/simplex_pair.h"
+#include "tests/support/pair_reference.h"
 
 namespace invmap::engine {
 namespace {
@@ -193,6 +195,40 @@ TEST(PairBounds, SimplexPlaneGapNeverExceedsTheDistance) {
     if (trial % 4 == 3 && dimA == 2 && dimB == 2 && distance > 0.05) tight += gap > 0.5 * distance;
   }
   EXPECT_GT(tight, 50);
+}
+
+TEST(PairBounds, TriangleClosedFormMatchesTheReference) {
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int crossing = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    double a[3][3], b[3][3];
+    const double shift = trial % 3 == 0 ? 0.0 : 1.5 * u(rng);  // a third may cross
+    for (int v = 0; v < 3; ++v) {
+      for (int k = 0; k < 3; ++k) {
+        a[v][k] = u(rng);
+        b[v][k] = u(rng) + (k == 2 ? shift : 0.0);
+      }
+    }
+    const double* pa[3] = {a[0], a[1], a[2]};
+    const double* pb[3] = {b[0], b[1], b[2]};
+    double refA[3], refB[3], pointA[3], pointB[3];
+    const double d2 = kernels::ClosestPointsOfSimplices(2, pa, 2, pb, 3, refA, refB, pointA, pointB);
+    const double reference = testing::TriangleTriangleDistance(a[0], a[1], a[2], b[0], b[1], b[2]);
+    EXPECT_NEAR(std::sqrt(d2), reference, 1e-12) << "trial " << trial;
+    // The points are on their triangles, at that distance.
+    for (int side = 0; side < 2; ++side) {
+      const double* ref = side == 0 ? refA : refB;
+      EXPECT_GE(ref[0], 0.0);
+      EXPECT_GE(ref[1], 0.0);
+      EXPECT_LE(ref[0] + ref[1], 1.0 + 1e-15);
+    }
+    double gap2 = 0.0;
+    for (int k = 0; k < 3; ++k) gap2 += (pointA[k] - pointB[k]) * (pointA[k] - pointB[k]);
+    EXPECT_NEAR(std::sqrt(gap2), reference, 1e-12);
+    crossing += reference == 0.0;
+  }
+  EXPECT_GT(crossing, 100);
 }
 
 }  // namespace
