@@ -77,6 +77,10 @@ void SimplexVertices(const PairSide& side, double vertices[3][3]) {
   }
 }
 
+/// A split by bend is overruled when its edge is shorter than the longest
+/// by more than this factor (squared: 64^2).
+constexpr double kBendSplitRatio2 = 64.0 * 64.0;
+
 /// The pair search over one pair of cells.
 class PairSearch {
  public:
@@ -447,6 +451,29 @@ void PairSearch::ChooseSplitByBend(double* slot, const PairNets& nets, int* side
   nets.LowerBound(sideA, sideB, &ws_->scratch, &argA, &argB);
   if (!nets.MostBentEdgeAt(sideA, sideB, argA, argB, side, factor, vi, vj)) {
     ChooseSplit(slot, side, factor, vi, vj);
+    return;
+  }
+  // The bend at one coefficient can miss a direction in which the net
+  // still varies (a circle's arc seen from near its axis: the quotients
+  // along it bend little, but their least stays far below the distance).
+  // A direction far shorter than the longest is not split again: the
+  // longest is.
+  auto length2 = [&](int s, int f, int p, int q) {
+    const SimplexFactor& fac = layout_.shape(s).factor(f);
+    double l2 = 0.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      const double e = (Vertex(slot, s, f, p)[i] - Vertex(slot, s, f, q)[i]) * paramScale_[layout_.offset(s) + fac.offset + i];
+      l2 += e * e;
+    }
+    return l2;
+  };
+  int ls = 0, lf = 0, lp = 0, lq = 1;
+  ChooseSplit(slot, &ls, &lf, &lp, &lq);
+  if (length2(*side, *factor, *vi, *vj) * kBendSplitRatio2 < length2(ls, lf, lp, lq)) {
+    *side = ls;
+    *factor = lf;
+    *vi = lp;
+    *vj = lq;
   }
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "samples/sample_geometries.h"
 #include "tests/distance/distance_test_util.h"
 #include "tests/support/distance_geometries.h"
 #include "tests/support/test_geometries.h"
@@ -86,6 +87,25 @@ TEST(AnalyticPairs, SphereAndTorus) {
     EXPECT_NEAR(r.nearest.distance, expected, kTol) << c[0] << " " << c[1] << " " << c[2];
     ExpectConsistent(*torus, IdentityRows(), *sphere, poseB, r.nearest, 1e-9);
   }
+}
+
+TEST(AnalyticPairs, SurfaceInsideATorusHole) {
+  // The wavy surface over [0, 1]^2 inside the hole of a torus around the
+  // vertical line through (0.5, 0.5): its four corners (all at z = 0.125,
+  // the farthest points from the axis) tie for the nearest. Seen from so
+  // near the axis the torus's cells bend little along their arcs; the
+  // search must still split them, not only the surface's corner cells.
+  const auto surface = BuildModel(samples::WavySurface(8));
+  const auto torus = BuildModel(samples::NurbsTorus(2.0, 0.7));
+  const PoseRows poseB = RotationRows({0, 0, 1}, 0.0, {0.5, 0.5, 0.6});
+  const DistanceResult r = DistanceQuery(*surface, IdentityRows(), *torus, poseB);
+  const double corner[3] = {1.0, 1.0, 0.125};
+  const double expected = TorusDistance({0.5, 0.5, 0.6}, 2.0, 0.7, corner);
+  EXPECT_NEAR(r.nearest.distance, expected, kTol);
+  EXPECT_TRUE(r.nearest.certified);
+  EXPECT_NEAR(std::abs(r.nearest.a.point[0] - 0.5), 0.5, 1e-9);
+  EXPECT_NEAR(std::abs(r.nearest.a.point[1] - 0.5), 0.5, 1e-9);
+  ExpectConsistent(*surface, IdentityRows(), *torus, poseB, r.nearest, 1e-9);
 }
 
 TEST(AnalyticPairs, CrossedAndParallelCylinders) {
