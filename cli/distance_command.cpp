@@ -236,7 +236,7 @@ int Run(const DistanceCommandOptions& options) {
 CLI::App* AddDistanceCommand(CLI::App* app) {
   DistanceCommandOptions& options = Options();
   CLI::App* command = app->add_subcommand("distance", "minimum distance between two models under rigid poses");
-  command->add_option("--a", options.a, "model A: any geometry file --geometry accepts")->required();
+  command->add_option("--a", options.a, "model A: any geometry file invert reads")->required();
   command->add_option("--b", options.b, "model B")->required();
   command->add_option("--pose-a", options.poseA, "pose of A: 12 comma-separated numbers r00,r01,r02,tx,...,tz");
   auto* poseB = command->add_option("--pose-b", options.poseB, "pose of B (default identity)");
