@@ -78,8 +78,8 @@ void SimplexVertices(const PairSide& side, double vertices[3][3]) {
 }
 
 /// A split by bend is overruled when its edge is shorter than the longest
-/// by more than this factor (squared: 64^2).
-constexpr double kBendSplitRatio2 = 64.0 * 64.0;
+/// by more than this factor (squared: 1024^2).
+constexpr double kBendSplitRatio2 = 1024.0 * 1024.0;
 
 /// The pair search over one pair of cells.
 class PairSearch {
