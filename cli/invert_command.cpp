@@ -197,7 +197,10 @@ void PrintCadInfo(const cad::ModelInfo& info) {
 
 }  // namespace
 
-int RunInvert(const InvertOptions& options) { return Stream(options, false, "invert", ResultSink{options, nullptr}); }
+int RunInvert(const InvertOptions& options) {
+  if (options.allMinima) return RunInvertAllMinima(options);
+  return Stream(options, false, "invert", ResultSink{options, nullptr});
+}
 
 int RunTrim(const InvertOptions& options) { return Stream(options, true, "trim", TrimSink{options, nullptr, {}}); }
 

@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
                           ".ply output: colour the points by distance (viridis; --signed: cool-warm, blue inside to red outside, centred on 0)");
   invertCommand->add_option("--tolerance", invert.tolerance, "--signed: report the share of points within +-T")
       ->check(kNonNegative);
+  invertCommand->add_flag("--all-minima", invert.allMinima, "every local minimum of each point's distance (.csv, .npy)");
 
   invmap::cli::InvertOptions trim;
   std::string keep = "near";
@@ -114,6 +115,7 @@ int main(int argc, char** argv) {
 
   invmap::cli::ProbeOptions probe;
   CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
+  CLI::App* distanceCommand = invmap::cli::AddDistanceCommand(&app);
 
   try {
     app.parse(argc, argv);
@@ -130,6 +132,7 @@ int main(int argc, char** argv) {
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
     if (*probeCommand) return invmap::cli::RunProbe(probe);
+    if (*distanceCommand) return invmap::cli::RunDistance();
     if (*generateCommand) {
       if ((generate.what == "points" || generate.what == "scan") && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate %s: --geometry is required\n", generate.what.c_str());

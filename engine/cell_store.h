@@ -74,6 +74,9 @@ class CellStore {
   /// NaN where unused): knot values, angles where a direction is angular,
   /// and for an edge of a trimmed surface its pcurve's (u, v).
   void ReportedParameters(std::int64_t cell, const double* ref, double* params) const;
+  /// True when some patch is a TrimmedSurface (a CAD face): features that
+  /// enumerate a cell's minima without its trimming region refuse it.
+  bool hasTrimmedSurfaces() const { return !trimRegions_.empty(); }
 
   /// Affine regions of the B-spline patches (engine/affine_regions.h).
   const std::vector<AffineRegion>& regions() const { return regions_; }

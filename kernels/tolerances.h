@@ -61,4 +61,10 @@ constexpr int kMaxDepth = 64;
 /// of the halvings, and far below any trimming tolerance a CAD model has.
 constexpr double kTrimResolution = 1e-11;
 
+/// Pair search (kernels/pair_search.h): the most pairs of subdomains
+/// examined for one pair of cells. Each costs more than a cell search's
+/// subdomain (two sides' nets, a joint bound); only valleys of equal
+/// distances across both cells' parameters (parallel cylinders) come near it.
+constexpr int kMaxPairSubdomains = 1024;
+
 }  // namespace invmap::kernels

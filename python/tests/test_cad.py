@@ -112,3 +112,24 @@ def test_dask_invert_signed(screw):
     face = invmap.load(SAMPLES / "occ" / "face1.brep")
     with pytest.raises(invmap.InputError, match="face 0"):  # at the call, not in a worker
         invmap.dask.invert(points, face, signed=True)
+
+
+def test_point_tracker_reports_as_invert(screw):
+    # Along a path around the screw the tracker gives invert's records, own
+    # (u, v) of the faces (angles) and edges' pcurves included.
+    points = points_around(screw, 200, seed=8)
+    tracker = invmap.PointTracker(screw)
+    result = screw.invert(points)
+    for i, point in enumerate(points):
+        answer = tracker.update(point)
+        assert answer["status"] == 0
+        assert abs(answer["distance"] - result["distance"][i]) <= 1e-9
+        if answer["patch"] == result["patch"][i] and answer["cell"] == result["cell"][i]:
+            np.testing.assert_allclose(answer["params"][:2], result["params"][i, :2], rtol=0, atol=1e-7)
+
+
+def test_minima_enumerations_refuse_trimmed_faces(screw):
+    with pytest.raises(invmap.InputError, match="trimmed surfaces"):
+        screw.local_minima(np.zeros((1, 3)))
+    with pytest.raises(invmap.InputError, match="trimmed surfaces"):
+        invmap.distance(screw, screw)
