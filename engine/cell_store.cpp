@@ -185,13 +185,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
     }
     switch (patch.kind) {
       case Patch::Kind::BSpline: {
-        BSplinePatch spline;
-        spline.ambientDim = dim;
-        spline.degrees = patch.degrees;
-        spline.knots = patch.knots;
-        spline.counts = patch.counts;
-        spline.controlPoints = patch.points;
-        spline.weights = patch.weights;
+        const BSplinePatch spline = SplineOf(patch, dim);
         if (std::string e = ValidateBSplinePatch(spline); !e.empty()) return where + e;
         if (static_cast<int>(spline.degrees.size()) > dim) {
           return where + "degrees: a " + std::to_string(spline.degrees.size()) + "-parameter patch needs dimension 3";

@@ -213,10 +213,7 @@ std::size_t EdgeParameters::MemoryBytes() const {
   return (spanLo_.capacity() + spanHi_.capacity() + points_.capacity() + weights_.capacity()) * sizeof(double);
 }
 
-std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index) {
-  const int dim = dimension_;
-  if (dim != 3) return "a trimmed surface needs dimension 3";
-  if (patch.degrees.size() != 2) return "degrees: a trimmed surface has 2 directions";
+BSplinePatch SplineOf(const Patch& patch, int dim) {
   BSplinePatch spline;
   spline.ambientDim = dim;
   spline.degrees = patch.degrees;
@@ -224,6 +221,14 @@ std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index)
   spline.counts = patch.counts;
   spline.controlPoints = patch.points;
   spline.weights = patch.weights;
+  return spline;
+}
+
+std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index) {
+  const int dim = dimension_;
+  if (dim != 3) return "a trimmed surface needs dimension 3";
+  if (patch.degrees.size() != 2) return "degrees: a trimmed surface has 2 directions";
+  const BSplinePatch spline = SplineOf(patch, dim);
   if (std::string e = ValidateBSplinePatch(spline); !e.empty()) return e;
   if (!patch.angular.empty() && patch.angular.size() != 2) return "angular: expected 2 values (u, v) or none";
   bool angular[2] = {false, false};

@@ -9,10 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "engine/bezier_extraction.h"
 #include "invmap/invmap.h"
 #include "kernels/trim_region.h"
 
 namespace invmap::engine {
+
+/// The B-spline fields of a BSpline or TrimmedSurface patch (degrees, knots,
+/// counts, points, weights) in `dim` coordinates, for ValidateBSplinePatch
+/// and ExtractBezierCells.
+BSplinePatch SplineOf(const Patch& patch, int dim);
 
 /// Checks a SplineCurve with `dim` coordinates per control point; the
 /// message names `field` ("edges[3].curve: knots: ...").

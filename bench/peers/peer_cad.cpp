@@ -4,41 +4,19 @@
 // worker (LoadS2), each point then only sets the vertex and performs.
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
-#include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
-#include <IGESControl_Reader.hxx>
-#include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Compound.hxx>
 
-#include <filesystem>
+#include <string>
 
 #include "bench/peers/peer.h"
+#include "cad/shape_reader.h"
 
 namespace invmap::bench {
 namespace {
-
-TopoDS_Shape ReadModel(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  if (ext == ".step" || ext == ".stp") {
-    STEPControl_Reader reader;
-    reader.ReadFile(path.c_str());
-    reader.TransferRoots();
-    return reader.OneShape();
-  }
-  if (ext == ".iges" || ext == ".igs") {
-    IGESControl_Reader reader;
-    reader.ReadFile(path.c_str());
-    reader.TransferRoots();
-    return reader.OneShape();
-  }
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  BRepTools::Read(shape, path.c_str(), builder);
-  return shape;
-}
 
 class ExtremaWorker : public PeerWorker {
  public:
@@ -60,8 +38,10 @@ class ExtremaWorker : public PeerWorker {
 class ExtremaMethod : public PeerMethod {
  public:
   explicit ExtremaMethod(const std::string& path) {
-    // The boundary: a compound of the faces (a solid would measure 0 inside).
-    const TopoDS_Shape shape = ReadModel(path);
+    // The boundary: a compound of the faces (a solid would measure 0 inside),
+    // of the shape as invmap reads it (the same default readers).
+    std::string format;
+    const TopoDS_Shape shape = cad::ReadCadShape(path, &format);
     TopTools_IndexedMapOfShape map;
     TopExp::MapShapes(shape, TopAbs_FACE, map);
     BRep_Builder builder;
