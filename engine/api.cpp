@@ -140,7 +140,7 @@ ManifoldInfo Manifold::Info() const {
   std::map<std::string, std::size_t> byShape;
   for (std::int64_t c = 0; c < store.size(); ++c) {
     const kernels::CellShape& shape = store.solver(c).cell().shape;
-    std::string key = kernels::CellTypeName(shape.type());
+    std::string key = CellTypeName(shape.type());
     key += ' ';
     for (int f = 0; f < shape.numFactors(); ++f) {
       if (f) key += 'x';

@@ -98,11 +98,10 @@ std::string CheckWeights(const std::vector<double>& weights, std::size_t expecte
 }
 
 /// Checks the degrees of one Bezier cell and returns its shape (or a message).
-std::string BezierShape(CellType cell, const int* degreeList, int count, int dim, kernels::CellShape* shape) {
-  const kernels::CellType type = ToKernelType(cell);
+std::string BezierShape(CellType type, const int* degreeList, int count, int dim, kernels::CellShape* shape) {
   const int factors = kernels::CellShape::NumFactorsOf(type);
   if (count != factors) {
-    return "degrees: " + std::to_string(count) + " values, a " + kernels::CellTypeName(type) + " cell needs " +
+    return "degrees: " + std::to_string(count) + " values, a " + CellTypeName(type) + " cell needs " +
            std::to_string(factors);
   }
   std::array<int, kernels::kMaxFactors> degrees{};
@@ -114,13 +113,11 @@ std::string BezierShape(CellType cell, const int* degreeList, int count, int dim
     }
   }
   *shape = kernels::CellShape(type, degrees);
-  if (shape->paramDim() > dim) return std::string("cell: a ") + kernels::CellTypeName(type) + " cell needs dimension 3";
+  if (shape->paramDim() > dim) return std::string("cell: a ") + CellTypeName(type) + " cell needs dimension 3";
   return {};
 }
 
 }  // namespace
-
-kernels::CellType ToKernelType(CellType type) { return static_cast<kernels::CellType>(type); }
 
 void CellStore::SubdivisionHullPoints(std::int64_t s, std::vector<double>* xyz) const {
   if (isRegion(s)) {
@@ -251,7 +248,7 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         for (std::size_t c = 0; c < numCells; ++c) {
           const std::string cellWhere = where + "cells[" + std::to_string(c) + "]: ";
           kernels::CellShape shape;
-          const int factors = kernels::CellShape::NumFactorsOf(ToKernelType(patch.cellTypes[c]));
+          const int factors = kernels::CellShape::NumFactorsOf(patch.cellTypes[c]);
           if (std::string e = BezierShape(patch.cellTypes[c], &patch.cellDegrees[3 * c], factors, dim, &shape);
               !e.empty()) {
             return cellWhere + e;
@@ -269,9 +266,8 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
         break;
       }
       case Patch::Kind::Mesh: {
-        const kernels::CellType type = ToKernelType(patch.cell);
-        const kernels::CellShape shape(type, {1, 1, 1});
-        if (shape.paramDim() > dim) return where + "cell: a " + kernels::CellTypeName(type) + " mesh needs dimension 3";
+        const kernels::CellShape shape(patch.cell, {1, 1, 1});
+        if (shape.paramDim() > dim) return where + "cell: a " + CellTypeName(patch.cell) + " mesh needs dimension 3";
         if (!patch.weights.empty()) return where + "weights: a mesh has no weights";
         const MeshCellLayout layout = LayoutOf(patch.cell);
         if (patch.points.size() % dim != 0) return where + "vertices: coordinate count not a multiple of the dimension";

@@ -123,7 +123,4 @@ class CellStore {
   TetAdjacency tetAdjacency_;
 };
 
-/// Converts the public cell type to the kernels' one.
-kernels::CellType ToKernelType(CellType type);
-
 }  // namespace invmap::engine

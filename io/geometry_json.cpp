@@ -188,45 +188,6 @@ struct DimensionCheck {
   std::size_t paramDimOffset = 0;  ///< The field that fixes paramDim: "cell" or "degrees".
 };
 
-/// Cell types by their name in the file.
-bool ParseCellType(const std::string& name, CellType* type) {
-  static const std::pair<const char*, CellType> kNames[] = {{"line", CellType::Line}, {"tri", CellType::Tri},
-                                                            {"quad", CellType::Quad}, {"tet", CellType::Tet},
-                                                            {"hex", CellType::Hex},   {"wedge", CellType::Wedge}};
-  for (const auto& [text, value] : kNames) {
-    if (name == text) {
-      *type = value;
-      return true;
-    }
-  }
-  return false;
-}
-
-/// Name of a cell type in the file.
-const char* CellTypeName(CellType type) {
-  static const char* const kNames[] = {"line", "tri", "quad", "tet", "hex", "wedge"};
-  return kNames[static_cast<int>(type)];
-}
-
-/// Parametric dimension of a reference cell (FORMATS.md section 1).
-int ParamDimOf(CellType type) {
-  switch (type) {
-    case CellType::Line:
-      return 1;
-    case CellType::Tri:
-    case CellType::Quad:
-      return 2;
-    default:
-      return 3;
-  }
-}
-
-/// Vertices of a linear mesh cell.
-std::size_t VerticesOf(CellType type) {
-  static const std::size_t kVertices[] = {2, 3, 4, 4, 8, 6};
-  return kVertices[static_cast<int>(type)];
-}
-
 /// Degrees a Bezier cell lists (one per simplex factor) and how they read.
 int FactorsOf(CellType type, const char** form) {
   switch (type) {
@@ -371,7 +332,7 @@ class GeometryHandler {
   std::string ElementPath() const { return FieldPath() + "[" + std::to_string(element_) + "]"; }
   std::string RowElementPath() const { return ElementPath() + "[" + std::to_string(rowElement_) + "]"; }
   /// What a patch field holds, for type errors.
-  static const char* FieldExpectation(Field f);
+  static std::string FieldExpectation(Field f);
   /// True for the fields that are arrays of arrays.
   bool NestedField() const {
     return field_ == Field::Knots || field_ == Field::ControlPoints || field_ == Field::Vertices ||
@@ -399,12 +360,12 @@ class GeometryHandler {
   std::vector<DimensionCheck> deferred_;  ///< Waiting for "dimension".
 };
 
-const char* GeometryHandler::FieldExpectation(Field f) {
+std::string GeometryHandler::FieldExpectation(Field f) {
   switch (f) {
     case Field::Kind:
       return "a string (bspline, bezier or mesh)";
     case Field::Cell:
-      return "a string (line, tri, quad, tet, hex or wedge)";
+      return std::string("a string (") + kCellTypeNames + ")";
     case Field::Degrees:
     case Field::Counts:
       return "an array of integers";
@@ -757,7 +718,7 @@ void GeometryHandler::ValidatePatch() {
   }
   if (source.Has(Field::Cell) && !ParseCellType(source.cell, &patch.cell)) {
     Fail(source.At(Field::Cell),
-         where + ".cell: unknown cell type \"" + source.cell + "\" (expected line, tri, quad, tet, hex or wedge)");
+         where + ".cell: unknown cell type \"" + source.cell + "\" (expected " + kCellTypeNames + ")");
   }
 
   DimensionCheck check;
@@ -773,7 +734,7 @@ void GeometryHandler::ValidatePatch() {
     check.paramDim = patch.degrees.size();
     check.paramDimOffset = source.At(Field::Degrees);
   } else {
-    check.paramDim = static_cast<std::size_t>(ParamDimOf(patch.cell));
+    check.paramDim = static_cast<std::size_t>(TraitsOf(patch.cell).paramDim);
     check.paramDimOffset = source.At(Field::Cell);
   }
   if (dimension_ != 0) {
@@ -856,7 +817,7 @@ void GeometryHandler::ValidatePatch() {
       break;
     }
     case Patch::Kind::Mesh: {
-      const std::size_t perCell = VerticesOf(patch.cell);
+      const std::size_t perCell = static_cast<std::size_t>(TraitsOf(patch.cell).vertices);
       const RowShape& cells = source.cells;
       const auto cellCountMessage = [&](std::size_t row, std::size_t length) {
         return where + ".cells[" + std::to_string(row) + "]: " + std::to_string(length) + " vertex indices, a " +

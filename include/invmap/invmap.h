@@ -17,10 +17,9 @@
 #include <string>
 #include <vector>
 
-namespace invmap {
+#include "invmap/cell_type.h"
 
-/// Reference cell types (FORMATS.md section 1).
-enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
+namespace invmap {
 
 /// One patch of a geometry, as in the geometry file (FORMATS.md section 2).
 /// Fields not used by a kind are left empty.
