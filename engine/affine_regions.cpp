@@ -6,6 +6,7 @@
 
 #include "engine/cell_store.h"
 #include "kernels/cell_map.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::engine {
 namespace {
@@ -89,7 +90,7 @@ bool WellConditioned(const AffineRegion& r) {
           scaled[0][1] * (scaled[1][0] * scaled[2][2] - scaled[1][2] * scaled[2][0]) +
           scaled[0][2] * (scaled[1][0] * scaled[2][1] - scaled[1][1] * scaled[2][0]);
   }
-  return det > 1e-8;
+  return det > kernels::kRegionConditioning;
 }
 
 /// Solves the m x m symmetric positive definite system M x = r (m <= 3) by
@@ -153,7 +154,7 @@ bool SolveFace(const AffineRegion& r, const double G[3][3], const int* state, co
     const int d = freeDirs[i];
     // Rounding may put an on-face minimizer a hair outside: clamp within a
     // relative slack; beyond it the minimizer is on another face.
-    const double slack = 1e-12 * (r.hi[d] - r.lo[d]);
+    const double slack = kernels::kRegionFaceSlack * (r.hi[d] - r.lo[d]);
     if (!(rhs[i] >= r.lo[d] - slack && rhs[i] <= r.hi[d] + slack)) return false;
     u[d] = std::clamp(rhs[i], r.lo[d], r.hi[d]);
   }

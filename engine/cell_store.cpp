@@ -8,6 +8,7 @@
 
 #include "engine/bezier_extraction.h"
 #include "engine/parallel.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::engine {
 namespace {
@@ -332,8 +333,9 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
       diagonal2 += (hi - lo) * (hi - lo);
     }
     // Cells whose maps agree to well below the solver's tolerance share a
-    // region; the second term covers the rounding of large coordinates.
-    const double tolerance = 1e-12 * std::sqrt(diagonal2) + 1e-15 * coordinateMagnitude;
+    // region (kernels/tolerances.h).
+    const double tolerance =
+        kernels::kAffineRegionTolerance * std::sqrt(diagonal2) + kernels::kCoordinateRounding * coordinateMagnitude;
     FindAffineRegions(*this, grid.firstCell, grid.spans.data(), grid.paramDim, tolerance, &regions_);
   }
   regionOfCell_.assign(static_cast<std::size_t>(count), -1);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/tolerances.h"
+
 namespace invmap::kernels {
 
 void ClampToDomain(const CellShape& shape, double* ref) {
@@ -59,7 +61,7 @@ void SnapToDomain(CellType type, double* ref) {
       sum += s[i];
     }
     // Farther out than rounding: back onto the face first (as ClampToDomain).
-    if (sum > 1.0 + 1e-12) {
+    if (sum > 1.0 + kOutsideDomain) {
       for (int i = 0; i < dim; ++i) s[i] /= sum;
     }
     // Then over by a few ulps at most.

@@ -37,7 +37,7 @@ double SquaredDistance(const MapJet& jet, const double* point, int ambientDim) {
 double RoundingOfF(const double* point, const double* r, int ambientDim, double size, double f) {
   double magnitude = size;
   for (int k = 0; k < ambientDim; ++k) magnitude = std::max(magnitude, std::abs(point[k]) + std::abs(r[k]));
-  const double rError = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  const double rError = kMapRounding * magnitude;
   return 2.0 * std::sqrt(f) * rError + rError * rError;
 }
 
@@ -334,10 +334,6 @@ bool FullRankStep(const MapJet& jet, const double* r, int pd, double size, doubl
   return std::isfinite(step[0]) && std::isfinite(step[1]) && std::isfinite(step[2]);
 }
 
-/// Longest unchecked Newton step (reference coordinates): in the quadratic
-/// region it leaves an error of about its square.
-constexpr double kFinalStep = 1e-6;
-
 /// The step lengths below which a move is negligible (kStepTolerance) and
 /// an unchecked Newton step is final (kFinalStep), at an iterate whose map
 /// has the jet `jet`. Both are meant for a map that moves about `size` per
@@ -403,7 +399,7 @@ StepOutcome LineSearch(const CellView& cell, const double* point, ActiveSet& act
     for (int i = 0; i < pd; ++i) trial[i] = ref[i] + alpha * step[i];
     EvaluateMap(cell, trial, trialOrder, trialJet);
     const double fTrial = SquaredDistance(*trialJet, point, cell.ambientDim);
-    if (fTrial <= f + 1e-4 * alpha * slope && fTrial < f) {
+    if (fTrial <= f + kSufficientDecrease * alpha * slope && fTrial < f) {
       std::copy(trial, trial + pd, ref);
       if (blockFactor >= 0 && alpha == feasible) {
         active.enforced[blockFactor] |= 1u << blockIndex;
@@ -572,7 +568,7 @@ FastOutcome LineFactorNewton(const CellView& cell, const double* point, const Lo
     if (length <= limits.negligible || -slope <= fNoise) return FastOutcome::Handover;
     EvaluateMap(cell, trial, JetOrder::Second, jets->trial);
     const double fTrial = SquaredDistance(*jets->trial, point, AD);
-    if (!(fTrial <= f + 1e-4 * slope && fTrial < f)) return FastOutcome::Handover;
+    if (!(fTrial <= f + kSufficientDecrease * slope && fTrial < f)) return FastOutcome::Handover;
     std::copy(trial, trial + PD, ref);
     jets->AcceptTrial(JetOrder::Second, ref);
   }
@@ -788,7 +784,7 @@ LocalSolveResult LocalSolve(const CellView& cell, const double* point, const dou
         if (!haveStep) {
           // Levenberg-Marquardt on the Gauss-Newton model: a descent direction
           // for any damping, and well defined for singular Jacobians.
-          const double damping = 1e-10 * (gnReduced.trace() + size * size) + 1e-300;
+          const double damping = kLevenbergDamping * (gnReduced.trace() + size * size) + 1e-300;
           gnReduced.diagonal().array() += damping;
           Eigen::LLT<Matrix> llt(gnReduced);
           Vector delta = llt.solve(-gReduced);
@@ -891,7 +887,7 @@ namespace {
 /// map moves `length` per unit lies on its face: the map there is within
 /// 1e-12 of the cell's `size` of the face's. (A coordinate of 1e-13 next to
 /// a weight of 1e12 is a point of its own, not rounding off the face.)
-bool OnFace(double value, double length, double size) { return value <= 1e-12 && value * length <= 1e-12 * size; }
+bool OnFace(double value, double length, double size) { return value <= kKktOnFace && value * length <= kKktOnFace * size; }
 
 /// IsKktPoint's test for a cell of line factors, whose parameters are its
 /// factors' coordinates: the general test below with its face basis and
@@ -929,7 +925,7 @@ bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, co
   // not stationary along v has one of the order of |J v| |r|. (Square roots
   // apart: r2 times a squared length overflows long before either factor.
   // A tolerance that still overflows would accept any point: not KKT then.)
-  const DirectionScale scale{jet, cell.ambientDim, pd, 1e-7 * std::sqrt(r2) + 1e-12 * size, kThinDirection * size};
+  const DirectionScale scale{jet, cell.ambientDim, pd, kKktSlope * std::sqrt(r2) + kKktSlopeFloor * size, kThinDirection * size};
   if (!std::isfinite(scale.perLength)) return false;
   if (shape.isBox()) return IsKktOnUnitBox(ref, grad, scale, size);
   ActiveSet active;

@@ -34,16 +34,13 @@ struct AnswerModel {
   double hessian[3][3];
 };
 
-/// See LocalSolveOptions::stopAtBoundary.
-constexpr double kBoundaryGiveUp = 1e-6;
-
 /// Options of the local solve, relative to the cell's size (see tolerances.h).
 struct LocalSolveOptions {
   bool affine = false;  ///< The map is affine: no second derivatives, one exact step per active set.
   double size = 1.0;    ///< Length scale: the diagonal of the control-point box.
   int maxIterations = 100;
   /// Give up (converged = false) when an iterate on the boundary is still
-  /// farther than kBoundaryGiveUp * size from the point: an inside test
+  /// farther than kBoundaryGiveUp * size (kernels/tolerances.h) from the point: an inside test
   /// (7.3.2.1) only wants the point itself, and a point outside the cell
   /// drives the full-rank step onto the boundary at once.
   bool stopAtBoundary = false;
