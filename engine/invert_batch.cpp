@@ -861,10 +861,10 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, 
 
 }  // namespace
 
-void InvertBatch(const CellStore& store, const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplices,
-                 const QueryPoints& points, const InversionOptions& options, Results* results) {
+void InvertBatch(const SearchIndex& index, const QueryPoints& points, const InversionOptions& options,
+                 Results* results) {
   const std::int64_t n = points.count;
-  const int dim = store.dimension();
+  const int dim = index.dimension();
   ResizeResults(n, results);
   if (n == 0) return;
 
@@ -904,7 +904,8 @@ void InvertBatch(const CellStore& store, const Bvh& bvh, const WideBvh& wide, co
         },
         options.threads);
     ResizeResults(count, &sorted);
-    InvertBuckets(store, bvh, wide, simplices, chunkPoints, bucketSize, options, &sorted);
+    InvertBuckets(index.cells(), index.bvh(), index.wideBvh(), index.simplices(), chunkPoints, bucketSize, options,
+                  &sorted);
     ForEachBlock(
         ExecutionPolicy::Par, count, 4096,
         [&](std::int64_t begin, std::int64_t end) {

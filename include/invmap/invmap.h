@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "invmap/cell_type.h"
+#include "invmap/geometry_error.h"
 
 namespace invmap {
 
@@ -146,8 +147,7 @@ struct ManifoldInfo {
 
 class Manifold;
 
-/// Result of Manifold::Build: a manifold, or an error message naming the
-/// patch and field that is wrong.
+/// Result of Manifold::Build: a manifold, or what is wrong with the geometry.
 struct BuildResult;
 
 /// An immutable geometry ready for queries: Bezier cells with their bounds and
@@ -155,7 +155,10 @@ struct BuildResult;
 class Manifold {
  public:
   /// Builds from patches in memory. Never throws: a malformed geometry gives
-  /// an error message (e.g. "patch 2: knots[1]: decreasing at index 4").
+  /// BuildResult::problem, the patch, field and element at fault, and
+  /// BuildResult::error, its text (e.g. "patch 2: knots[1]: decreasing at
+  /// index 4 (0.5 > 0.25)"). Every geometry is checked here, whatever
+  /// produced it.
   static BuildResult Build(const Geometry& geometry);
 
   Manifold();
@@ -192,7 +195,11 @@ class Manifold {
 
 struct BuildResult {
   Manifold manifold;
-  std::string error;  ///< Empty on success.
+  /// What is wrong with the geometry; no error (empty message) on success.
+  /// An error of the build itself (out of memory) has no place: patch -1,
+  /// field None.
+  GeometryError problem;
+  std::string error;  ///< Describe(problem): empty on success.
 };
 
 /// Library version, "major.minor.patch".
