@@ -2,18 +2,12 @@
 // per bucket of spatially close points), dispatched over TBB tasks.
 #pragma once
 
-#include <cstdint>
 
+#include "engine/query_points.h"
 #include "engine/search_index.h"
 #include "invmap/invmap.h"
 
 namespace invmap::engine {
-
-/// Query points as structure of arrays, already in double precision.
-struct QueryPoints {
-  std::int64_t count = 0;
-  const double* coord[3] = {nullptr, nullptr, nullptr};  ///< coord[2] null in 2D.
-};
 
 /// Inverts every point of `points` onto the cells of `index` and writes the
 /// results at the points' input indices.
