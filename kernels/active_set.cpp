@@ -111,4 +111,26 @@ double ReleaseDerivative(const CellShape& shape, const ActiveSet& active, int f,
   return step[0] * grad[0] + step[1] * grad[1] + step[2] * grad[2];
 }
 
+void SnapToFace(const CellShape& shape, const ActiveSet& active, double* ref) {
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double* s = ref + fac.offset;
+    for (int k = 1; k <= fac.dim; ++k) {
+      if (active.enforced[f] & (1u << k)) s[k - 1] = 0.0;
+    }
+    if (active.enforced[f] & 1u) {
+      // lambda_0 = 0: the free coordinates sum to one. Put the excess on the
+      // largest free coordinate.
+      double sum = 0.0;
+      int largest = -1;
+      for (int i = 0; i < fac.dim; ++i) {
+        sum += s[i];
+        if (!(active.enforced[f] & (1u << (i + 1))) && (largest < 0 || s[i] > s[largest])) largest = i;
+      }
+      if (largest >= 0) s[largest] += 1.0 - sum;
+    }
+    for (int i = 0; i < fac.dim; ++i) s[i] = std::clamp(s[i], 0.0, 1.0);
+  }
+}
+
 }  // namespace invmap::kernels

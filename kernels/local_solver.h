@@ -16,7 +16,8 @@ struct LocalSolveResult {
   double squaredDistance = 0.0;
   bool onBoundary = false;  ///< Some constraint is enforced at the solution.
   bool converged = false;   ///< Stopped on the residual or step tolerance (not on the iteration cap).
-  /// Converged and IsKktPoint holds at ref (only computed with LocalSolveOptions::checkKkt).
+  /// Converged and IsKktPoint (kernels/kkt_point.h) holds at ref (only
+  /// computed with LocalSolveOptions::checkKkt).
   bool kkt = false;
   /// Stopped at ref on LocalSolveOptions::exclusionLevel (not converged).
   bool aboveLevel = false;
@@ -72,14 +73,5 @@ struct LocalSolveOptions {
 /// produces NaN for finite input, whatever the cell's degeneracy.
 LocalSolveResult LocalSolve(const CellView& cell, const double* point, const double* startRef,
                             const LocalSolveOptions& options);
-
-/// An independent check of the first-order (KKT) conditions of |x(u) - p|^2
-/// at `ref`: the gradient projected on the face of the constraints active
-/// there is small, and no active constraint's release direction descends,
-/// each direction judged by how far the map moves along it (a thin cell's
-/// thickness by the thickness, not by the cell's size).
-/// The global search trusts a local solution only after this check.
-/// `jet`: the map at `ref`, evaluated to at least first order.
-bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, const double* ref, double size);
 
 }  // namespace invmap::kernels
