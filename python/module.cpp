@@ -21,6 +21,7 @@
 #include "invmap/invmap.h"
 #include "io/geometry_file.h"
 #include "io/geometry_json.h"
+#include "io/geometry_source.h"
 #include "io/input_error.h"
 #include "python/errors.h"
 #include "python/geometry_state.h"
@@ -37,11 +38,13 @@ namespace {
 class PyManifold {
  public:
   /// Builds `geometry`; a malformed one throws InputError
-  /// "<nameForMessages>: <reason>", worded as the command line words it.
-  /// Pure C++: callers may release the GIL around it.
-  PyManifold(const Geometry& geometry, const std::string& nameForMessages)
+  /// "<nameForMessages>: <reason>", worded as the command line words it, or,
+  /// for a geometry read from a file with its `source`, naming the file and
+  /// line. Pure C++: callers may release the GIL around it.
+  PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
       : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
     BuildResult built = Manifold::Build(geometry);
+    if (built.problem && source) throw InputError(source->ToInputError(built.problem).what());
     if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
     manifold_ = std::move(built.manifold);
     for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
@@ -73,13 +76,14 @@ bool IsReadableFile(const std::string& path) {
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
   Geometry geometry;
+  io::GeometrySource source;
   try {
-    geometry = io::ReadGeometryFile(path);
+    geometry = io::ReadGeometryFile(path, &source);
   } catch (const io::InputError& e) {
     if (!IsReadableFile(path)) throw FileError(e.what());
     throw InputError(e.what());
   }
-  return PyManifold(geometry, path);
+  return PyManifold(geometry, path, &source);
 }
 
 /// invmap.load of JSON text (or a dict, dumped to text by __init__.py).
@@ -87,12 +91,13 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
   py::gil_scoped_release noGil;
   std::istringstream in(text);
   Geometry geometry;
+  io::GeometrySource source;
   try {
-    geometry = io::ReadGeometryJson(in, nameForMessages);
+    geometry = io::ReadGeometryJson(in, nameForMessages, &source);
   } catch (const io::InputError& e) {
     throw InputError(e.what());
   }
-  return PyManifold(geometry, nameForMessages);
+  return PyManifold(geometry, nameForMessages, &source);
 }
 
 /// Unpickling: rebuilds from PyManifold::state().
