@@ -358,7 +358,9 @@ void PatchCheck::AddUsedPoints(Extent* extent) const {
       return;
     case Patch::Kind::BezierCells:
       for (std::size_t c = 0; c + 1 < patch_.cellOffsets.size(); ++c) {
-        for (std::int64_t i = patch_.cellOffsets[c]; i < patch_.cellOffsets[c + 1]; ++i) extent->Add(x + i * dim_, dim_);
+        for (std::int64_t i = patch_.cellOffsets[c]; i < patch_.cellOffsets[c + 1]; ++i) {
+          extent->Add(x + i * dim_, dim_);
+        }
       }
       return;
     default:

@@ -54,7 +54,9 @@ struct PointSearch {
   }
 
   /// The squared distance a cell must beat.
-  double Bound2() const { return bestCell >= 0 ? best * best : std::nextafter(best * best, std::numeric_limits<double>::infinity()); }
+  double Bound2() const {
+    return bestCell >= 0 ? best * best : std::nextafter(best * best, std::numeric_limits<double>::infinity());
+  }
 
   /// True when an answer at `distance` replaces the best: the gap tolerance
   /// admits equality, a found answer only a strictly nearer one. (Compared

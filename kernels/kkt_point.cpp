@@ -13,7 +13,9 @@ namespace {
 /// map moves `length` per unit lies on its face: the map there is within
 /// 1e-12 of the cell's `size` of the face's. (A coordinate of 1e-13 next to
 /// a weight of 1e12 is a point of its own, not rounding off the face.)
-bool OnFace(double value, double length, double size) { return value <= kKktOnFace && value * length <= kKktOnFace * size; }
+bool OnFace(double value, double length, double size) {
+  return value <= kKktOnFace && value * length <= kKktOnFace * size;
+}
 
 /// IsKktPoint's test for a cell of line factors, whose parameters are its
 /// factors' coordinates: the general test below with its face basis and

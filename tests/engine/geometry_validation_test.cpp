@@ -55,7 +55,8 @@ Patch TriMesh(int dim) {
   Patch p;
   p.kind = Patch::Kind::Mesh;
   p.cell = CellType::Tri;
-  p.points = dim == 3 ? std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0} : std::vector<double>{0, 0, 1, 0, 0, 1, 1, 1};
+  p.points = dim == 3 ? std::vector<double>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0}
+                      : std::vector<double>{0, 0, 1, 0, 0, 1, 1, 1};
   p.cells = {0, 1, 2, 1, 3, 2};
   return p;
 }
@@ -257,7 +258,9 @@ TEST(GeometryValidationTest, ValidGeometriesOfEveryKindPass) {
   const Geometry geometries[] = {WavySurfaces(),     BSplineCurves(2), BSplineCurves(3),     BSplineVolumes(),
                                  QuadraticMesh(false), QuadraticMesh(true), MixedGeometry2(), MixedGeometry3(),
                                  NurbsTorus({0, 0, 0}, 2.0, 0.5)};
-  for (const Geometry& g : geometries) EXPECT_FALSE(engine::ValidateGeometry(g)) << Describe(engine::ValidateGeometry(g));
+  for (const Geometry& g : geometries) {
+    EXPECT_FALSE(engine::ValidateGeometry(g)) << Describe(engine::ValidateGeometry(g));
+  }
   Geometry empty;
   EXPECT_FALSE(engine::ValidateGeometry(empty));
 }

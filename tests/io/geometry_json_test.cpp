@@ -382,7 +382,8 @@ const BadPatch kBadPatches[] = {
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1],\n \"control_points\": [[0, 0], [1,\n 2e100]]}",
      8, "patches[0].control_points[1]: coordinate 1 is 2e+100, outside [-1e100, 1e100] (the range invmap supports)"},
     {"KnotsDecreasingShortestDigits", 3,
-     "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [2],\n \"knots\": [[0.3, 0.1, 1, 1]], \"control_points\": []}",
+     "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [2],\n \"knots\": [[0.3, 0.1, 1, 1]],"
+     " \"control_points\": []}",
      7,
      "patches[0].knots[0]: decreasing at index 1 (0.3 > 0.1)"},
     {"KnotVectorLength", 3,

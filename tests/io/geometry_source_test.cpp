@@ -36,7 +36,9 @@ TEST(LineRuns, EveryElementGetsItsLineWhateverTheLayout) {
       runs.Add(e, line);
       expected[e] = line;
     }
-    for (std::int64_t e = 0; e < 400; ++e) ASSERT_EQ(runs.LineOf(e), expected[e]) << "trial " << trial << " element " << e;
+    for (std::int64_t e = 0; e < 400; ++e) {
+      ASSERT_EQ(runs.LineOf(e), expected[e]) << "trial " << trial << " element " << e;
+    }
     EXPECT_EQ(runs.LineOf(400), 0);
     EXPECT_EQ(runs.LineOf(-1), 0);
   }
