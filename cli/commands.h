@@ -10,6 +10,10 @@
 
 #include "invmap/invmap.h"
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace invmap::cli {
 
 /// The manifold of the geometry file at `path`. Any problem, the reader's or
@@ -29,9 +33,14 @@ struct InvertOptions {
   bool color = false;
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
+  /// invert: every local minimum of each point's distance (RunInvertAllMinima).
+  bool allMinima = false;
 };
 
 int RunInvert(const InvertOptions& options);
+/// invert --all-minima: every local minimum of each point's distance, one
+/// row each (docs/distance.md).
+int RunInvertAllMinima(const InvertOptions& options);
 int RunTrim(const InvertOptions& options);
 int RunInfo(const std::string& geometry);
 
@@ -68,5 +77,26 @@ struct GridCommandOptions {
 };
 
 int RunGrid(const GridCommandOptions& options);
+
+/// `invmap probe`: node fields at the closest points (docs/fields.md).
+struct ProbeOptions {
+  std::string geometry;
+  std::string points;
+  std::string output;
+  std::vector<std::string> fields;  ///< --fields; empty: every field.
+  double maxDistance = std::numeric_limits<double>::infinity();
+  int threads = 0;
+  std::int64_t timeStep = 0;        ///< Exodus: 1-based time step; 0: the last.
+  bool quiet = false;
+};
+
+int RunProbe(const ProbeOptions& options);
+/// Adds the `probe` subcommand and its options to `app`.
+CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options);
+
+/// `invmap distance` (docs/distance.md): AddDistanceCommand registers
+/// the subcommand and its options on `app`; RunDistance runs it once parsed.
+CLI::App* AddDistanceCommand(CLI::App* app);
+int RunDistance();
 
 }  // namespace invmap::cli

@@ -115,6 +115,7 @@ Manifold LoadManifold(const std::string& path) {
 }
 
 int RunInvert(const InvertOptions& options) {
+  if (options.allMinima) return RunInvertAllMinima(options);
   Stream(options, false, "invert", ResultSink{options, nullptr});
   return 0;
 }

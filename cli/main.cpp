@@ -8,6 +8,8 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "fem/register_readers.h"
+#include "invmap/invmap.h"
 #include "io/input_error.h"
 
 namespace {
@@ -38,14 +40,16 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 }  // namespace
 
 int main(int argc, char** argv) {
+  invmap::fem::RegisterFemReaders();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "invmap 0.1.0");
+  app.set_version_flag("--version", std::string("invmap ") + invmap::Version());
 
   invmap::cli::InvertOptions invert;
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
   AddInvertOptions(invertCommand, &invert, false);
   invertCommand->add_flag("--color", invert.color, ".ply output: colour the points by distance (viridis)");
+  invertCommand->add_flag("--all-minima", invert.allMinima, "every local minimum of each point's distance (.csv, .npy)");
 
   invmap::cli::InvertOptions trim;
   std::string keep = "near";
@@ -95,6 +99,10 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 
+  invmap::cli::ProbeOptions probe;
+  CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
+  CLI::App* distanceCommand = invmap::cli::AddDistanceCommand(&app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -109,6 +117,8 @@ int main(int argc, char** argv) {
       return invmap::cli::RunTrim(trim);
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
+    if (*probeCommand) return invmap::cli::RunProbe(probe);
+    if (*distanceCommand) return invmap::cli::RunDistance();
     if (*generateCommand) {
       if (generate.what == "points" && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate points: --geometry is required\n");

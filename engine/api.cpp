@@ -8,10 +8,11 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "engine/check.h"
+#include "common/check.h"
+#include "common/parallel.h"
 #include "engine/geometry_validation.h"
 #include "engine/invert_batch.h"
-#include "engine/parallel.h"
+#include "engine/manifold_access.h"
 #include "engine/search_index.h"
 #include "invmap/invmap.h"
 
@@ -34,8 +35,8 @@ void SetMessage(std::string* message, const std::string& text) {
 template <typename T>
 void CopyCoordinates(const PointsView& view, int threads, double* soa) {
   const std::int64_t n = static_cast<std::int64_t>(view.count);
-  engine::ForEachBlock(
-      engine::ExecutionPolicy::Par, n, 1 << 16,
+  ForEachBlock(
+      ExecutionPolicy::Par, n, 1 << 16,
       [&](std::int64_t begin, std::int64_t end) {
         for (int k = 0; k < view.dim; ++k) {
           const T* src = static_cast<const T*>(view.coord[k]);
@@ -219,6 +220,10 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
   return Error::Ok;
 }
 
-const char* Version() { return "0.1.0"; }
+const engine::SearchIndex& ManifoldAccess::Index(const Manifold& m) { return m.impl_->index; }
+const engine::CellStore& ManifoldAccess::Store(const Manifold& m) { return m.impl_->index.cells(); }
+const engine::Bvh& ManifoldAccess::Tree(const Manifold& m) { return m.impl_->index.bvh(); }
+
+const char* Version() { return INVMAP_VERSION; }  // project(VERSION) of CMakeLists.txt
 
 }  // namespace invmap

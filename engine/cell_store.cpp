@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 
 namespace invmap::engine {
 namespace {

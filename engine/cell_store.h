@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/check.h"
 #include "engine/affine_regions.h"
 #include "engine/bezier_nets.h"
-#include "engine/check.h"
 #include "engine/tet_adjacency.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"

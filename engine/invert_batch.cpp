@@ -4,8 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "common/parallel.h"
 #include "engine/invert_buckets.h"
-#include "engine/parallel.h"
 #include "engine/point_results.h"
 #include "engine/spatial_sort.h"
 

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/geometry_file.h"
+#include "io/file_io.h"
 #include "io/geometry_source.h"
 #include "io/input_error.h"
 #include "io/json_sax.h"
