@@ -8,11 +8,18 @@
 #include <string>
 #include <vector>
 
+#include "invmap/invmap.h"
+
 namespace CLI {
 class App;
 }  // namespace CLI
 
 namespace invmap::cli {
+
+/// The manifold of the geometry file at `path`. Any problem, the reader's or
+/// one Manifold::Build finds, throws io::InputError naming the file and the
+/// line it came from (for the formats that record lines).
+Manifold LoadManifold(const std::string& path);
 
 /// Options shared by invert and trim.
 struct InvertOptions {

@@ -16,10 +16,7 @@ namespace {
 
 /// Points around (near, far, box) or inside a geometry, from a fixed seed.
 std::vector<double> SamplePoints(const GenerateOptions& options) {
-  const Geometry geometry = io::ReadGeometryFile(options.geometry);
-  BuildResult built = Manifold::Build(geometry);
-  if (!built.error.empty()) throw io::InputError(options.geometry, 0, built.error);
-  const Manifold& manifold = built.manifold;
+  const Manifold manifold = LoadManifold(options.geometry);
   const ManifoldInfo info = manifold.Info();
   const int dim = info.dimension;
   double size2 = 0.0;

@@ -18,13 +18,6 @@ namespace {
 /// the progress bar moves.
 constexpr std::size_t kChunkPoints = 1 << 20;
 
-Manifold LoadManifold(const std::string& path) {
-  const Geometry geometry = io::ReadGeometryFile(path);
-  BuildResult built = Manifold::Build(geometry);
-  if (!built.error.empty()) throw io::InputError(path, 0, built.error);
-  return std::move(built.manifold);
-}
-
 /// Invert one chunk; a batch-level error is an internal failure here (the
 /// inputs were validated), reported as such.
 void InvertChunk(const Manifold& manifold, const io::PointChunk& chunk, int dim, const InversionOptions& options,
@@ -112,6 +105,14 @@ struct TrimSink {
 };
 
 }  // namespace
+
+Manifold LoadManifold(const std::string& path) {
+  io::GeometrySource source;
+  const Geometry geometry = io::ReadGeometryFile(path, &source);
+  BuildResult built = Manifold::Build(geometry);
+  source.Check(built.problem);
+  return std::move(built.manifold);
+}
 
 int RunInvert(const InvertOptions& options) {
   if (options.allMinima) return RunInvertAllMinima(options);

@@ -10,11 +10,15 @@
 
 namespace invmap::io {
 
-Geometry ReadGeometryFile(const std::string& path) {
+Geometry ReadGeometryFile(const std::string& path, GeometrySource* source) {
   const std::string ext = LowerExtension(path);
-  if (const RegisteredReader* reader = FindRegisteredReader(path)) return reader->read(path, {}).geometry;
-  if (ext == ".json") return ReadGeometryJson(path);
-  if (ext == ".obj" || ext == ".stl" || ext == ".off") return ReadMeshFile(path);
+  if (const RegisteredReader* reader = FindRegisteredReader(path)) {
+    if (source) *source = GeometrySource(path);
+    return reader->read(path, {}).geometry;
+  }
+  if (ext == ".json") return ReadGeometryJson(path, source);
+  if (ext == ".obj" || ext == ".stl" || ext == ".off") return ReadMeshFile(path, source);
+  if (source) *source = GeometrySource(path);
   if (ext == ".ply") return ReadPlyMesh(path);
   if (ext == ".msh") return ReadGmsh(path);
   throw InputError(

@@ -109,12 +109,14 @@ struct MeshBuilder {
   std::vector<double> vertices;     ///< xyz per vertex.
   std::vector<std::int64_t> tris;   ///< 3 vertex indices per triangle.
   std::vector<std::int64_t> quads;  ///< 4 vertex indices per quad.
+  LineRuns vertexLines;             ///< The line of each vertex (none in binary files).
 
   /// Vertices so far.
   std::int64_t numVertices() const { return static_cast<std::int64_t>(vertices.size() / 3); }
 
-  /// Appends a vertex.
-  void AddVertex(double x, double y, double z) {
+  /// Appends a vertex, read at `line` (0: a binary file, no line).
+  void AddVertex(double x, double y, double z, std::int64_t line) {
+    if (line > 0) vertexLines.Add(numVertices(), line);
     vertices.push_back(x);
     vertices.push_back(y);
     vertices.push_back(z);
@@ -136,8 +138,9 @@ struct MeshBuilder {
   }
 
   /// The geometry: a tri patch, then a quad patch, each present only when it
-  /// has cells. Throws InputError at `line` when there is no face at all.
-  Geometry Finish(const std::string& name, std::int64_t line) {
+  /// has cells; `source` (when not null) receives the vertices' lines for
+  /// each. Throws InputError at `line` when there is no face at all.
+  Geometry Finish(const std::string& name, std::int64_t line, GeometrySource* source) {
     if (tris.empty() && quads.empty()) {
       throw InputError(name, line, "no faces: a mesh file needs at least one triangle or quad");
     }
@@ -160,6 +163,13 @@ struct MeshBuilder {
       patch.cells = std::move(quads);
       geometry.patches.push_back(std::move(patch));
     }
+    if (source) {
+      *source = GeometrySource(name);
+      for (std::size_t p = 0; p < geometry.patches.size(); ++p) {
+        source->BeginPatch(0);
+        source->Elements(GeometryField::Vertices, vertexLines);
+      }
+    }
     return geometry;
   }
 };
@@ -170,7 +180,7 @@ std::int64_t EndLine(const LineReader& lines) { return std::max<std::int64_t>(li
 // ---------------------------------------------------------------- OBJ
 
 /// Reads an OBJ text (see ReadObj).
-Geometry ParseObj(std::string_view text, const std::string& name) {
+Geometry ParseObj(std::string_view text, const std::string& name, GeometrySource* source) {
   MeshBuilder mesh;
   LineReader lines(text);
   std::vector<std::int64_t> face;
@@ -191,7 +201,7 @@ Geometry ParseObj(std::string_view text, const std::string& name) {
         }
         xyz[k] = ParseCoordinate(token, name, lines.line(), [k] { return "v: coordinate " + std::to_string(k); });
       }
-      mesh.AddVertex(xyz[0], xyz[1], xyz[2]);
+      mesh.AddVertex(xyz[0], xyz[1], xyz[2], lines.line());
     } else if (keyword == "f") {
       face.clear();
       std::string_view token;
@@ -231,7 +241,7 @@ Geometry ParseObj(std::string_view text, const std::string& name) {
                      "f: vertex index " + std::to_string(maxIndex) + " out of range (the file has " +
                          std::to_string(mesh.numVertices()) + " vertices)");
   }
-  return mesh.Finish(name, EndLine(lines));
+  return mesh.Finish(name, EndLine(lines), source);
 }
 
 // ---------------------------------------------------------------- STL
@@ -244,12 +254,13 @@ class VertexMerger {
   /// `expected` is a size hint already checked against the file size.
   VertexMerger(MeshBuilder* mesh, std::size_t expected) : mesh_(mesh) { index_.reserve(expected); }
 
-  /// The index of vertex (x, y, z), added to the mesh when new.
-  std::int64_t Add(double x, double y, double z) {
+  /// The index of vertex (x, y, z), added to the mesh when new (read at
+  /// `line`, 0 in a binary file).
+  std::int64_t Add(double x, double y, double z, std::int64_t line) {
     // + 0.0 turns -0.0 into 0.0, so that the two zeros are one vertex.
     const Key key{x + 0.0, y + 0.0, z + 0.0};
     const auto [it, inserted] = index_.try_emplace(key, mesh_->numVertices());
-    if (inserted) mesh_->AddVertex(key[0], key[1], key[2]);
+    if (inserted) mesh_->AddVertex(key[0], key[1], key[2], line);
     return it->second;
   }
 
@@ -292,7 +303,8 @@ constexpr std::size_t kStlHeaderBytes = 84;
 constexpr std::size_t kStlTriangleBytes = 50;
 
 /// Reads a binary STL whose size has been checked against `count`.
-Geometry ParseBinaryStl(std::string_view bytes, const std::string& name, std::uint32_t count) {
+Geometry ParseBinaryStl(std::string_view bytes, const std::string& name, std::uint32_t count,
+                        GeometrySource* source) {
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   MeshBuilder mesh;
   // count is trusted here: the file size matched 84 + 50 x count.
@@ -308,10 +320,10 @@ Geometry ParseBinaryStl(std::string_view bytes, const std::string& name, std::ui
             name, 0,
             "triangle " + std::to_string(t) + ", vertex " + std::to_string(v) + ": coordinate is not a finite number");
       }
-      mesh.tris.push_back(merger.Add(x, y, z));
+      mesh.tris.push_back(merger.Add(x, y, z, 0));
     }
   }
-  return mesh.Finish(name, 0);
+  return mesh.Finish(name, 0, source);
 }
 
 /// Tokens of a whole text with the line of each, for ASCII STL, whose
@@ -351,7 +363,7 @@ class TokenReader {
 };
 
 /// Reads an ASCII STL: solids of facets, each an outer loop of 3 vertices.
-Geometry ParseAsciiStl(std::string_view text, const std::string& name) {
+Geometry ParseAsciiStl(std::string_view text, const std::string& name, GeometrySource* source) {
   TokenReader tokens(text);
   MeshBuilder mesh;
   VertexMerger merger(&mesh, 0);
@@ -406,23 +418,23 @@ Geometry ParseAsciiStl(std::string_view text, const std::string& name) {
         }
         xyz[k] = ParseCoordinate(token, name, tokens.line(), [k] { return "vertex: coordinate " + std::to_string(k); });
       }
-      corners[v] = merger.Add(xyz[0], xyz[1], xyz[2]);
+      corners[v] = merger.Add(xyz[0], xyz[1], xyz[2], vertexLine);
     }
     expect("endloop");
     expect("endfacet");
     mesh.tris.insert(mesh.tris.end(), corners, corners + 3);
   }
-  return mesh.Finish(name, tokens.line());
+  return mesh.Finish(name, tokens.line(), source);
 }
 
 /// Reads an STL, binary or ASCII by the size rule (see ReadStl).
-Geometry ParseStl(std::string_view bytes, const std::string& name) {
+Geometry ParseStl(std::string_view bytes, const std::string& name, GeometrySource* source) {
   std::uint32_t count = 0;
   std::uint64_t binarySize = 0;
   if (bytes.size() >= kStlHeaderBytes) {
     count = ReadU32LE(reinterpret_cast<const unsigned char*>(bytes.data()) + 80);
     binarySize = kStlHeaderBytes + std::uint64_t{kStlTriangleBytes} * count;
-    if (bytes.size() == binarySize) return ParseBinaryStl(bytes, name, count);
+    if (bytes.size() == binarySize) return ParseBinaryStl(bytes, name, count, source);
   }
   const std::string why = bytes.size() < kStlHeaderBytes
                               ? std::to_string(bytes.size()) + " bytes is too short for a binary STL (at least 84)"
@@ -437,7 +449,7 @@ Geometry ParseStl(std::string_view bytes, const std::string& name) {
   if (bytes.find('\0') != std::string_view::npos) {
     throw InputError(name, 0, "not an STL file: binary data after a \"solid\" header, and " + why);
   }
-  return ParseAsciiStl(bytes, name);
+  return ParseAsciiStl(bytes, name, source);
 }
 
 // ---------------------------------------------------------------- OFF
@@ -464,7 +476,7 @@ bool IsOffKeyword(std::string_view token) {
 }
 
 /// Reads an OFF text (see ReadOff).
-Geometry ParseOff(std::string_view text, const std::string& name) {
+Geometry ParseOff(std::string_view text, const std::string& name, GeometrySource* source) {
   LineReader lines(text);
   std::string_view line;
   if (!NextContentLine(&lines, &line)) {
@@ -536,7 +548,7 @@ Geometry ParseOff(std::string_view text, const std::string& name) {
       xyz[k] = ParseCoordinate(token, name, lines.line(),
                                [i, k] { return "vertex " + std::to_string(i) + ": coordinate " + std::to_string(k); });
     }
-    mesh.AddVertex(xyz[0], xyz[1], xyz[2]);
+    mesh.AddVertex(xyz[0], xyz[1], xyz[2], lines.line());
   }
   std::vector<std::int64_t> face;
   for (std::int64_t i = 0; i < numFaces; ++i) {
@@ -575,33 +587,33 @@ Geometry ParseOff(std::string_view text, const std::string& name) {
     }
     mesh.AddPolygon(face.data(), face.size());
   }
-  return mesh.Finish(name, EndLine(lines));
+  return mesh.Finish(name, EndLine(lines), source);
 }
 
 }  // namespace
 
-Geometry ReadMeshFile(const std::string& path) {
+Geometry ReadMeshFile(const std::string& path, GeometrySource* source) {
   const std::string ext = LowerExtension(path);
-  Geometry (*parse)(std::string_view, const std::string&) = nullptr;
+  Geometry (*parse)(std::string_view, const std::string&, GeometrySource*) = nullptr;
   if (ext == ".obj") parse = ParseObj;
   if (ext == ".stl") parse = ParseStl;
   if (ext == ".off") parse = ParseOff;
   if (!parse) {
     throw InputError(path, 0, "unknown mesh file extension \"" + ext + "\" (supported: .obj, .stl, .off)");
   }
-  return parse(ReadWholeFile(path), path);
+  return parse(ReadWholeFile(path), path, source);
 }
 
-Geometry ReadObj(std::istream& in, const std::string& nameForMessages) {
-  return ParseObj(ReadWholeStream(in, nameForMessages), nameForMessages);
+Geometry ReadObj(std::istream& in, const std::string& nameForMessages, GeometrySource* source) {
+  return ParseObj(ReadWholeStream(in, nameForMessages), nameForMessages, source);
 }
 
-Geometry ReadStl(std::istream& in, const std::string& nameForMessages) {
-  return ParseStl(ReadWholeStream(in, nameForMessages), nameForMessages);
+Geometry ReadStl(std::istream& in, const std::string& nameForMessages, GeometrySource* source) {
+  return ParseStl(ReadWholeStream(in, nameForMessages), nameForMessages, source);
 }
 
-Geometry ReadOff(std::istream& in, const std::string& nameForMessages) {
-  return ParseOff(ReadWholeStream(in, nameForMessages), nameForMessages);
+Geometry ReadOff(std::istream& in, const std::string& nameForMessages, GeometrySource* source) {
+  return ParseOff(ReadWholeStream(in, nameForMessages), nameForMessages, source);
 }
 
 }  // namespace invmap::io

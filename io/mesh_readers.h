@@ -14,26 +14,30 @@
 //
 // A file without any face is an error (it is most likely a point cloud), as
 // is any coordinate that is not a finite number. Every error is an InputError
-// naming the file and, for text formats, the 1-based line.
+// naming the file and, for text formats, the 1-based line. `source`, when not
+// null, receives the line of every vertex (text formats), so that a problem
+// Manifold::Build finds with one (a coordinate beyond the supported range)
+// names its line too (GeometrySource::ToInputError).
 #pragma once
 
 #include <iosfwd>
 #include <string>
 
 #include "invmap/invmap.h"
+#include "io/geometry_source.h"
 
 namespace invmap::io {
 
 /// Reads the mesh at `path`, chosen by its extension (.obj, .stl, .off; case
 /// insensitive). Throws InputError for an unknown extension or a bad file.
-Geometry ReadMeshFile(const std::string& path);
+Geometry ReadMeshFile(const std::string& path, GeometrySource* source = nullptr);
 
 /// Wavefront OBJ: `v x y z [w]` lines (further values such as w or vertex
 /// colours are ignored) and `f` lines with v, v/vt, v/vt/vn or v//vn
 /// references, 1-based or negative (relative: -1 is the last vertex defined
 /// so far). Other statements (vt, vn, g, o, s, usemtl, l, curves, ...) and
 /// `#` comments are ignored.
-Geometry ReadObj(std::istream& in, const std::string& nameForMessages);
+Geometry ReadObj(std::istream& in, const std::string& nameForMessages, GeometrySource* source = nullptr);
 
 /// STL, binary or ASCII. A file is binary exactly when its size is
 /// 84 + 50 x (the triangle count at byte 80), whatever its first bytes say
@@ -42,7 +46,7 @@ Geometry ReadObj(std::istream& in, const std::string& nameForMessages);
 /// order is order of first appearance. Binary problems name no line; ASCII
 /// ones do. Facet normals are ignored (writers put NaN there for degenerate
 /// triangles).
-Geometry ReadStl(std::istream& in, const std::string& nameForMessages);
+Geometry ReadStl(std::istream& in, const std::string& nameForMessages, GeometrySource* source = nullptr);
 
 /// OFF: an optional `OFF` header (also COFF, NOFF, CNOFF, STOFF and the like,
 /// whose extra per-vertex values are ignored), the vertex, face and edge
@@ -50,6 +54,6 @@ Geometry ReadStl(std::istream& in, const std::string& nameForMessages);
 /// with 0-based indices (trailing face colours are ignored). `#` starts a
 /// comment. Counts are checked against the file size before anything is
 /// allocated.
-Geometry ReadOff(std::istream& in, const std::string& nameForMessages);
+Geometry ReadOff(std::istream& in, const std::string& nameForMessages, GeometrySource* source = nullptr);
 
 }  // namespace invmap::io

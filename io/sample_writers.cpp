@@ -9,11 +9,6 @@
 namespace invmap::io {
 namespace {
 
-const char* CellName(CellType type) {
-  static const char* const kNames[] = {"line", "tri", "quad", "tet", "hex", "wedge"};
-  return kNames[static_cast<int>(type)];
-}
-
 /// Points as a list of [x, y(, z)] lists.
 nlohmann::json PointList(const std::vector<double>& flat, int dim) {
   nlohmann::json list = nlohmann::json::array();
@@ -52,13 +47,13 @@ void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
         break;
       case Patch::Kind::Bezier:
         j["kind"] = "bezier";
-        j["cell"] = CellName(patch.cell);
+        j["cell"] = CellTypeName(patch.cell);
         j["degrees"] = patch.degrees;
         j["control_points"] = PointList(patch.points, geometry.dimension);
         break;
       case Patch::Kind::Mesh: {
         j["kind"] = "mesh";
-        j["cell"] = CellName(patch.cell);
+        j["cell"] = CellTypeName(patch.cell);
         j["vertices"] = PointList(patch.points, geometry.dimension);
         const std::size_t perCell = patch.cell == CellType::Line ? 2
                                     : patch.cell == CellType::Tri ? 3

@@ -24,6 +24,7 @@
 #include "io/field_geometry_file.h"
 #include "io/geometry_file.h"
 #include "io/geometry_json.h"
+#include "io/geometry_source.h"
 #include "io/input_error.h"
 #include "python/errors.h"
 #include "python/fields_binding.h"
@@ -50,13 +51,14 @@ bool IsReadableFile(const std::string& path) {
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
   FieldGeometry model;
+  io::GeometrySource source;
   try {
-    model = io::ReadGeometryWithFields(path);
+    model = io::ReadGeometryWithFields(path, {}, &source);
   } catch (const io::InputError& e) {
     if (!IsReadableFile(path)) throw FileError(e.what());
     throw InputError(e.what());
   }
-  return PyManifold(std::move(model), path);
+  return PyManifold(std::move(model), path, &source);
 }
 
 /// invmap.load of JSON text (or a dict, dumped to text by __init__.py).
@@ -64,12 +66,13 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
   py::gil_scoped_release noGil;
   std::istringstream in(text);
   Geometry geometry;
+  io::GeometrySource source;
   try {
-    geometry = io::ReadGeometryJson(in, nameForMessages);
+    geometry = io::ReadGeometryJson(in, nameForMessages, &source);
   } catch (const io::InputError& e) {
     throw InputError(e.what());
   }
-  return PyManifold(geometry, nameForMessages);
+  return PyManifold(geometry, nameForMessages, &source);
 }
 
 /// Unpickling: rebuilds from PyManifold::state().
@@ -110,26 +113,17 @@ std::vector<T> CopyElements(const py::array_t<T, Flags>& array) {
   return values;
 }
 
-/// Cell type names of FORMATS.md section 1, with their linear vertex counts.
-struct CellName {
-  const char* name;
-  CellType type;
-  int vertices;
-};
-constexpr CellName kCellNames[] = {{"line", CellType::Line, 2}, {"tri", CellType::Tri, 3},
-                                   {"quad", CellType::Quad, 4}, {"tet", CellType::Tet, 4},
-                                   {"hex", CellType::Hex, 8},   {"wedge", CellType::Wedge, 6}};
-
-const CellName& ParseCell(const std::string& name) {
-  for (const CellName& cell : kCellNames) {
-    if (name == cell.name) return cell;
-  }
-  throw InputError("cell: '" + name + "', expected line, tri, quad, tet, hex or wedge");
+/// The cell type called `name` (invmap/cell_type.h).
+CellType ParseCell(const std::string& name) {
+  CellType type = CellType::Line;
+  if (!ParseCellType(name, &type)) throw InputError("cell: '" + name + "', expected " + kCellTypeNames);
+  return type;
 }
 
 /// invmap.from_mesh: one mesh patch from numpy vertices and cells.
 PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const std::string& cellName) {
-  const CellName& cell = ParseCell(cellName);
+  const CellType cell = ParseCell(cellName);
+  const int cellVertices = TraitsOf(cell).vertices;
   const auto vertexArray = RealArray(vertices, "vertices");
   if (vertexArray.ndim() != 2 || (vertexArray.shape(1) != 2 && vertexArray.shape(1) != 3)) {
     throw InputError("vertices: shape " + ShapeText(vertexArray) + ", expected (V, 2) or (V, 3)");
@@ -139,16 +133,16 @@ PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const s
   if (!cellInput || (cellInput.dtype().kind() != 'i' && cellInput.dtype().kind() != 'u')) {
     throw InputError("cells: expected an array of integer vertex indices");
   }
-  if (cellInput.ndim() != 2 || cellInput.shape(1) != cell.vertices) {
+  if (cellInput.ndim() != 2 || cellInput.shape(1) != cellVertices) {
     throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
-                     std::to_string(cell.vertices) + " vertices");
+                     std::to_string(cellVertices) + " vertices");
   }
   const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
   Geometry geometry;
   geometry.dimension = static_cast<int>(vertexArray.shape(1));
   Patch& patch = geometry.patches.emplace_back();
   patch.kind = Patch::Kind::Mesh;
-  patch.cell = cell.type;
+  patch.cell = cell;
   patch.points = CopyElements(vertexArray);
   patch.cells = CopyElements(cellArray);
   py::gil_scoped_release noGil;

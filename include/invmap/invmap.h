@@ -19,10 +19,10 @@
 #include <string>
 #include <vector>
 
-namespace invmap {
+#include "invmap/cell_type.h"
+#include "invmap/geometry_error.h"
 
-/// Reference cell types (FORMATS.md section 1).
-enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
+namespace invmap {
 
 /// One patch of a geometry, as in the geometry file (FORMATS.md section 2).
 /// Fields not used by a kind are left empty.
@@ -150,8 +150,7 @@ struct ManifoldInfo {
 class Manifold;
 struct ManifoldAccess;
 
-/// Result of Manifold::Build: a manifold, or an error message naming the
-/// patch and field that is wrong.
+/// Result of Manifold::Build: a manifold, or what is wrong with the geometry.
 struct BuildResult;
 
 /// An immutable geometry ready for queries: Bezier cells with their bounds and
@@ -159,7 +158,10 @@ struct BuildResult;
 class Manifold {
  public:
   /// Builds from patches in memory. Never throws: a malformed geometry gives
-  /// an error message (e.g. "patch 2: knots[1]: decreasing at index 4").
+  /// BuildResult::problem, the patch, field and element at fault, and
+  /// BuildResult::error, its text (e.g. "patch 2: knots[1]: decreasing at
+  /// index 4 (0.5 > 0.25)"). Every geometry is checked here, whatever
+  /// produced it.
   static BuildResult Build(const Geometry& geometry);
 
   Manifold();
@@ -197,7 +199,11 @@ class Manifold {
 
 struct BuildResult {
   Manifold manifold;
-  std::string error;  ///< Empty on success.
+  /// What is wrong with the geometry; no error (empty message) on success.
+  /// An error of the build itself (out of memory) has no place: patch -1,
+  /// field None.
+  GeometryError problem;
+  std::string error;  ///< Describe(problem): empty on success.
 };
 
 /// Library version, "major.minor.patch".

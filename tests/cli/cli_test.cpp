@@ -188,6 +188,16 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   WriteFile("bad.json", "{\"format\": \"invmap-geometry\", \"version\": 1,\n \"dimension\": 3,\n \"patches\": [ {\"kind\": \"blob\"} ]}\n");
   EXPECT_EQ(Run("invert -g " + Path("bad.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3);
   EXPECT_NE(log.find("bad.json:3"), std::string::npos) << log;
+  // A problem the build finds (Manifold::Build validates every geometry):
+  // named at the file and line of the value at fault, no output.
+  WriteFile("knots.json",
+            "{\"format\": \"invmap-geometry\", \"version\": 1, \"dimension\": 3, \"patches\": [\n"
+            " {\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [3],\n"
+            "  \"knots\": [[0, 0, 0.6,\n 0.5, 1]],\n"
+            "  \"control_points\": [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}]}\n");
+  EXPECT_EQ(Run("invert -g " + Path("knots.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3);
+  EXPECT_NE(log.find("knots.json:4: patches[0].knots[0]: decreasing at index 3 (0.6 > 0.5)"), std::string::npos)
+      << log;
   WriteFile("badpoints.xyz", "0.1 0.2 0.3\n0.4 zero 0.6\n");
   EXPECT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("badpoints.xyz") + " -o " + Path("r.csv"), &log), 3);
   EXPECT_NE(log.find("badpoints.xyz:2"), std::string::npos) << log;
@@ -198,8 +208,8 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   // A directory listing shows only the files this test wrote (no temporaries).
   for (const auto& entry : fs::directory_iterator(dir_)) {
     const std::string name = entry.path().filename().string();
-    EXPECT_TRUE(name == "s.json" || name == "p.xyz" || name == "bad.json" || name == "badpoints.xyz" ||
-                name == "run.log")
+    EXPECT_TRUE(name == "s.json" || name == "p.xyz" || name == "bad.json" || name == "knots.json" ||
+                name == "badpoints.xyz" || name == "run.log")
         << "left behind: " << name;
   }
 }

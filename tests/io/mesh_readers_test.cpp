@@ -338,6 +338,31 @@ TEST(MeshFiles, DispatchByExtensionAndFileErrors) {
   ExpectInputError([&] { ReadMeshFile(dir.Write("empty.off", "")); }, 1, {"empty.off:1: empty file"});
 }
 
+// A vertex beyond the supported coordinate range is found by Manifold::Build
+// (the one validation of every geometry); the reader's record of the
+// vertices' lines names the line it came from, in both patches.
+TEST(MeshFiles, ABuildProblemNamesTheVertexLine) {
+  const auto expectAt = [](const char* file, const std::string& text,
+                           Geometry (*read)(std::istream&, const std::string&, GeometrySource*), std::int64_t line,
+                           const std::string& message) {
+    std::istringstream in(text);
+    GeometrySource source;
+    const Geometry geometry = read(in, file, &source);
+    const std::string text2 = ExpectInputError([&] { source.Check(Manifold::Build(geometry).problem); }, line,
+                                               {message});
+    EXPECT_EQ(text2.rfind(std::string(file) + ":" + std::to_string(line) + ": ", 0), 0u) << text2;
+  };
+  const std::string huge = "coordinate 2 is 2e+101, outside [-1e100, 1e100] (the range invmap supports)";
+  expectAt("m.obj", "# a quad and a triangle\nv 0 0 0\nv 1 0 0\n\nv 1 1 2e101\nv 0 1 0\nf 1 2 3 4\nf 1 2 3\n", ReadObj,
+           5, "patches[0].vertices[2]: " + huge);
+  expectAt("m.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 2e101\n0 1 0\n4 0 1 2 3\n", ReadOff, 5,
+           "patches[0].vertices[2]: " + huge);
+  expectAt("m.stl",
+           "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 2e101\nendloop\n"
+           "endfacet\nendsolid s\n",
+           ReadStl, 6, "patches[0].vertices[2]: " + huge);
+}
+
 TEST(MeshFiles, TruncatedFilesAlwaysFailCleanly) {
   const std::string obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
   const std::string off = "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
