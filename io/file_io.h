@@ -139,11 +139,14 @@ class InputBuffer {
 /// systems), and Commit() renames it onto the target, replacing any old
 /// file atomically. Destroying the object without Commit() deletes the
 /// temporary file and leaves the target as it was. A symbolic link at the
-/// target is replaced, not followed. Commit syncs the file before the
+/// target is followed: the file it points to is written (created when the
+/// link dangles) and the link stays. Commit syncs the file before the
 /// rename so that the guarantee holds through a system crash too; Flush
 /// starts the writeback early so that the sync waits for the tail only.
 /// Every failure (directory missing or not writable, disk full) throws
-/// InputError of kind Output naming the target.
+/// InputError of kind Output naming the target. The temporary file is also
+/// removed when the process is stopped by a signal that
+/// RemoveTemporaryFilesOnSignals handles.
 class AtomicOutput {
  public:
   /// Creates the temporary file for `path`.
@@ -186,8 +189,10 @@ class AtomicOutput {
   /// Throws the Output error for `what`, with strerror(errno) appended.
   [[noreturn]] void Fail(const std::string& what) const;
 
-  std::string path_;                 ///< The target.
-  std::string tempPath_;             ///< The hidden temporary file beside it.
+  std::string path_;                 ///< The target as given (for messages).
+  std::string filePath_;             ///< The file written: the target with its symbolic links followed.
+  std::string tempPath_;             ///< The hidden temporary file beside filePath_.
+  int signalSlot_ = -1;              ///< Its entry in the list the signal handler removes, or -1.
   int fd_ = -1;                      ///< The temporary file, open for reading and writing.
   std::vector<char> buffer_;         ///< Bytes not yet written.
   std::size_t used_ = 0;             ///< Bytes in buffer_ not yet written.
@@ -195,5 +200,13 @@ class AtomicOutput {
   std::int64_t writebackStart_ = 0;  ///< Start of the bytes not yet handed to writeback.
   bool committed_ = false;           ///< Renamed: the destructor leaves the file.
 };
+
+/// Installs handlers of SIGINT, SIGTERM and SIGHUP that delete the
+/// temporary files of every AtomicOutput not yet committed, then end the
+/// process by the same signal (the shell reports 128 + its number: 130 for
+/// SIGINT, 143 for SIGTERM), so an interrupted run leaves no partial or
+/// hidden file. For programs that own their signals (the command line);
+/// a library user who does not call it keeps their own handlers.
+void RemoveTemporaryFilesOnSignals();
 
 }  // namespace invmap::io
