@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "cli/sample_geometries.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
@@ -90,6 +91,7 @@ int RunGenerate(const GenerateOptions& options) {
   } else if (w == "trimesh") {
     io::WritePlyMesh(samples::BumpySphere(options.triangles), options.output);
   } else if (w == "points") {
+    RefuseOutputOverInput(options.output, options.geometry, "--geometry");
     const std::vector<double> points = SamplePoints(options);
     const Geometry geometry = io::ReadGeometryFile(options.geometry);
     io::WritePoints(options.output, points.data(), static_cast<std::size_t>(options.count), geometry.dimension);

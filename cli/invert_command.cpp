@@ -4,7 +4,9 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "cli/run_summary.h"
+#include "io/file_io.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 #include "io/point_reader.h"
@@ -35,11 +37,32 @@ void InvertChunk(const Manifold& manifold, const io::PointChunk& chunk, int dim,
   if (error != Error::Ok) throw std::runtime_error(message);
 }
 
+/// What can be checked before anything is read: the output is neither
+/// input, its extension names a format the command writes (for trim, the
+/// points' own format), and the points' extension is one the command
+/// reads. Usage errors throw UsageError, an unknown point format InputError.
+void CheckPaths(const InvertOptions& options, bool trim) {
+  RefuseOutputOverInput(options.output, options.points, "--points");
+  RefuseOutputOverInput(options.output, options.geometry, "--geometry");
+  const io::PointFormat pointFormat = io::PointFormatOf(options.points);
+  if (trim) {
+    io::PointFormat outputFormat;
+    if (!io::IsPointFileName(options.output, &outputFormat) || outputFormat != pointFormat) {
+      throw UsageError("--output " + options.output + ": trim writes the points' own format, give it the extension of " +
+                       options.points);
+    }
+  } else if (!io::IsResultFileName(options.output)) {
+    throw UsageError("--output " + options.output + ": unknown result file extension '" +
+                     io::LowerExtension(options.output) + "' (expected .csv, .ply or .npy)");
+  }
+}
+
 /// Streams every point of `options.points` through the manifold; `sink`
 /// receives each chunk with its results.
 template <typename Sink>
 void Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& sink) {
   const auto start = std::chrono::steady_clock::now();
+  CheckPaths(options, keepRaw);
   const Manifold manifold = LoadManifold(options.geometry);
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;

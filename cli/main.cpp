@@ -8,6 +8,8 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
+#include "io/file_io.h"
 #include "io/input_error.h"
 
 namespace {
@@ -38,6 +40,8 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 }  // namespace
 
 int main(int argc, char** argv) {
+  // An interrupted run leaves no temporary output behind.
+  invmap::io::RemoveTemporaryFilesOnSignals();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "invmap 0.1.0");
@@ -95,6 +99,20 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 
+  // CLI11 says only "A subcommand is required" for a misspelt one.
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* command : app.get_subcommands({})) {
+      known = known || command->check_name(argv[1]);
+      names += (names.empty() ? "" : ", ") + command->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "invmap: unknown command '%s' (commands: %s)\nRun with --help for more information.\n",
+                   argv[1], names.c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -131,6 +149,9 @@ int main(int argc, char** argv) {
       }
       return invmap::cli::RunGrid(grid);
     }
+  } catch (const invmap::cli::UsageError& e) {
+    std::fprintf(stderr, "invmap: %s\n", e.what());
+    return 2;
   } catch (const invmap::io::InputError& e) {
     std::fprintf(stderr, "invmap: %s\n", e.what());
     return e.kind() == invmap::io::InputError::Kind::Output ? 4 : 3;

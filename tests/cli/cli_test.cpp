@@ -1,7 +1,9 @@
 // End-to-end tests of the invmap command: formats, exit codes, no partial
 // output, thread-count invariance and trim, against analytic answers.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -204,6 +206,8 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   // Usage errors: 2.
   EXPECT_EQ(Run("invert -g " + Path("s.json"), &log), 2);
   EXPECT_EQ(Run("frobnicate", &log), 2);
+  EXPECT_NE(log.find("unknown command 'frobnicate' (commands: invert, trim, info, generate, grid)"), std::string::npos)
+      << log;
   EXPECT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("t.xyz"), &log), 2)
       << "trim needs --max-distance";
   // A negative or non-numeric option value: named in a short message.
@@ -235,6 +239,146 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
                 name == "run.log")
         << "left behind: " << name;
   }
+}
+
+TEST_F(CliTest, AnUnknownOutputExtensionIsAUsageErrorFoundBeforeAnyInputIsRead) {
+  // The geometry is unreadable: the extension must be refused before it is read.
+  WriteFile("bad.json", "{ not json");
+  WriteFile("p.xyz", "0.1 0.2 0.3\n");
+  std::string log;
+  EXPECT_EQ(Run("invert -g " + Path("bad.json") + " -p " + Path("p.xyz") + " -o " + Path("r.xyzq"), &log), 2) << log;
+  EXPECT_NE(log.find("unknown result file extension '.xyzq' (expected .csv, .ply or .npy)"), std::string::npos) << log;
+  // trim writes the points' own format.
+  EXPECT_EQ(Run("trim -g " + Path("bad.json") + " -p " + Path("p.xyz") + " -o " + Path("t.ply") + " --max-distance 1",
+                &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("trim writes the points' own format"), std::string::npos) << log;
+  // An unknown point format is found before the geometry is read too (exit 3: an input problem).
+  EXPECT_EQ(Run("invert -g " + Path("bad.json") + " -p " + Path("p.dat") + " -o " + Path("r.csv"), &log), 3) << log;
+  EXPECT_NE(log.find("p.dat: unknown point file extension"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(Path("r.xyzq")));
+  EXPECT_FALSE(fs::exists(Path("t.ply")));
+}
+
+TEST_F(CliTest, AnOutputOverAnInputIsRefusedByAnyPathBeforeAnythingIsRead) {
+  ASSERT_EQ(Run("generate surface --spans 4 -o " + Path("s.json")), 0);
+  const std::string points = "0.1 0.2 0.3\n0.4 0.5 0.6\n";
+  WriteFile("p.xyz", points);
+  const std::string geometry = ReadFile(Path("s.json"));
+  fs::create_symlink(Path("p.xyz"), Path("link.xyz"));
+  fs::create_hard_link(Path("p.xyz"), Path("hard.xyz"));
+  fs::create_directories(Path("sub"));
+  const std::string g = " -g " + Path("s.json");
+  const std::string p = " -p " + Path("p.xyz");
+  std::string log;
+  for (const std::string& output :
+       {Path("p.xyz"), Path("sub/../p.xyz"), Path("link.xyz"), Path("hard.xyz"), Path("s.json")}) {
+    SCOPED_TRACE(output);
+    EXPECT_EQ(Run("invert" + g + p + " -o " + output + " -q", &log), 2) << log;
+    EXPECT_NE(log.find("writing it would destroy the input"), std::string::npos) << log;
+    EXPECT_EQ(Run("trim" + g + p + " -o " + output + " --max-distance 1 -q", &log), 2) << log;
+  }
+  EXPECT_EQ(Run("generate points" + g + " -o " + Path("s.json"), &log), 2) << log;
+  // A PLY mesh geometry as the output of its own points' inversion.
+  ASSERT_EQ(Run("generate trimesh --triangles 20 -o " + Path("m.ply")), 0);
+  const std::string mesh = ReadFile(Path("m.ply"));
+  EXPECT_EQ(Run("invert -g " + Path("m.ply") + p + " -o " + Path("m.ply"), &log), 2) << log;
+  EXPECT_EQ(ReadFile(Path("p.xyz")), points);
+  EXPECT_EQ(ReadFile(Path("s.json")), geometry);
+  EXPECT_EQ(ReadFile(Path("m.ply")), mesh);
+  EXPECT_TRUE(fs::is_symlink(Path("link.xyz")));
+}
+
+TEST_F(CliTest, AnOutputThroughASymbolicLinkIsWrittenToItsTarget) {
+  ASSERT_EQ(Run("generate surface --spans 4 -o " + Path("s.json")), 0);
+  WriteFile("p.xyz", "0.1 0.2 0.3\n0.4 0.5 0.6\n");
+  fs::create_directories(Path("results"));
+  WriteFile("results/old.csv", "old results\n");
+  fs::create_symlink("results/old.csv", Path("latest.csv"));  // relative to the link's directory
+  fs::create_symlink(Path("results/new.csv"), Path("dangling.csv"));
+  fs::create_symlink(Path("latest.csv"), Path("chain.csv"));
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("latest.csv") + " -q"), 0);
+  EXPECT_TRUE(fs::is_symlink(Path("latest.csv")));
+  EXPECT_EQ(ReadFile(Path("results/old.csv")).rfind("index,status,", 0), 0u);
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("dangling.csv") + " -q"), 0);
+  EXPECT_TRUE(fs::is_symlink(Path("dangling.csv")));
+  EXPECT_EQ(ReadFile(Path("results/new.csv")).rfind("index,status,", 0), 0u);
+  // A link to a link reaches the same file; the results are the same.
+  fs::remove(Path("results/old.csv"));
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("chain.csv") + " -q"), 0);
+  EXPECT_TRUE(fs::is_symlink(Path("chain.csv")));
+  EXPECT_EQ(ReadFile(Path("results/old.csv")), ReadFile(Path("results/new.csv")));
+  // A loop of links is an unwritable output.
+  fs::create_symlink(Path("loop2.csv"), Path("loop1.csv"));
+  fs::create_symlink(Path("loop1.csv"), Path("loop2.csv"));
+  std::string log;
+  EXPECT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("loop1.csv") + " -q", &log), 4)
+      << log;
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_NE(entry.path().filename().string()[0], '.') << "left behind: " << entry.path();
+  }
+}
+
+/// Names in `dir` that start with a dot: the hidden temporary outputs.
+std::vector<std::string> HiddenFiles(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name[0] == '.') names.push_back(name);
+  }
+  return names;
+}
+
+TEST_F(CliTest, ASignalDuringAnInversionRemovesItsTemporaryOutput) {
+  ASSERT_EQ(Run("generate surface --spans 16 -o " + Path("s.json")), 0);
+  // A first chunk of 2^20 points takes seconds: the signal comes while it is solved.
+  ASSERT_EQ(Run("generate points -g " + Path("s.json") + " -n 1100000 -o " + Path("p.npy")), 0);
+  for (const int signo : {SIGINT, SIGTERM, SIGHUP}) {
+    SCOPED_TRACE(signo);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      std::freopen("/dev/null", "w", stdout);
+      std::freopen("/dev/null", "w", stderr);
+      execl(INVMAP_CLI_PATH, INVMAP_CLI_PATH, "invert", "-g", Path("s.json").c_str(), "-p", Path("p.npy").c_str(), "-o",
+            Path("r.csv").c_str(), "--threads", "1", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    // Until the temporary output exists (polling; no time limit matters here).
+    for (int i = 0; i < 60000 && HiddenFiles(dir_).empty(); ++i) usleep(1000);
+    ASSERT_EQ(HiddenFiles(dir_).size(), 1u);
+    kill(pid, signo);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    // Ended by the signal itself, as the shell expects (it reports 128 + signo).
+    ASSERT_TRUE(WIFSIGNALED(status)) << "exit status " << WEXITSTATUS(status);
+    EXPECT_EQ(WTERMSIG(status), signo);
+    EXPECT_TRUE(HiddenFiles(dir_).empty()) << HiddenFiles(dir_)[0];
+    EXPECT_FALSE(fs::exists(Path("r.csv")));
+  }
+}
+
+TEST_F(CliTest, TrimWritesAPlainPlyVertexCount) {
+  ASSERT_EQ(Run("generate surface --spans 4 -o " + Path("s.json")), 0);
+  ASSERT_EQ(Run("generate points -g " + Path("s.json") + " -n 10 --kind far -o " + Path("p.ply")), 0);
+  for (const char* keep : {"near", "far"}) {
+    SCOPED_TRACE(keep);
+    ASSERT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("p.ply") + " -o " + Path("t.ply") +
+                  " --max-distance 1e300 -q --keep " + keep),
+              0);
+    const std::string text = ReadFile(Path("t.ply"));
+    const std::string count = std::string(keep) == "near" ? "10" : "0";
+    EXPECT_NE(text.find("\nelement vertex " + count + "\n"), std::string::npos) << text.substr(0, 200);
+    // Trimming the trimmed file keeps one padding comment, not two.
+    ASSERT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("t.ply") + " -o " + Path("t2.ply") +
+                  " --max-distance 1e300 -q --keep " + keep),
+              0);
+    const std::string again = ReadFile(Path("t2.ply"));
+    EXPECT_EQ(again, text);
+  }
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.ply") + " -o " + Path("r.ply") + " -q"), 0);
+  EXPECT_NE(ReadFile(Path("r.ply")).find("\nelement vertex 10\n"), std::string::npos);
 }
 
 TEST_F(CliTest, InfoDescribesTheGeometry) {
