@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/geometry_file.h"
+#include "io/file_io.h"
 #include "io/input_error.h"
 #include "io/json_sax.h"
 #include "kernels/cell_shape.h"
@@ -121,31 +121,31 @@ std::string FormatNumber(double x) {
 /// streaming. JSON objects are unordered ("dimension" may follow "patches",
 /// "cell" may follow "cells"), so the lengths are checked once the file is
 /// read: row 0 against the expectation, then the first row that differs
-/// from row 0. Offsets are byte positions of the rows, for the line.
+/// from row 0. Lines are those of the rows, for messages.
 struct RowShape {
   std::size_t rows = 0;
   std::size_t firstLength = 0;
-  std::size_t firstOffset = 0;
+  std::size_t firstLine = 0;
   std::size_t oddRow = kNone;  ///< First row whose length differs from row 0's.
   std::size_t oddLength = 0;
-  std::size_t oddOffset = 0;
+  std::size_t oddLine = 0;
   std::size_t openLength = 0;  ///< Length so far of the row being read.
-  std::size_t openOffset = 0;
+  std::size_t openLine = 0;
 
-  /// A row starts at byte `offset`.
-  void Open(std::size_t offset) {
+  /// A row starts at `line`.
+  void Open(std::size_t line) {
     openLength = 0;
-    openOffset = offset;
+    openLine = line;
   }
   /// The open row ends.
   void Close() {
     if (rows == 0) {
       firstLength = openLength;
-      firstOffset = openOffset;
+      firstLine = openLine;
     } else if (oddRow == kNone && openLength != firstLength) {
       oddRow = rows;
       oddLength = openLength;
-      oddOffset = openOffset;
+      oddLine = openLine;
     }
     ++rows;
   }
@@ -155,24 +155,24 @@ struct RowShape {
 /// checked when its object closes; the values themselves go straight into
 /// the Patch.
 struct PatchSource {
-  std::size_t offset = 0;                ///< The patch object's opening brace.
-  std::size_t fieldOffset[kNumFields];   ///< Of each field's name; kNone when absent.
+  std::size_t line = 0;                  ///< Of the patch object's opening brace.
+  std::size_t fieldLine[kNumFields];   ///< Of each field's name; kNone when absent.
   std::string kind;                      ///< As written (checked when the patch closes).
   std::string cell;                      ///< As written.
-  std::vector<std::size_t> knotOffsets;  ///< One per knot vector.
+  std::vector<std::size_t> knotLines;  ///< One per knot vector.
   RowShape points;                       ///< control_points or vertices.
   RowShape cells;
   /// Extreme vertex indices of `cells` with their rows, checked against the
   /// vertex count when the patch closes ("vertices" may follow "cells").
   std::int64_t minIndex = std::numeric_limits<std::int64_t>::max();
   std::int64_t maxIndex = std::numeric_limits<std::int64_t>::min();
-  std::size_t minRow = 0, minOffset = 0, maxRow = 0, maxOffset = 0;
+  std::size_t minRow = 0, minLine = 0, maxRow = 0, maxLine = 0;
 
   /// A patch with no field seen yet.
-  PatchSource() { std::fill(std::begin(fieldOffset), std::end(fieldOffset), kNone); }
+  PatchSource() { std::fill(std::begin(fieldLine), std::end(fieldLine), kNone); }
   /// Whether field f was present, and where.
-  bool Has(Field f) const { return fieldOffset[static_cast<int>(f)] != kNone; }
-  std::size_t At(Field f) const { return fieldOffset[static_cast<int>(f)]; }
+  bool Has(Field f) const { return fieldLine[static_cast<int>(f)] != kNone; }
+  std::size_t At(Field f) const { return fieldLine[static_cast<int>(f)]; }
 };
 
 /// The checks of one patch that need the dimension: coordinates per point
@@ -185,7 +185,7 @@ struct DimensionCheck {
   CellType cell = CellType::Line;  ///< Bezier and mesh patches.
   RowShape points;                 ///< control_points or vertices.
   std::size_t paramDim = 0;        ///< Parameters of the cells (bspline: of the patch).
-  std::size_t paramDimOffset = 0;  ///< The field that fixes paramDim: "cell" or "degrees".
+  std::size_t paramDimLine = 0;  ///< The field that fixes paramDim: "cell" or "degrees".
 };
 
 /// Cell types by their name in the file.
@@ -273,10 +273,8 @@ double BezierPointCount(CellType type, const std::vector<int>& degrees) {
 /// InputError with the line of the offending value.
 class GeometryHandler {
  public:
-  /// `begin` is the buffer start and `*cursor` the lexer's reading position
-  /// (see TrackingIterator); both outlive the handler.
-  GeometryHandler(const std::string& name, const char* begin, std::size_t size, const char* const* cursor)
-      : name_(name), begin_(begin), size_(size), cursor_(cursor) {}
+  /// `text` is what the lexer reads; it outlives the handler.
+  GeometryHandler(const std::string& name, JsonTextStream* text) : name_(name), text_(text) {}
 
   // nlohmann's SAX events (nlohmann::json_sax): each returns true to go on;
   // a problem throws InputError instead of returning false, so the message
@@ -350,18 +348,11 @@ class GeometryHandler {
   /// Coordinates per point and cells that need 3D, once the dimension is known.
   void CheckDimension(const DimensionCheck& check) const;
 
-  /// Byte offset of the lexer: just past the current token (for a number,
-  /// one character further, which LineAt excludes).
-  std::size_t Here() const { return static_cast<std::size_t>(*cursor_ - begin_); }
-  /// 1-based line of the last character read before byte `offset`.
-  std::int64_t LineAt(std::size_t offset) const {
-    const std::size_t end = std::min(offset, size_);
-    const std::size_t last = end > 0 ? end - 1 : 0;
-    return 1 + std::count(begin_, begin_ + last, '\n');
-  }
-  /// Throws InputError at the line of byte `offset`.
-  [[noreturn]] void Fail(std::size_t offset, const std::string& message) const {
-    throw InputError(name_, LineAt(offset), message);
+  /// The 1-based line of the current token (JsonTextStream::Line).
+  std::size_t Here() const { return static_cast<std::size_t>(text_->Line()); }
+  /// Throws InputError at `line`.
+  [[noreturn]] void Fail(std::size_t line, const std::string& message) const {
+    throw InputError(name_, static_cast<std::int64_t>(line), message);
   }
 
   /// JSON paths for messages: "patches[3]", "patches[3].knots",
@@ -379,9 +370,8 @@ class GeometryHandler {
   }
 
   const std::string& name_;    ///< File name for messages.
-  const char* begin_;          ///< The text.
-  std::size_t size_;           ///< Its length.
-  const char* const* cursor_;  ///< The lexer's reading position in it.
+  JsonTextStream* text_;       ///< What the lexer reads, with its lines.
+  bool started_ = false;       ///< A SAX event has come: the file is not empty.
 
   int depth_ = 0;                     ///< Containers open (see the class comment).
   int skipDepth_ = 0;                 ///< > 0 while skipping the value of an unknown top-level field.
@@ -390,9 +380,9 @@ class GeometryHandler {
   std::size_t element_ = 0;           ///< Index in the current field's array.
   std::size_t rowElement_ = 0;        ///< Index in the current row.
 
-  std::size_t rootOffset_ = 0;  ///< The root object's opening brace.
+  std::size_t rootLine_ = 0;  ///< The root object's opening brace.
   /// Where the top-level fields are; kNone until seen.
-  std::size_t formatOffset_ = kNone, versionOffset_ = kNone, dimensionOffset_ = kNone, patchesOffset_ = kNone;
+  std::size_t formatLine_ = kNone, versionLine_ = kNone, dimensionLine_ = kNone, patchesLine_ = kNone;
   int dimension_ = 0;                     ///< 0 until "dimension" is read.
   std::vector<Patch> patches_;            ///< The result, filled while reading.
   PatchSource source_;                    ///< Of the patch being read.
@@ -424,6 +414,7 @@ const char* GeometryHandler::FieldExpectation(Field f) {
 }
 
 bool GeometryHandler::OnScalar(const Scalar& v) {
+  started_ = true;
   if (skipDepth_ > 0) return true;
   switch (depth_) {
     case 0:
@@ -526,12 +517,12 @@ void GeometryHandler::RowScalar(const Scalar& v) {
     if (index < source.minIndex) {
       source.minIndex = index;
       source.minRow = element_;
-      source.minOffset = Here();
+      source.minLine = Here();
     }
     if (index > source.maxIndex) {
       source.maxIndex = index;
       source.maxRow = element_;
-      source.maxOffset = Here();
+      source.maxLine = Here();
     }
     patch.cells.push_back(index);
     ++source.cells.openLength;
@@ -563,18 +554,19 @@ void GeometryHandler::RowScalar(const Scalar& v) {
 void GeometryHandler::BeginPatch() {
   patches_.emplace_back();
   source_ = PatchSource();
-  source_.offset = Here();
+  source_.line = Here();
   field_ = Field::None;
 }
 
 bool GeometryHandler::start_object(std::size_t) {
+  started_ = true;
   if (skipDepth_ > 0) {
     ++skipDepth_;
     return true;
   }
   switch (depth_) {
     case 0:
-      rootOffset_ = Here();
+      rootLine_ = Here();
       break;
     case 1:
       if (rootKey_ != RootKey::Other) {
@@ -598,6 +590,7 @@ bool GeometryHandler::start_object(std::size_t) {
 }
 
 bool GeometryHandler::start_array(std::size_t) {
+  started_ = true;
   if (skipDepth_ > 0) {
     ++skipDepth_;
     return true;
@@ -631,7 +624,7 @@ bool GeometryHandler::start_array(std::size_t) {
       rowElement_ = 0;
       if (field_ == Field::Knots) {
         patches_.back().knots.emplace_back();
-        source_.knotOffsets.push_back(Here());
+        source_.knotLines.push_back(Here());
       } else {
         (field_ == Field::Cells ? source_.cells : source_.points).Open(Here());
       }
@@ -674,12 +667,12 @@ bool GeometryHandler::key(std::string& name) {
                                                             {"version", RootKey::Version},
                                                             {"dimension", RootKey::Dimension},
                                                             {"patches", RootKey::Patches}};
-    std::size_t* offsets[] = {&formatOffset_, &versionOffset_, &dimensionOffset_, &patchesOffset_};
+    std::size_t* lines[] = {&formatLine_, &versionLine_, &dimensionLine_, &patchesLine_};
     rootKey_ = RootKey::Other;
     for (int k = 0; k < 4; ++k) {
       if (name == kKeys[k].first) {
-        if (*offsets[k] != kNone) Fail(Here(), "duplicate field \"" + name + "\"");
-        *offsets[k] = Here();
+        if (*lines[k] != kNone) Fail(Here(), "duplicate field \"" + name + "\"");
+        *lines[k] = Here();
         rootKey_ = kKeys[k].second;
       }
     }
@@ -696,20 +689,26 @@ bool GeometryHandler::key(std::string& name) {
   }
   PatchSource& source = source_;
   if (source.Has(field_)) Fail(Here(), PatchPath() + ": duplicate field \"" + name + "\"");
-  source.fieldOffset[static_cast<int>(field_)] = Here();
+  source.fieldLine[static_cast<int>(field_)] = Here();
   return true;
 }
 
 bool GeometryHandler::parse_error(std::size_t position, const std::string& /*lastToken*/,
                                   const Json::exception& error) {
-  Fail(position, DescribeJsonParseError(begin_, size_, position, error.what()));
+  if (!started_ && text_->OnlyBlankRead()) {
+    Fail(static_cast<std::size_t>(text_->LineBefore(text_->Offset() + 1)), "empty file, expected a JSON object");
+  }
+  const std::int64_t at = static_cast<std::int64_t>(position);
+  const std::size_t inWindow = static_cast<std::size_t>(std::max<std::int64_t>(0, at - text_->windowOffset()));
+  Fail(static_cast<std::size_t>(text_->LineBefore(at)),
+       DescribeJsonParseError(text_->window(), text_->windowSize(), inWindow, error.what()));
 }
 
 Geometry GeometryHandler::Finish() {
-  if (formatOffset_ == kNone) Fail(rootOffset_, "missing field \"format\" (expected \"invmap-geometry\")");
-  if (versionOffset_ == kNone) Fail(rootOffset_, "missing field \"version\" (expected 1)");
-  if (dimensionOffset_ == kNone) Fail(rootOffset_, "missing field \"dimension\" (expected 2 or 3)");
-  if (patchesOffset_ == kNone) Fail(rootOffset_, "missing field \"patches\" (an array, possibly empty)");
+  if (formatLine_ == kNone) Fail(rootLine_, "missing field \"format\" (expected \"invmap-geometry\")");
+  if (versionLine_ == kNone) Fail(rootLine_, "missing field \"version\" (expected 1)");
+  if (dimensionLine_ == kNone) Fail(rootLine_, "missing field \"dimension\" (expected 2 or 3)");
+  if (patchesLine_ == kNone) Fail(rootLine_, "missing field \"patches\" (an array, possibly empty)");
   for (const DimensionCheck& check : deferred_) CheckDimension(check);
   Geometry geometry;
   geometry.dimension = dimension_;
@@ -724,7 +723,7 @@ void GeometryHandler::ValidatePatch() {
   const std::string where = "patches[" + std::to_string(index) + "]";
 
   // Kind, then which fields it allows and needs.
-  if (!source.Has(Field::Kind)) Fail(source.offset, where + ": missing field \"kind\" (bspline, bezier or mesh)");
+  if (!source.Has(Field::Kind)) Fail(source.line, where + ": missing field \"kind\" (bspline, bezier or mesh)");
   // Fields of each kind as bit sets over Field.
   const auto bit = [](Field f) { return 1u << static_cast<int>(f); };
   unsigned required = 0, optional = bit(Field::Kind);
@@ -745,13 +744,13 @@ void GeometryHandler::ValidatePatch() {
   }
   for (int f = 0; f < kNumFields; ++f) {
     if (source.Has(static_cast<Field>(f)) && !((required | optional) & (1u << f))) {
-      Fail(source.fieldOffset[f],
+      Fail(source.fieldLine[f],
            where + ": field \"" + kFieldNames[f] + "\" does not belong to a " + source.kind + " patch");
     }
   }
   for (int f = 0; f < kNumFields; ++f) {
     if ((required & (1u << f)) && !source.Has(static_cast<Field>(f))) {
-      Fail(source.offset,
+      Fail(source.line,
            where + ": missing field \"" + kFieldNames[f] + "\" (required for a " + source.kind + " patch)");
     }
   }
@@ -771,10 +770,10 @@ void GeometryHandler::ValidatePatch() {
                                           " values, expected 1 to 3 (one per parametric direction)");
     }
     check.paramDim = patch.degrees.size();
-    check.paramDimOffset = source.At(Field::Degrees);
+    check.paramDimLine = source.At(Field::Degrees);
   } else {
     check.paramDim = static_cast<std::size_t>(ParamDimOf(patch.cell));
-    check.paramDimOffset = source.At(Field::Cell);
+    check.paramDimLine = source.At(Field::Cell);
   }
   if (dimension_ != 0) {
     CheckDimension(check);
@@ -813,13 +812,13 @@ void GeometryHandler::ValidatePatch() {
                                              ", expected at least degrees" + i + " + 1 = " + std::to_string(p + 1));
         }
         if (static_cast<std::int64_t>(knots.size()) != n + p + 1) {
-          Fail(source.knotOffsets[d], where + ".knots" + i + ": length " + std::to_string(knots.size()) +
+          Fail(source.knotLines[d], where + ".knots" + i + ": length " + std::to_string(knots.size()) +
                                           ", expected counts" + i + " + degrees" + i +
                                           " + 1 = " + std::to_string(n + p + 1));
         }
         // The spline lives on [t_p, t_n]; with no room there it has no cell.
         if (!(knots[p] < knots[n])) {
-          Fail(source.knotOffsets[d], where + ".knots" + i + ": empty parameter domain [knots" + i + "[" +
+          Fail(source.knotLines[d], where + ".knots" + i + ": empty parameter domain [knots" + i + "[" +
                                           std::to_string(p) + "], knots" + i + "[" + std::to_string(n) + "]] = [" +
                                           FormatNumber(knots[p]) + ", " + FormatNumber(knots[n]) + "]");
         }
@@ -863,18 +862,18 @@ void GeometryHandler::ValidatePatch() {
                CellTypeName(patch.cell) + " cell has " + std::to_string(perCell);
       };
       if (cells.rows > 0 && cells.firstLength != perCell)
-        Fail(cells.firstOffset, cellCountMessage(0, cells.firstLength));
-      if (cells.oddRow != kNone) Fail(cells.oddOffset, cellCountMessage(cells.oddRow, cells.oddLength));
+        Fail(cells.firstLine, cellCountMessage(0, cells.firstLength));
+      if (cells.oddRow != kNone) Fail(cells.oddLine, cellCountMessage(cells.oddRow, cells.oddLength));
       if (cells.rows > 0) {
         const bool negative = source.minIndex < 0;
         const bool beyond = source.maxIndex >= static_cast<std::int64_t>(numPoints);
         // Of two bad indices, name the earlier one in the file.
         if (negative && (!beyond || source.minRow <= source.maxRow)) {
-          Fail(source.minOffset, where + ".cells[" + std::to_string(source.minRow) + "]: vertex index " +
+          Fail(source.minLine, where + ".cells[" + std::to_string(source.minRow) + "]: vertex index " +
                                      std::to_string(source.minIndex) + " is negative (indices are 0-based)");
         }
         if (beyond) {
-          Fail(source.maxOffset, where + ".cells[" + std::to_string(source.maxRow) + "]: vertex index " +
+          Fail(source.maxLine, where + ".cells[" + std::to_string(source.maxRow) + "]: vertex index " +
                                      std::to_string(source.maxIndex) + " out of range (the patch has " +
                                      std::to_string(numPoints) + " vertices)");
         }
@@ -892,41 +891,43 @@ void GeometryHandler::CheckDimension(const DimensionCheck& check) const {
   const char* pointsName = check.kind == Patch::Kind::Mesh ? "vertices" : "control_points";
   const RowShape& points = check.points;
   if (points.rows > 0 && points.firstLength != dim) {
-    Fail(points.firstOffset, where + "." + pointsName + "[0]: " + std::to_string(points.firstLength) +
+    Fail(points.firstLine, where + "." + pointsName + "[0]: " + std::to_string(points.firstLength) +
                                  " coordinates, expected " + std::to_string(dim) + " (the dimension)");
   }
   if (points.oddRow != kNone) {
-    Fail(points.oddOffset, where + "." + pointsName + "[" + std::to_string(points.oddRow) +
+    Fail(points.oddLine, where + "." + pointsName + "[" + std::to_string(points.oddRow) +
                                "]: " + std::to_string(points.oddLength) + " coordinates, expected " +
                                std::to_string(dim) + " (the dimension)");
   }
   if (check.paramDim > dim) {
     if (check.kind == Patch::Kind::BSpline) {
-      Fail(check.paramDimOffset,
+      Fail(check.paramDimLine,
            where + ".degrees: a " + std::to_string(check.paramDim) + "-parameter patch needs dimension 3");
     }
-    Fail(check.paramDimOffset, where + ".cell: a " + CellTypeName(check.cell) +
+    Fail(check.paramDimLine, where + ".cell: a " + CellTypeName(check.cell) +
                                    (check.kind == Patch::Kind::Mesh ? " mesh" : " cell") + " needs dimension 3");
   }
 }
 
-/// Parses a whole geometry file held in `text`, named `name` in messages.
-Geometry ParseGeometryText(const std::string& text, const std::string& name) {
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
-    throw InputError(name, 1 + std::count(text.begin(), text.end(), '\n'), "empty file, expected a JSON object");
-  }
-  const char* cursor = text.data();
-  GeometryHandler handler(name, text.data(), text.size(), &cursor);
-  Json::sax_parse(TrackingIterator(&cursor), TrackingIterator(text.data() + text.size()), &handler);
+/// Parses a geometry file streamed from `in`, named `name` in messages.
+Geometry ParseGeometryStream(InputBuffer* in, const std::string& name) {
+  JsonTextStream text(in);
+  GeometryHandler handler(name, &text);
+  Json::sax_parse(text.begin(), text.end(), &handler);
   return handler.Finish();
 }
 
 }  // namespace
 
-Geometry ReadGeometryJson(const std::string& path) { return ParseGeometryText(ReadWholeFile(path), path); }
+Geometry ReadGeometryJson(const std::string& path) {
+  InputBuffer in(path);
+  return ParseGeometryStream(&in, path);
+}
 
 Geometry ReadGeometryJson(std::istream& in, const std::string& nameForMessages) {
-  return ParseGeometryText(ReadWholeStream(in, nameForMessages), nameForMessages);
+  // A stream of its own over the caller's buffer: reading advances `in`.
+  InputBuffer buffer(std::make_unique<std::istream>(in.rdbuf()), nameForMessages);
+  return ParseGeometryStream(&buffer, nameForMessages);
 }
 
 }  // namespace invmap::io

@@ -20,7 +20,9 @@ namespace invmap::io {
 /// Throws InputError with the file, the 1-based line and the JSON path of the
 /// problem, e.g. "g.json:12: patches[3].knots[1]: decreasing at index 4 (0.5 > 0.25)".
 /// Cost: one SAX pass over the text, about 2 s per 100 MB (nlohmann's lexer
-/// is most of it); memory is the text plus the patches, with no DOM.
+/// is most of it); memory is the patches and a block of the file, never the
+/// whole text nor a DOM, so a file of any size (or an endless one) is read
+/// only as far as its first error.
 Geometry ReadGeometryJson(const std::string& path);
 
 /// Reads a geometry file from `in` (to its end); `nameForMessages` is the
