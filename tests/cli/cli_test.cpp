@@ -381,6 +381,45 @@ TEST_F(CliTest, TrimWritesAPlainPlyVertexCount) {
   EXPECT_NE(ReadFile(Path("r.ply")).find("\nelement vertex 10\n"), std::string::npos);
 }
 
+TEST_F(CliTest, EndlessAndHugeSparseGeometryFilesFailFast) {
+  std::string log;
+  for (const char* ext : {"json", "stl", "obj", "off"}) {
+    SCOPED_TRACE(ext);
+    const std::string zero = Path(std::string("z.") + ext);
+    fs::create_symlink("/dev/zero", zero);
+    EXPECT_EQ(Run("info -g " + zero, &log), 3) << log;
+    EXPECT_NE(log.find(zero + ":"), std::string::npos) << log;
+    EXPECT_LT(log.size(), 300u) << log;
+  }
+  // Sparse files: gigabytes that cost no disk.
+  const std::pair<const char*, std::uintmax_t> sparse[] = {
+      {"big.stl", std::uintmax_t{6} << 30}, {"big.json", std::uintmax_t{2} << 30}, {"big.obj", std::uintmax_t{2} << 30}};
+  for (const auto& [name, size] : sparse) {
+    SCOPED_TRACE(name);
+    WriteFile(name, "");
+    fs::resize_file(Path(name), size);
+    EXPECT_EQ(Run("info -g " + Path(name), &log), 3) << log;
+  }
+  EXPECT_NE(log.find("line longer than 64 MiB"), std::string::npos) << log;
+}
+
+TEST_F(CliTest, AHugeDegenerateObjFaceCostsWhatItsDistinctTrianglesCost) {
+  // One face of 3 million indices of three vertices: one triangle.
+  std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
+  for (int i = 0; i < 1000000; ++i) text += " 1 2 3";
+  WriteFile("fan.obj", text + "\n");
+  std::string log;
+  ASSERT_EQ(Run("info -g " + Path("fan.obj"), &log), 0) << log;
+  EXPECT_NE(log.find("cells       1\n"), std::string::npos) << log;
+}
+
+TEST_F(CliTest, AnObjCoordinateOutsideTheRangeNamesItsLine) {
+  WriteFile("far.obj", "v 0 0 0\nv 1 0 0\nv 0 1e300 0\nf 1 2 3\n");
+  std::string log;
+  EXPECT_EQ(Run("info -g " + Path("far.obj"), &log), 3) << log;
+  EXPECT_NE(log.find("far.obj:3: v: coordinate 1: \"1e300\" is outside [-1e100, 1e100]"), std::string::npos) << log;
+}
+
 TEST_F(CliTest, InfoDescribesTheGeometry) {
   ASSERT_EQ(Run("generate surface --spans 8 -o " + Path("s.json")), 0);
   std::string log;
