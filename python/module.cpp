@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <memory>
 #include <new>
@@ -160,6 +161,18 @@ PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const s
   if (cellInput.ndim() != 2 || cellInput.shape(1) != cell.vertices) {
     throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
                      std::to_string(cell.vertices) + " vertices");
+  }
+  // An unsigned index beyond the int64 range would wrap to a negative one in
+  // the cast below and be reported as such: name it as given.
+  if (cellInput.dtype().kind() == 'u') {
+    const auto unsignedCells = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
+    for (py::ssize_t i = 0; i < unsignedCells.size(); ++i) {
+      const std::uint64_t index = unsignedCells.data()[i];
+      if (index > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+        throw InputError("from_mesh: patch 0: cells[" + std::to_string(i / cell.vertices) + "]: vertex index " +
+                         std::to_string(index) + " out of range [0, " + std::to_string(vertexArray.shape(0)) + ")");
+      }
+    }
   }
   const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
   Geometry geometry;
@@ -380,8 +393,17 @@ infinite coordinates are in neither set.
              return "<invmap.Manifold dimension=" + std::to_string(self.dimension()) +
                     " patches=" + std::to_string(self.patches()) + " cells=" + std::to_string(self.cells()) + ">";
            })
-      .def(py::pickle([](const PyManifold& self) { return py::bytes(self.state()); }, &FromState));
+      .def(py::pickle([](const PyManifold& self) { return py::bytes(self.state()); }, &FromState))
+      // Every pickle protocol (and copy) goes through __reduce__ once it is
+      // defined: protocols 0 and 1 otherwise rebuild through object.__new__,
+      // which a pybind11 class does not allow (the interpreter aborted).
+      .def("__reduce__", [](const PyManifold& self) {
+        return py::make_tuple(py::module_::import("invmap").attr("_unpickle_manifold"),
+                              py::make_tuple(py::bytes(self.state())));
+      });
 
+  m.def("_manifold_from_state", &FromState, py::arg("state"),
+        "Rebuilds a manifold from its pickled state (see invmap._unpickle_manifold).");
   m.def("_load_file", &LoadFile, py::arg("path"), "Reads and builds a geometry file (see invmap.load).");
   m.def("_load_json", &LoadJson, py::arg("text"), py::arg("name"),
         "Reads and builds geometry JSON text; messages name it `name` (see invmap.load).");

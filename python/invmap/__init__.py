@@ -31,6 +31,12 @@ for _public in (FileError, InputError, Manifold):
 del _public
 
 
+def _unpickle_manifold(state):
+    """Rebuilds a pickled Manifold from its geometry bytes (what
+    Manifold.__reduce__ names, for every pickle protocol)."""
+    return _invmap._manifold_from_state(state)
+
+
 def load(source):
     """Reads and builds a geometry.
 
