@@ -108,7 +108,8 @@ struct InversionOptions {
   /// Gap tolerance (model units): points farther than this from every cell
   /// get Status::None. Default: unlimited.
   double maxDistance = std::numeric_limits<double>::infinity();
-  /// Worker threads; 0 means all cores. Results do not depend on it.
+  /// Worker threads; 0 means all cores, and more than the cores this process
+  /// may use runs as many as the cores. Results do not depend on it.
   int threads = 0;
   /// Query points per spatial bucket (a bucket shares one BVH traversal).
   /// Cost: larger buckets cull less precisely; smaller ones traverse more.

@@ -77,9 +77,13 @@ def test_points_on_the_surface_are_found_at_distance_zero(surface):
     np.testing.assert_allclose(again["closest"], first["closest"], atol=1e-9)
 
 
-def test_threads_do_not_change_results(surface):
+def test_threads_do_not_change_results(surface, capfd):
     points = query_points(surface, 3000)
-    assert_results_equal(surface.invert(points, threads=1), surface.invert(points, threads=2))
+    one = surface.invert(points, threads=1)
+    # More threads than this machine's cores too, with no library warning on stderr.
+    for threads in (2, 3, 7, 64):
+        assert_results_equal(one, surface.invert(points, threads=threads))
+    assert capfd.readouterr().err == ""
 
 
 def test_empty_points(surface):

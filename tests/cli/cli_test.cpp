@@ -153,6 +153,16 @@ TEST_F(CliTest, ResultsDoNotDependOnTheThreadCount) {
   const std::string one = ReadFile(Path("one.csv"));
   EXPECT_EQ(one, ReadFile(Path("two.csv")));
   EXPECT_EQ(one, ReadFile(Path("all.csv")));
+  // More threads than cores: the same results and nothing on stderr (no
+  // raw library warning), even without --quiet's silence.
+  for (const char* threads : {"3", "7", "64"}) {
+    std::string log;
+    ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.npy") + " -o " + Path("many.csv") + " --threads " +
+                  threads + " -q", &log),
+              0);
+    EXPECT_EQ(log, "") << "--threads " << threads;
+    EXPECT_EQ(ReadFile(Path("many.csv")), one) << "--threads " << threads;
+  }
 }
 
 TEST_F(CliTest, TrimKeepsPassedThroughAttributesInInputOrder) {
