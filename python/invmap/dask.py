@@ -92,8 +92,24 @@ def clear_cache():
         _cache_stats.update(builds=0, hits=0)
 
 
+def _task_threads(threads):
+    """The threads a chunk task inverts with: `threads` when given, else the
+    thread budget of the dask.distributed worker running the task (its
+    nthreads), else None (all cores: Dask's local schedulers)."""
+    if threads is not None:
+        return threads
+    try:
+        from distributed import get_worker
+        worker = get_worker()
+    except (ImportError, ValueError):
+        return None
+    # distributed 2022.12 keeps nthreads on the worker's state (the worker's
+    # own attribute is deprecated there); older releases have only the latter.
+    return getattr(getattr(worker, "state", worker), "nthreads", None)
+
+
 def _invert_block(points, ref, max_distance, threads):
-    return ref.manifold().invert(points, max_distance=max_distance, threads=threads)
+    return ref.manifold().invert(points, max_distance=max_distance, threads=_task_threads(threads))
 
 
 def invert(points, manifold, max_distance=None, threads=None):
@@ -102,9 +118,12 @@ def invert(points, manifold, max_distance=None, threads=None):
     points: (N, dim) dask array (a numpy array is wrapped with
       da.from_array), chunked by rows; column chunks are merged.
     manifold: an invmap.Manifold of dimension dim.
-    max_distance, threads: as Manifold.invert; threads is per task, so with
-      several tasks per worker the default (all cores) oversubscribes only
-      mildly (TBB shares one pool per process).
+    max_distance: as Manifold.invert.
+    threads: per task. Default: on a dask.distributed worker, the worker's
+      own thread budget (its nthreads: a worker started with --nthreads 1
+      inverts with one thread, so n such workers on n cores scale like n
+      cores rather than each using every core); under Dask's local
+      schedulers, all cores. Results do not depend on it.
 
     Returns a dict of dask arrays with Manifold.invert's keys (status, patch,
     cell, params, closest, distance) and the points' row chunks. One compute

@@ -122,6 +122,17 @@ def test_cluster_matches_in_process_and_builds_once_per_worker(client, surface, 
     assert sum(cache["hits"] for cache in caches.values()) >= 8 + 8 - 2
 
 
+def test_a_task_uses_its_workers_thread_budget(client):
+    # Each worker of the cluster has 1 thread: a chunk task inverts with 1
+    # (with all cores, 2 single-thread workers ran 4 threads on 2 cores).
+    workers = list(client.scheduler_info()["workers"])
+    budgets = client.gather([client.submit(invmap.dask._task_threads, None, workers=[w], pure=False) for w in workers])
+    assert budgets == [1] * len(workers)
+    assert client.submit(invmap.dask._task_threads, 3, pure=False).result() == 3
+    # Outside a worker (the local schedulers): all cores.
+    assert invmap.dask._task_threads(None) is None
+
+
 def die_once(block, marker, block_id=None):
     """Kills its worker process, as a crash would, the first time it runs on
     block 3 (the marker file makes "first" hold across processes)."""
