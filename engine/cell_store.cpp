@@ -58,20 +58,28 @@ std::string CheckCoordinates(const std::vector<double>& values, const char* fiel
 /// The geometry's extent (the diagonal of its control points' box, `points`
 /// holding `dim` coordinates each): 0 (a single point) or at least kMinExtent.
 std::string CheckExtent(const std::vector<double>& points, int dim) {
-  double extent2 = 0.0;
+  double span[3] = {0.0, 0.0, 0.0};
+  double largest = 0.0;
   for (int k = 0; k < dim && !points.empty(); ++k) {
     double lo = points[k], hi = points[k];
     for (std::size_t i = k; i < points.size(); i += dim) {
       lo = std::min(lo, points[i]);
       hi = std::max(hi, points[i]);
     }
-    // In units of kMinExtent: the squares of lengths near it would underflow.
-    extent2 += ((hi - lo) / kernels::kMinExtent) * ((hi - lo) / kernels::kMinExtent);
+    span[k] = hi - lo;
+    largest = std::max(largest, span[k]);
   }
-  if (extent2 == 0.0 || extent2 >= 1.0) return {};
+  // The diagonal is at least its largest side; it is measured in units of
+  // that side, so that no square underflows (squares in absolute units, or
+  // in units of kMinExtent, vanish below about 1e-254 and took a geometry
+  // 1e-280 across for a single point).
+  if (largest == 0.0 || largest >= kernels::kMinExtent) return {};
+  double sum = 0.0;
+  for (int k = 0; k < dim; ++k) sum += (span[k] / largest) * (span[k] / largest);
+  const double extent = largest * std::sqrt(sum);
+  if (extent >= kernels::kMinExtent) return {};
   std::ostringstream msg;
-  msg << "the geometry is " << std::sqrt(extent2) * kernels::kMinExtent
-      << " across (its box diagonal), below 1e-100 (the smallest extent invmap supports)";
+  msg << "the geometry is " << extent << " across (its box diagonal), below 1e-100 (the smallest extent invmap supports)";
   return msg.str();
 }
 
@@ -300,6 +308,8 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
   }
 
   patchFirst_.push_back(static_cast<std::int64_t>(shapes_.size()));
+  // Every point would be "none": a mistake (an empty file or list), not a geometry.
+  if (shapes_.empty()) return "the geometry has no cells (no patches, or only empty ones): nothing to invert onto";
   if (std::string e = CheckExtent(points_, dim); !e.empty()) return e;
 
   // The arrays are final: build the solvers (bounds, nets) in parallel.

@@ -357,8 +357,7 @@ Counts describing the manifold, as `invmap info` prints them.
 
 Returns a dict: dimension (int), patches (int), cells (int), cells_by_shape
 (dict such as {"quad 3x3": 1024}), bounds_lo and bounds_hi (tuples of
-`dimension` floats; zeros when there are no cells) and memory_bytes (heap
-memory of cells, bounds and BVH).
+`dimension` floats) and memory_bytes (heap memory of cells, bounds and BVH).
 )doc")
       .def("invert", &Invert, py::arg("points"), py::arg("max_distance") = py::none(),
            py::arg("threads") = py::none(), R"doc(

@@ -430,6 +430,23 @@ TEST_F(CliTest, AnObjCoordinateOutsideTheRangeNamesItsLine) {
   EXPECT_NE(log.find("far.obj:3: v: coordinate 1: \"1e300\" is outside [-1e100, 1e100]"), std::string::npos) << log;
 }
 
+TEST_F(CliTest, AnEmptyOrTooSmallGeometryIsAnInputError) {
+  WriteFile("p.xyz", "0 0 0\n");
+  WriteFile("empty.json", R"({"format": "invmap-geometry", "version": 1, "dimension": 3, "patches": []})");
+  // A triangle 1e-280 across, with a point 5e-281 from it.
+  WriteFile("tiny.json", R"({"format": "invmap-geometry", "version": 1, "dimension": 3, "patches": [
+               {"kind": "mesh", "cell": "tri", "vertices": [[0,0,0],[1e-280,0,0],[0,1e-280,0]], "cells": [[0,1,2]]}]})");
+  WriteFile("q.xyz", "0 0 5e-281\n");
+  std::string log;
+  EXPECT_EQ(Run("invert -g " + Path("empty.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3) << log;
+  EXPECT_NE(log.find("empty.json: the geometry has no cells"), std::string::npos) << log;
+  EXPECT_EQ(Run("invert -g " + Path("tiny.json") + " -p " + Path("q.xyz") + " -o " + Path("r.csv"), &log), 3) << log;
+  EXPECT_NE(log.find("tiny.json: the geometry is 1.41421e-280 across (its box diagonal), below 1e-100"),
+            std::string::npos)
+      << log;
+  EXPECT_FALSE(fs::exists(Path("r.csv")));
+}
+
 TEST_F(CliTest, InfoDescribesTheGeometry) {
   ASSERT_EQ(Run("generate surface --spans 8 -o " + Path("s.json")), 0);
   std::string log;

@@ -392,25 +392,24 @@ TEST(ManifoldTest, EmptyBatch) {
 // ---------------------------------------------------------------------------
 // Empty and degenerate geometries.
 
-TEST(ManifoldTest, EmptyGeometryFindsNothing) {
+TEST(ManifoldTest, AGeometryWithoutCellsIsAnInputError) {
+  // Every point would be "none" against it: an empty file or list is a
+  // mistake to report, not a geometry.
   for (int dim : {2, 3}) {
     Geometry g;
     g.dimension = dim;
-    const BuildResult built = Manifold::Build(g);
-    ASSERT_TRUE(built.error.empty()) << built.error;
-    EXPECT_EQ(built.manifold.Info().cells, 0u);
-    EXPECT_EQ(built.manifold.Info().patches, 0u);
-    QuerySet q;
-    q.dim = dim;
-    const double pts[4][3] = {{0, 0, 0}, {1e300, -1e300, 5}, {kNaN, 0, 0}, {-3, 2, 1}};
-    for (const auto& p : pts) q.Add(p, "any");
-    std::string error;
-    const Results r = InvertQueries(built.manifold, q, {}, &error);
-    ASSERT_TRUE(error.empty()) << error;
-    const CheckSummary s = CheckResults(g, q, r, [](const double*) { return ReferenceAnswer{}; });
-    EXPECT_EQ(s.failures, 0) << s.report;
-    EXPECT_EQ(r.status[0], Status::None);
-    EXPECT_EQ(r.status[2], Status::Invalid);
+    BuildResult built = Manifold::Build(g);
+    EXPECT_FALSE(built.manifold.valid());
+    EXPECT_NE(built.error.find("the geometry has no cells"), std::string::npos) << built.error;
+    // Patches without cells: a mesh with no cells, a B-spline of empty spans only.
+    Patch mesh;
+    mesh.kind = Patch::Kind::Mesh;
+    mesh.cell = CellType::Tri;
+    mesh.points.assign(3 * static_cast<std::size_t>(dim), 0.0);
+    g.patches.push_back(mesh);
+    built = Manifold::Build(g);
+    EXPECT_FALSE(built.manifold.valid());
+    EXPECT_NE(built.error.find("the geometry has no cells"), std::string::npos) << built.error;
   }
 }
 
@@ -617,6 +616,25 @@ TEST(ManifoldTest, AGeometryBelowTheSmallestExtentIsRejected) {
   // A single point (all control points equal) has no extent to measure.
   for (double& x : g.patches[0].points) x = 0.5;
   EXPECT_TRUE(Manifold::Build(g).error.empty());
+  // Far below the range of squares: a triangle 1e-280 across (its squared
+  // extent in units of 1e-100 underflowed to 0, and it passed as a point,
+  // a query 5e-281 away at distance 0).
+  Geometry tiny;
+  tiny.dimension = 3;
+  Patch triangle;
+  triangle.kind = Patch::Kind::Mesh;
+  triangle.cell = CellType::Tri;
+  triangle.points = {0, 0, 0, 1e-280, 0, 0, 0, 1e-280, 0};
+  triangle.cells = {0, 1, 2};
+  tiny.patches.push_back(triangle);
+  const BuildResult tinyBuilt = Manifold::Build(tiny);
+  EXPECT_FALSE(tinyBuilt.manifold.valid());
+  EXPECT_NE(tinyBuilt.error.find("is 1.41421e-280 across (its box diagonal), below 1e-100"), std::string::npos)
+      << tinyBuilt.error;
+  // Just at the limit along one axis is accepted.
+  triangle.points = {0, 0, 0, 1e-100, 0, 0, 0, 0, 0};
+  tiny.patches[0] = triangle;
+  EXPECT_TRUE(Manifold::Build(tiny).error.empty()) << Manifold::Build(tiny).error;
 }
 
 TEST(ManifoldTest, MalformedGeometryIsRejectedWithPatchAndField) {
