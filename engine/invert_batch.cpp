@@ -196,13 +196,32 @@ struct PointSearch {
     inside = solver.isFullRank() && result.distance <= kernels::kDistanceTolerance * solver.size();
   }
 
-  /// The squared distance a cell must beat.
-  double Bound2() const { return bestCell >= 0 ? best * best : std::nextafter(best * best, kInf); }
+  /// Before any answer, how far beyond the gap tolerance a cell of `size`
+  /// may answer and still be found: its solve's tolerance. A point is none
+  /// only when every cell is certified farther than the gap tolerance (its
+  /// lower bounds, or a minimum beyond this band), so a point at distance
+  /// exactly D (0 for a point on or inside a cell) is never lost to a solve
+  /// that lands a rounding's width beyond it (InversionOptions::maxDistance).
+  static double GapBand(double size) { return kernels::kDistanceTolerance * size; }
 
-  /// True when an answer at `distance` replaces the best: the gap tolerance
-  /// admits equality, a found answer only a strictly nearer one. (Compared
-  /// as distances: their squares overflow beyond about 1e154.)
-  bool Beats(double distance) const { return bestCell >= 0 ? distance < best : distance <= best; }
+  /// The squared distance a cell must beat: the best's, or before any
+  /// answer the gap tolerance widened by the cell's band (equality admitted).
+  double Bound2(const kernels::CellSolver& solver) const {
+    if (bestCell >= 0) return best * best;
+    const double gap = best + GapBand(solver.size());
+    return std::nextafter(gap * gap, kInf);
+  }
+
+  /// True when an answer at `distance` from a cell of size size() replaces
+  /// the best: a found answer only a strictly nearer one; before any, one
+  /// within the gap tolerance and its band (size() is read only then: it
+  /// is a cold read for a mesh's triangle). Compared as distances: their
+  /// squares overflow beyond about 1e154.
+  template <typename Size>
+  bool Beats(double distance, const Size& size) const {
+    if (bestCell >= 0) return distance < best;
+    return distance <= best || distance <= best + GapBand(size());
+  }
 
   /// Algorithm 6: a region is solved as one block, a cell by the cell solver.
   void Solve(std::int64_t subdivision) {
@@ -215,8 +234,17 @@ struct PointSearch {
 
   void SolveRegion(const AffineRegion& region) {
     const RegionSolution r = SolveAffineRegion(region, p);
-    if (!Beats(r.distance)) return;
+    if (!Beats(r.distance, [&] { return RegionSize(region); })) return;
     Accept(r);
+  }
+
+  /// The diagonal of a region's box.
+  double RegionSize(const AffineRegion& region) const {
+    double size2 = 0.0;
+    for (int k = 0; k < store.dimension(); ++k) {
+      size2 += (region.boxHi[k] - region.boxLo[k]) * (region.boxHi[k] - region.boxLo[k]);
+    }
+    return std::sqrt(size2);
   }
 
   void Accept(const RegionSolution& r) {
@@ -235,7 +263,8 @@ struct PointSearch {
     double start[3];
     const double* initial = cell == warmCell ? warmRef : (StartFromBest(cell, start) ? start : nullptr);
     const int slot = bestModel == 0 ? 1 : 0;
-    const kernels::CellSolveResult r = solver.Solve(p, initial, &scratch.workspace, Bound2(), &scratch.models[slot]);
+    const kernels::CellSolveResult r =
+        solver.Solve(p, initial, &scratch.workspace, Bound2(solver), &scratch.models[slot]);
     iterations += r.iterations;
     if (r.status == kernels::PointStatus::Farther) return;
     if (Consider(cell, r) && scratch.models[slot].known) bestModel = slot;
@@ -272,7 +301,7 @@ struct PointSearch {
     for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
     kernels::CellSolveResult r;
     kernels::CellSolver::SolveAffineSimplex(pd, dim, vertices, p, &r);
-    if (!Beats(r.distance)) return;
+    if (!Beats(r.distance, [&] { return store.solver(simplices.cell(i)).size(); })) return;
     Consider(simplices.cell(i), r);
   }
 
@@ -394,9 +423,7 @@ struct PointSearch {
   void TryInsideRegion(const AffineRegion& region) {
     if (region.paramDim != store.dimension()) return;
     const RegionSolution r = SolveAffineRegion(region, p);
-    double size2 = 0.0;
-    for (int k = 0; k < store.dimension(); ++k) size2 += (region.boxHi[k] - region.boxLo[k]) * (region.boxHi[k] - region.boxLo[k]);
-    if (r.distance > kernels::kDistanceTolerance * std::sqrt(size2)) return;
+    if (r.distance > kernels::kDistanceTolerance * RegionSize(region)) return;
     Accept(r);
     inside = true;
   }
@@ -631,9 +658,13 @@ bool SolveAffineSimplexLanes(const CellStore& store, const QueryPoints& points, 
     for (int l = 0; l < lanes; ++l) {
       if (scratch.laneStatus[l] == kernels::PointStatus::InvalidInput) continue;
       const double d = scratch.laneDistance[l];
-      // As PointSearch: the gap tolerance admits equality, a found answer
-      // only a strictly better one (so ties keep the earlier candidate).
-      if (scratch.laneBestCell[l] >= 0 ? !(d < scratch.laneBest[l].distance) : !(d <= maxDistance)) continue;
+      // As PointSearch::Beats: the gap tolerance admits equality and the
+      // cell's band beyond it, a found answer only a strictly better one (so
+      // ties keep the earlier candidate).
+      const bool beats = scratch.laneBestCell[l] >= 0
+                             ? d < scratch.laneBest[l].distance
+                             : d <= maxDistance || d <= maxDistance + PointSearch::GapBand(store.solver(cell).size());
+      if (!beats) continue;
       kernels::CellSolveResult& best = scratch.laneBest[l];
       for (int k = 0; k < 3; ++k) {
         best.ref[k] = scratch.laneRef[k][l];

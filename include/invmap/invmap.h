@@ -106,7 +106,12 @@ struct PointsView {
 /// Options of a batch inversion.
 struct InversionOptions {
   /// Gap tolerance (model units): points farther than this from every cell
-  /// get Status::None. Default: unlimited.
+  /// get Status::None. Default: unlimited. Any D >= 0 is exact on the near
+  /// side: a point at distance <= D is always found (D = 0 finds every point
+  /// on the geometry, and every point inside a volume, at distance 0). A
+  /// point is None only when every cell is certified farther than D; a
+  /// cell's distance is computed to 1e-11 of its size, so a found point may
+  /// report a distance up to that much beyond D.
   double maxDistance = std::numeric_limits<double>::infinity();
   /// Worker threads; 0 means all cores, and more than the cores this process
   /// may use runs as many as the cores. Results do not depend on it.
