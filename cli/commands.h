@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "invmap/invmap.h"
+
 namespace invmap::cli {
 
 /// Options shared by invert and trim.
@@ -23,6 +25,11 @@ struct InvertOptions {
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
 };
+
+/// The geometry file at `path`, read and built. A malformed file throws
+/// io::InputError (exit code 3), a lack of memory std::bad_alloc, a bug
+/// std::runtime_error (both exit code 1).
+Manifold LoadManifold(const std::string& path);
 
 int RunInvert(const InvertOptions& options);
 int RunTrim(const InvertOptions& options);

@@ -2,6 +2,8 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <new>
+#include <stdexcept>
 
 #include "cli/commands.h"
 #include "cli/path_checks.h"
@@ -19,13 +21,6 @@ namespace {
 /// Points per chunk: bounds memory for inputs of any size and sets how often
 /// the progress bar moves.
 constexpr std::size_t kChunkPoints = 1 << 20;
-
-Manifold LoadManifold(const std::string& path) {
-  const Geometry geometry = io::ReadGeometryFile(path);
-  BuildResult built = Manifold::Build(geometry);
-  if (!built.error.empty()) throw io::InputError(path, 0, built.error);
-  return std::move(built.manifold);
-}
 
 /// Invert one chunk; a batch-level error is an internal failure here (the
 /// inputs were validated), reported as such.
@@ -135,6 +130,22 @@ struct TrimSink {
 };
 
 }  // namespace
+
+Manifold LoadManifold(const std::string& path) {
+  const Geometry geometry = io::ReadGeometryFile(path);
+  BuildResult built = Manifold::Build(geometry);
+  switch (built.code) {
+    case Error::Ok:
+      return std::move(built.manifold);
+    case Error::InvalidArgument:
+      throw io::InputError(path, 0, built.error);
+    case Error::OutOfMemory:
+      throw std::bad_alloc();
+    case Error::Internal:
+      break;
+  }
+  throw std::runtime_error(built.error);
+}
 
 int RunInvert(const InvertOptions& options) {
   Stream(options, false, "invert", ResultSink{options, nullptr});

@@ -106,7 +106,10 @@ BuildResult Manifold::Build(const Geometry& geometry) {
   try {
     auto impl = std::make_unique<Impl>();
     result.error = impl->store.Build(geometry, 0);
-    if (!result.error.empty()) return result;
+    if (!result.error.empty()) {
+      result.code = Error::InvalidArgument;
+      return result;
+    }
     // The BVH holds the subdivisions: affine regions and the other cells.
     std::vector<engine::BvhBox> boxes(impl->store.numSubdivisions());
     for (std::int64_t s = 0; s < impl->store.numSubdivisions(); ++s) {
@@ -124,8 +127,10 @@ BuildResult Manifold::Build(const Geometry& geometry) {
     result.manifold.impl_ = std::move(impl);
   } catch (const std::bad_alloc&) {
     result.error = "out of memory while building the manifold";
+    result.code = Error::OutOfMemory;
   } catch (const std::exception& e) {
     result.error = std::string("building the manifold failed: ") + e.what();
+    result.code = Error::Internal;
   }
   return result;
 }

@@ -43,6 +43,8 @@ class PyManifold {
   PyManifold(const Geometry& geometry, const std::string& nameForMessages)
       : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
     BuildResult built = Manifold::Build(geometry);
+    if (built.code == Error::OutOfMemory) throw std::bad_alloc();  // MemoryError
+    if (built.code == Error::Internal) throw std::runtime_error(nameForMessages + ": " + built.error);
     if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
     manifold_ = std::move(built.manifold);
     for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));

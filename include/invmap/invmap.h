@@ -200,6 +200,9 @@ class Manifold {
 struct BuildResult {
   Manifold manifold;
   std::string error;  ///< Empty on success.
+  /// Why it failed: InvalidArgument for a malformed geometry (`error` says
+  /// where), OutOfMemory, or Internal (a bug); Ok on success.
+  Error code = Error::Ok;
 };
 
 /// Library version, "major.minor.patch".
