@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -466,6 +467,39 @@ TEST_F(CliTest, GapToleranceZeroFindsEveryPointInsideAndTrimKeepsThemNear) {
     EXPECT_EQ(ReadFile(Path("far.xyz")), "");
     ASSERT_EQ(Run("trim" + common + " --keep near -o " + Path("near.xyz")), 0);
     EXPECT_EQ(ReadFile(Path("near.xyz")), ReadFile(Path("in.xyz")));
+  }
+}
+
+TEST_F(CliTest, GenerateTrimeshWritesAClosedOutwardMesh) {
+  // Streamed vertex by vertex and triangle by triangle (vertices of shared
+  // edges shared by index): every edge has exactly two triangles, running
+  // it in opposite directions, and the normals point outward.
+  ASSERT_EQ(Run("generate trimesh --triangles 1000 -o " + Path("m.ply")), 0);
+  const std::string bytes = ReadFile(Path("m.ply"));
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  ASSERT_NE(bytes.find("element vertex 642\n"), std::string::npos);
+  ASSERT_NE(bytes.find("element face 1280\n"), std::string::npos);
+  std::vector<std::array<double, 3>> vertices(642);
+  std::memcpy(vertices.data(), bytes.data() + body, 642 * 24);
+  std::map<std::pair<std::int32_t, std::int32_t>, int> edges;
+  int inward = 0;
+  for (int t = 0; t < 1280; ++t) {
+    std::int32_t v[3];
+    ASSERT_EQ(bytes[body + 642 * 24 + 13 * t], 3);
+    std::memcpy(v, bytes.data() + body + 642 * 24 + 13 * t + 1, 12);
+    for (int e = 0; e < 3; ++e) ++edges[{v[e], v[(e + 1) % 3]}];
+    const auto& a = vertices[v[0]];
+    const auto& b = vertices[v[1]];
+    const auto& c = vertices[v[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double normal[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    inward += normal[0] * (a[0] + b[0] + c[0]) + normal[1] * (a[1] + b[1] + c[1]) + normal[2] * (a[2] + b[2] + c[2]) <= 0;
+  }
+  EXPECT_EQ(inward, 0);
+  EXPECT_EQ(edges.size(), 3u * 1280u);
+  for (const auto& [edge, count] : edges) {
+    EXPECT_EQ(count, 1);
+    EXPECT_EQ(edges.count({edge.second, edge.first}), 1u);
   }
 }
 
