@@ -93,14 +93,17 @@ void ReleaseSignalSlot(int slot) {
 }
 
 /// Removes every live temporary file, then lets `signo` end the process as
-/// it would have without this handler (installed with SA_RESETHAND, so
-/// the default action is back; the signal stays blocked until the handler
-/// returns, and then it is delivered).
+/// it would have without this handler: the default action is restored only
+/// after the files are gone (a second signal meanwhile, which `timeout`
+/// sends to the whole process group, runs this handler again in another
+/// thread rather than ending the process halfway), and the signal, blocked
+/// until the handler returns, is then delivered.
 extern "C" void RemoveTemporaryFilesAndStop(int signo) {
   const int savedErrno = errno;
   for (SignalSlot& slot : signalSlots) {
     if (slot.state.load() == SignalSlot::Live) ::unlink(slot.path);
   }
+  ::signal(signo, SIG_DFL);
   ::raise(signo);
   errno = savedErrno;
 }
@@ -369,11 +372,13 @@ void AtomicOutput::Commit() {
 }
 
 void RemoveTemporaryFilesOnSignals() {
+  static constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
   struct sigaction action {};
   action.sa_handler = RemoveTemporaryFilesAndStop;
+  // The others wait while one runs: each would end the process its own way.
   sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND;
-  for (const int signo : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(signo, &action, nullptr);
+  for (const int signo : kSignals) sigaddset(&action.sa_mask, signo);
+  for (const int signo : kSignals) ::sigaction(signo, &action, nullptr);
 }
 
 }  // namespace invmap::io
