@@ -24,6 +24,9 @@ struct InvertOptions {
   bool color = false;
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
+  /// Each point's answer a function of the point and the geometry only
+  /// (InversionOptions::pointwise).
+  bool pointwise = false;
 };
 
 /// The geometry file at `path`, read and built. A malformed file throws

@@ -67,6 +67,7 @@ void Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&&
   InversionOptions inversion;
   inversion.maxDistance = options.maxDistance;
   inversion.threads = options.threads;
+  inversion.pointwise = options.pointwise;
 
   sink.Open(*reader, dim);
   Progress progress(options.quiet, reader->totalCountHint());

@@ -35,6 +35,8 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
   if (distanceRequired) distance->required();
   command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(kNonNegative);
   command->add_flag("--quiet,-q", options->quiet, "no progress bar and no summary");
+  command->add_flag("--pointwise", options->pointwise,
+                    "answers bit for bit independent of the other points (slower; see docs/limitations.md)");
 }
 
 }  // namespace

@@ -817,6 +817,7 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, 
   const std::int64_t n = points.count;
   const int dim = store.dimension();
   const double maxDistance = options.maxDistance;
+  const bool pointwise = options.pointwise;
   ForEachBlock(
       ExecutionPolicy::Par, (n + bucketSize - 1) / bucketSize, 8,
       [&](std::int64_t bucketBegin, std::int64_t bucketEnd) {
@@ -859,7 +860,10 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, 
                           SolveAffineSimplexLanes(store, points, first, last - first, maxDistance, scratch);
             if (useBucketList) GatherSearchedCandidates(store, lanesSolved, scratch);
           };
-          if (!store.hasVolumeCells()) prepare();
+          // Pointwise (InversionOptions::pointwise): no warm start from the
+          // previous point and no bucket list or lanes, so that nothing but
+          // the point and the geometry decides its search.
+          if (!store.hasVolumeCells() && !pointwise) prepare();
           WarmStart warm;
           for (std::int64_t s = first; s < last; ++s) {
             double p[3] = {0, 0, 0};
@@ -869,13 +873,14 @@ void InvertBuckets(const CellStore& store, const Bvh& bvh, const WideBvh& wide, 
               finite = finite && std::isfinite(p[k]);
             }
             if (!finite) continue;
+            if (pointwise) warm = WarmStart();
             std::int64_t startCell;
             double startRef[3];
             PredictStart(store, warm, p, &startCell, startRef);
             PointSearch search(store, simplices, p, scratch, startCell, startRef, maxDistance);
             if (store.hasVolumeCells()) search.TryInsideByWalk(bvh);
             if (!search.inside) {
-              if (!prepared) prepare();
+              if (!prepared && !pointwise) prepare();
               if (useBucketList) {
                 if (lanesSolved) search.Seed(scratch.laneBestCell[s - first], scratch.laneBest[s - first]);
                 SearchCandidates(search);

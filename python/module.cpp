@@ -235,8 +235,9 @@ py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape, const p
 }
 
 /// The options of invert and trim, validated (None means the default).
-InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads) {
+InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads, bool pointwise) {
   InversionOptions options;
+  options.pointwise = pointwise;
   if (maxDistance) {
     if (std::isnan(*maxDistance) || *maxDistance < 0.0) {
       std::ostringstream message;
@@ -269,8 +270,8 @@ Results InvertPoints(const PyManifold& self, const py::handle& points, const Inv
 
 /// Manifold.invert: the Results as numpy arrays (see its docstring).
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads) {
-  Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads));
+                std::optional<int> threads, bool pointwise) {
+  Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise));
   const auto n = static_cast<py::ssize_t>(results.status.size());
   const int dim = self.dimension();
   if (dim == 2) {
@@ -295,9 +296,10 @@ py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<
 }
 
 /// Manifold.trim: the mask of the points `invmap trim` keeps.
-py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep) {
+py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep,
+                       bool pointwise) {
   if (keep != "near" && keep != "far") throw InputError("keep: '" + keep + "', expected 'near' or 'far'");
-  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt));
+  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt, pointwise));
   const bool keepFar = keep == "far";
   py::array_t<bool> mask(static_cast<py::ssize_t>(results.status.size()));
   bool* out = mask.mutable_data();
@@ -362,7 +364,7 @@ Returns a dict: dimension (int), patches (int), cells (int), cells_by_shape
 `dimension` floats) and memory_bytes (heap memory of cells, bounds and BVH).
 )doc")
       .def("invert", &Invert, py::arg("points"), py::arg("max_distance") = py::none(),
-           py::arg("threads") = py::none(), R"doc(
+           py::arg("threads") = py::none(), py::arg("pointwise") = false, R"doc(
 Closest point, cell and parameters of every query point.
 
 points: (N, dimension) array-like. float32 and float64 arrays are read in
@@ -371,6 +373,10 @@ max_distance: gap tolerance; points farther than this from every cell get
   status 1 (none). Default: unlimited.
 threads: worker threads, default (None or 0) all cores. Results do not
   depend on it.
+pointwise: each answer a function of its point and the geometry only, bit
+  for bit whatever batch or chunk the point comes in (by default a point's
+  solve starts from its neighbour's answer: the same minimum, but the last
+  digits depend on the batch). Slower; see docs/limitations.md.
 
 Returns a dict of numpy arrays, one row per point in input order:
   status   (N,) uint8: 0 found, 1 none, 2 invalid (NaN or infinite input)
@@ -384,10 +390,11 @@ The GIL is released while the engine works.
 
 Raises InputError for points of the wrong shape or type and for bad options.
 )doc")
-      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near", R"doc(
+      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near",
+           py::arg("pointwise") = false, R"doc(
 Boolean mask of the points `invmap trim` keeps: those within max_distance
 of the geometry (keep="near") or beyond it (keep="far"). Points with NaN or
-infinite coordinates are in neither set.
+infinite coordinates are in neither set. pointwise: as in invert.
 )doc")
       .def("__repr__",
            [](const PyManifold& self) {

@@ -119,6 +119,14 @@ struct InversionOptions {
   /// Query points per spatial bucket (a bucket shares one BVH traversal).
   /// Cost: larger buckets cull less precisely; smaller ones traverse more.
   int bucketSize = 32;
+  /// Optional: every point searched on its own, from a start of its own,
+  /// so that its answer is a function of the point and the geometry only,
+  /// bit for bit, whatever batch (chunk, Dask partition) it comes in. By
+  /// default a point's solve starts from its spatial neighbour's answer and
+  /// its bucket shares one candidate list: the same minimum to the solve's
+  /// tolerance, but its last digits (and which of two equally near cells is
+  /// reported) depend on the batch. Cost: see docs/limitations.md.
+  bool pointwise = false;
 };
 
 /// Results of a batch, structure of arrays, one entry per query point in

@@ -108,11 +108,12 @@ def _task_threads(threads):
     return getattr(getattr(worker, "state", worker), "nthreads", None)
 
 
-def _invert_block(points, ref, max_distance, threads):
-    return ref.manifold().invert(points, max_distance=max_distance, threads=_task_threads(threads))
+def _invert_block(points, ref, max_distance, threads, pointwise):
+    return ref.manifold().invert(points, max_distance=max_distance, threads=_task_threads(threads),
+                                 pointwise=pointwise)
 
 
-def invert(points, manifold, max_distance=None, threads=None):
+def invert(points, manifold, max_distance=None, threads=None, pointwise=False):
     """Manifold.invert over a Dask array of points, chunk by chunk.
 
     points: (N, dim) dask array (a numpy array is wrapped with
@@ -124,6 +125,9 @@ def invert(points, manifold, max_distance=None, threads=None):
       inverts with one thread, so n such workers on n cores scale like n
       cores rather than each using every core); under Dask's local
       schedulers, all cores. Results do not depend on it.
+    pointwise: as Manifold.invert: each row a function of its point alone,
+      bit for bit whatever the chunking (by default the last digits of a
+      row can depend on the other points of its chunk).
 
     Returns a dict of dask arrays with Manifold.invert's keys (status, patch,
     cell, params, closest, distance) and the points' row chunks. One compute
@@ -146,7 +150,7 @@ def invert(points, manifold, max_distance=None, threads=None):
     geometry = dask.delayed(ref, name="invmap-geometry-" + ref.key, traverse=False)
     # Blocks of dicts (never computed as an array): one task per chunk, which
     # the per-key arrays below select from.
-    blocks = da.map_blocks(_invert_block, points, geometry, max_distance, threads,
+    blocks = da.map_blocks(_invert_block, points, geometry, max_distance, threads, pointwise,
                            drop_axis=1, dtype=object, meta=np.empty((0,), dtype=object), name="invmap-invert")
 
     rows = points.chunks[0]

@@ -82,6 +82,15 @@ def test_numpy_input_and_column_chunks(surface, points):
     assert_results_equal(computed, per_chunk(surface, points))
 
 
+def test_pointwise_rows_do_not_depend_on_the_chunking(surface, points):
+    # By default a row's last digits follow its chunk's other points (the
+    # solves start from neighbours' answers); pointwise, they do not.
+    for chunk in (CHUNK, 1000, len(points)):
+        (computed,) = dask.compute(invmap.dask.invert(da.from_array(points, chunks=(chunk, 3)), surface,
+                                                      pointwise=True), scheduler="threads")
+        assert_results_equal(computed, surface.invert(points, pointwise=True))
+
+
 def test_bad_arguments(surface, points):
     with pytest.raises(invmap.InputError, match=r"points: shape \(10, 2\), expected \(N, 3\)"):
         invmap.dask.invert(da.zeros((10, 2)), surface)

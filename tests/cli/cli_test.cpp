@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -163,6 +164,42 @@ TEST_F(CliTest, ResultsDoNotDependOnTheThreadCount) {
               0);
     EXPECT_EQ(log, "") << "--threads " << threads;
     EXPECT_EQ(ReadFile(Path("many.csv")), one) << "--threads " << threads;
+  }
+}
+
+TEST_F(CliTest, PointwiseAnswersDoNotDependOnTheOtherPoints) {
+  // The same points inverted all together and in two halves: with
+  // --pointwise every row is the same, bit for bit (row indices aside).
+  ASSERT_EQ(Run("generate surface --spans 16 -o " + Path("s.json")), 0);
+  ASSERT_EQ(Run("generate points -g " + Path("s.json") + " -n 4000 --kind near --spread 0.05 -o " + Path("p.xyz")), 0);
+  const std::string all = ReadFile(Path("p.xyz"));
+  std::size_t half = 0;
+  for (int line = 0; line < 1700; ++line) half = all.find('\n', half) + 1;
+  WriteFile("a.xyz", all.substr(0, half));
+  WriteFile("b.xyz", all.substr(half));
+  for (const char* name : {"p", "a", "b"}) {
+    ASSERT_EQ(Run("invert --pointwise -g " + Path("s.json") + " -p " + Path(std::string(name) + ".xyz") + " -o " +
+                  Path(std::string(name) + ".csv") + " -q"),
+              0);
+  }
+  std::string header;
+  const auto whole = CsvRows(ReadFile(Path("p.csv")), &header);
+  auto parts = CsvRows(ReadFile(Path("a.csv")), &header);
+  const auto second = CsvRows(ReadFile(Path("b.csv")), &header);
+  parts.insert(parts.end(), second.begin(), second.end());
+  ASSERT_EQ(parts.size(), whole.size());
+  int differ = 0;
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    differ += !std::equal(whole[i].begin() + 1, whole[i].end(), parts[i].begin() + 1, parts[i].end());
+  }
+  EXPECT_EQ(differ, 0);
+  // And the answers are those of the default search, to its tolerance.
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("default.csv") + " -q"), 0);
+  const auto usual = CsvRows(ReadFile(Path("default.csv")), &header);
+  ASSERT_EQ(usual.size(), whole.size());
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    EXPECT_EQ(usual[i][1], whole[i][1]);
+    EXPECT_NEAR(std::stod(usual[i][10]), std::stod(whole[i][10]), 1e-12) << "row " << i;
   }
 }
 

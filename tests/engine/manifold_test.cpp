@@ -80,6 +80,61 @@ TEST(ManifoldTest, ThreadCountDoesNotChangeAnyBit) {
   EXPECT_EQ(CompareBitwise(byThreads[0], again), "") << "a repeated call";
 }
 
+/// Point i's answer of `r` as a bitwise-comparable record.
+std::string AnswerBits(const Results& r, std::size_t i) {
+  Results one;
+  one.status = {r.status[i]};
+  one.patch = {r.patch[i]};
+  one.cell = {r.cell[i]};
+  one.params.assign(r.params.begin() + 3 * i, r.params.begin() + 3 * i + 3);
+  one.closest.assign(r.closest.begin() + 3 * i, r.closest.begin() + 3 * i + 3);
+  one.distance = {r.distance[i]};
+  one.iterations = {0};
+  return DescribeResult(one, 0);
+}
+
+TEST(ManifoldTest, PointwiseAnswersAreTheSameInEveryBatch) {
+  // With InversionOptions::pointwise a point's answer is a function of the
+  // point and the geometry: the whole set at once, the set shuffled and cut
+  // into batches of other sizes, and single points agree bit for bit.
+  // (Without it, the last digits follow the neighbours the batch gives a
+  // point to start from.)
+  const std::pair<const char*, Geometry> geometries[] = {
+      {"mixed 3D", MixedGeometry3()}, {"mixed 2D", MixedGeometry2()}, {"quadratic tets", QuadraticMesh(false)}};
+  for (const auto& [name, g] : geometries) {
+    SCOPED_TRACE(name);
+    const Manifold m = BuildOk(g);
+    ReferenceGeometry reference(g);
+    QueryMix mix;
+    mix.on = mix.near = mix.mid = mix.far = mix.inside = 600;
+    const QuerySet q = MakeQueries(reference.cells(), g.dimension, reference.size(), mix, 1103);
+    InversionOptions o;
+    o.pointwise = true;
+    // Correct, against the independent reference.
+    RunFamily(name, g, q, [&](const double* p) { return reference.Closest(p); }, o);
+    std::string error;
+    const Results whole = InvertQueries(m, q, o, &error);
+    ASSERT_TRUE(error.empty()) << error;
+    std::vector<std::size_t> order(q.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), std::mt19937_64(1104));
+    int differ = 0;
+    for (std::size_t first = 0, size = 1; first < order.size(); first += size, size = size * 3 + 1) {
+      QuerySet batch;
+      batch.dim = q.dim;
+      const std::size_t end = std::min(order.size(), first + size);
+      for (std::size_t j = first; j < end; ++j) batch.Add(q.point(order[j]), q.kinds[order[j]]);
+      const Results part = InvertQueries(m, batch, o, &error);
+      ASSERT_TRUE(error.empty()) << error;
+      for (std::size_t j = first; j < end; ++j) {
+        const std::string alone = AnswerBits(part, j - first), together = AnswerBits(whole, order[j]);
+        if (alone != together && differ++ < 5) ADD_FAILURE() << "point " << order[j] << ": " << alone << " vs " << together;
+      }
+    }
+    EXPECT_EQ(differ, 0);
+  }
+}
+
 TEST(ManifoldTest, ChunksOfTheMortonOrderChangeNoAnswer) {
   // More points than one chunk of Morton-ordered answers (65,536), a bucket
   // size that does not divide it, and invalid points among them: every
