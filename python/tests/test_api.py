@@ -2,6 +2,7 @@
 
 import json
 import pathlib
+import sys
 import threading
 import time
 
@@ -213,24 +214,29 @@ def test_from_bspline_curve_with_flat_knots():
 
 
 def test_invert_releases_the_gil(surface):
-    # A thread holding the GIL through a C++ call lets no other Python thread
-    # run until it returns; with it released, another thread keeps ticking
-    # in the middle of the call.
-    points = query_points(surface, 20000)
-    ticks = []
-    stop = threading.Event()
-
-    def tick():
-        while not stop.is_set():
-            ticks.append(time.perf_counter())
-            time.sleep(0.001)
-
-    ticker = threading.Thread(target=tick)
-    ticker.start()
-    start = time.perf_counter()
-    surface.invert(points, threads=1)
-    end = time.perf_counter()
-    stop.set()
-    ticker.join()
-    quarter = (end - start) / 4
-    assert any(start + quarter < t < end - quarter for t in ticks), (end - start, len(ticks))
+    # With the interpreter's switch interval made huge, a thread holding the
+    # GIL keeps it until it blocks or releases it: another thread can then
+    # run during an invert call only if the call releases the GIL. The other
+    # thread is woken just before each call and records when it runs; a
+    # record strictly inside a call proves the release, whatever the
+    # machine's speed or load (were the GIL held, no record could fall
+    # there). Calls repeat, larger each time, until one shows it.
+    points = query_points(surface, 2000)
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1000.0)
+    try:
+        for _ in range(12):
+            go, ran = threading.Event(), []
+            other = threading.Thread(target=lambda: (go.wait(), ran.append(time.perf_counter())))
+            other.start()
+            start = time.perf_counter()
+            go.set()
+            surface.invert(points, threads=1)
+            end = time.perf_counter()
+            other.join()
+            if start < ran[0] < end:
+                return
+            points = np.concatenate([points, points])
+        pytest.fail("no other thread ran during any of 12 invert calls: the GIL is held")
+    finally:
+        sys.setswitchinterval(interval)
