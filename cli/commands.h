@@ -10,6 +10,10 @@
 
 #include "invmap/invmap.h"
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace invmap::cli {
 
 /// Options shared by invert and trim.
@@ -33,6 +37,9 @@ struct InvertOptions {
 /// io::InputError (exit code 3), a lack of memory std::bad_alloc, a bug
 /// std::runtime_error (both exit code 1).
 Manifold LoadManifold(const std::string& path);
+
+/// `geometry`, read from `path`, built (errors as LoadManifold's).
+Manifold BuildManifold(const Geometry& geometry, const std::string& path);
 
 int RunInvert(const InvertOptions& options);
 int RunTrim(const InvertOptions& options);
@@ -71,5 +78,21 @@ struct GridCommandOptions {
 };
 
 int RunGrid(const GridCommandOptions& options);
+
+/// `invmap probe`: node fields at the closest points (docs/fields.md).
+struct ProbeOptions {
+  std::string geometry;
+  std::string points;
+  std::string output;
+  std::vector<std::string> fields;  ///< --fields; empty: every field.
+  double maxDistance = std::numeric_limits<double>::infinity();
+  int threads = 0;
+  std::int64_t timeStep = 0;        ///< Exodus: 1-based time step; 0: the last.
+  bool quiet = false;
+};
+
+int RunProbe(const ProbeOptions& options);
+/// Adds the `probe` subcommand and its options to `app`.
+CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options);
 
 }  // namespace invmap::cli

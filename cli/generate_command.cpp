@@ -10,10 +10,9 @@
 
 #include "cli/commands.h"
 #include "cli/path_checks.h"
-#include "cli/sample_geometries.h"
 #include "io/file_io.h"
-#include "io/point_reader.h"
 #include "io/sample_writers.h"
+#include "samples/sample_geometries.h"
 
 namespace invmap::cli {
 namespace {
@@ -89,8 +88,7 @@ class PointSampler {
 /// `generate points`: streamed a block at a time.
 void GeneratePoints(const GenerateOptions& options) {
   RefuseOutputOverInput(options.output, options.geometry, "--geometry");
-  io::PointFormat format;
-  if (!io::IsPointFileName(options.output, &format)) {
+  if (!io::IsPointCloudFileName(options.output)) {
     throw UsageError("--output " + options.output + ": unknown point file extension '" +
                      io::LowerExtension(options.output) + "' (use .xyz, .txt, .csv, .npy or .ply)");
   }

@@ -32,32 +32,12 @@ void InvertChunk(const Manifold& manifold, const io::PointChunk& chunk, int dim,
   if (error != Error::Ok) throw std::runtime_error(message);
 }
 
-/// What can be checked before anything is read: the output is neither
-/// input, its extension names a format the command writes (for trim, the
-/// points' own format), and the points' extension is one the command
-/// reads. Usage errors throw UsageError, an unknown point format InputError.
-void CheckPaths(const InvertOptions& options, bool trim) {
-  RefuseOutputOverInput(options.output, options.points, "--points");
-  RefuseOutputOverInput(options.output, options.geometry, "--geometry");
-  const io::PointFormat pointFormat = io::PointFormatOf(options.points);
-  if (trim) {
-    io::PointFormat outputFormat;
-    if (!io::IsPointFileName(options.output, &outputFormat) || outputFormat != pointFormat) {
-      throw UsageError("--output " + options.output + ": trim writes the points' own format, give it the extension of " +
-                       options.points);
-    }
-  } else if (!io::IsResultFileName(options.output)) {
-    throw UsageError("--output " + options.output + ": unknown result file extension '" +
-                     io::LowerExtension(options.output) + "' (expected .csv, .ply or .npy)");
-  }
-}
-
 /// Streams every point of `options.points` through the manifold; `sink`
 /// receives each chunk with its results.
 template <typename Sink>
 void Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& sink) {
   const auto start = std::chrono::steady_clock::now();
-  CheckPaths(options, keepRaw);
+  CheckInversionPaths(options.geometry, options.points, options.output, keepRaw);
   const Manifold manifold = LoadManifold(options.geometry);
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;
@@ -132,8 +112,9 @@ struct TrimSink {
 
 }  // namespace
 
-Manifold LoadManifold(const std::string& path) {
-  const Geometry geometry = io::ReadGeometryFile(path);
+Manifold LoadManifold(const std::string& path) { return BuildManifold(io::ReadGeometryFile(path), path); }
+
+Manifold BuildManifold(const Geometry& geometry, const std::string& path) {
   BuildResult built = Manifold::Build(geometry);
   switch (built.code) {
     case Error::Ok:

@@ -9,6 +9,8 @@
 
 #include "cli/commands.h"
 #include "cli/path_checks.h"
+#include "fem/register_readers.h"
+#include "invmap/invmap.h"
 #include "io/file_io.h"
 #include "io/input_error.h"
 
@@ -44,9 +46,10 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 int main(int argc, char** argv) {
   // An interrupted run leaves no temporary output behind.
   invmap::io::RemoveTemporaryFilesOnSignals();
+  invmap::fem::RegisterFemReaders();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "invmap 0.1.0");
+  app.set_version_flag("--version", std::string("invmap ") + invmap::Version());
 
   invmap::cli::InvertOptions invert;
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
@@ -101,6 +104,9 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 
+  invmap::cli::ProbeOptions probe;
+  CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
+
   // CLI11 says only "A subcommand is required" for a misspelt one.
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
@@ -129,6 +135,7 @@ int main(int argc, char** argv) {
       return invmap::cli::RunTrim(trim);
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
+    if (*probeCommand) return invmap::cli::RunProbe(probe);
     if (*generateCommand) {
       if (generate.what == "points" && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate points: --geometry is required\n");

@@ -19,4 +19,13 @@ class UsageError : public std::runtime_error {
 /// replace that input. Nothing to check when either does not exist yet.
 void RefuseOutputOverInput(const std::string& output, const std::string& input, const char* option);
 
+/// The checks of a command that inverts `points` onto `geometry` into
+/// `output` that need no file read: the output is neither input, its
+/// extension names a format the command writes (`trimmed`: the points' own
+/// format family; else a result file), and the points' extension is one the
+/// command reads. Usage errors throw UsageError, an unknown point format
+/// io::InputError (exit code 3).
+void CheckInversionPaths(const std::string& geometry, const std::string& points, const std::string& output,
+                         bool trimmed);
+
 }  // namespace invmap::cli

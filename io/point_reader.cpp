@@ -8,7 +8,9 @@
 
 #include "io/file_io.h"
 #include "io/input_error.h"
+#include "io/las_reader.h"
 #include "io/npy.h"
+#include "io/pcd_reader.h"
 
 namespace invmap::io {
 namespace {
@@ -286,6 +288,10 @@ bool IsPointFileName(const std::string& path, PointFormat* format) {
     *format = PointFormat::Ply;
   } else if (ext == ".npy") {
     *format = PointFormat::Npy;
+  } else if (ext == ".las") {
+    *format = PointFormat::Las;
+  } else if (ext == ".pcd") {
+    *format = PointFormat::Pcd;
   } else {
     return false;
   }
@@ -296,7 +302,9 @@ PointFormat PointFormatOf(const std::string& path, InputError::Kind kind) {
   PointFormat format;
   if (IsPointFileName(path, &format)) return format;
   const std::string ext = LowerExtension(path);
-  throw InputError(path, 0, "unknown point file extension '" + ext + "' (expected .xyz, .txt, .csv, .ply or .npy)",
+  if (ext == ".laz") throw InputError(path, 0, LazRefusal(), kind);
+  throw InputError(path, 0,
+                   "unknown point file extension '" + ext + "' (expected .xyz, .txt, .csv, .ply, .npy, .las or .pcd)",
                    kind);
 }
 
@@ -335,6 +343,10 @@ std::unique_ptr<PointReader> OpenPointReader(const std::string& path, const Poin
       return std::make_unique<PlyPointReader>(path, options);
     case PointFormat::Npy:
       return std::make_unique<NpyPointReader>(path, options);
+    case PointFormat::Las:
+      return OpenLasPointReader(path, options);
+    case PointFormat::Pcd:
+      return OpenPcdPointReader(path, options);
   }
   return nullptr;
 }

@@ -77,14 +77,16 @@ const std::string& PlyPath(const std::string& path) {
 
 /// `path` when its extension names a point format (checked before the file is made).
 const std::string& PointPath(const std::string& path) {
-  const std::string ext = LowerExtension(path);
-  if (ext != ".npy" && ext != ".ply" && ext != ".xyz" && ext != ".txt" && ext != ".csv") {
-    FailOutput(path, "unknown point file extension (use .xyz, .txt, .csv, .npy or .ply)");
-  }
+  if (!IsPointCloudFileName(path)) FailOutput(path, "unknown point file extension (use .xyz, .txt, .csv, .npy or .ply)");
   return path;
 }
 
 }  // namespace
+
+bool IsPointCloudFileName(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  return ext == ".npy" || ext == ".ply" || ext == ".xyz" || ext == ".txt" || ext == ".csv";
+}
 
 void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
   const int dim = geometry.dimension;

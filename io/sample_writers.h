@@ -71,6 +71,10 @@ class GmshMeshWriter {
 void WriteGmshMesh(const std::string& path, const std::vector<double>& nodes, int gmshElementType,
                    int nodesPerElement, int elementDim, const std::vector<std::int64_t>& connectivity);
 
+/// True when PointCloudWriter writes files named like `path` (.xyz, .txt,
+/// .csv, .npy, .ply; case-insensitive).
+bool IsPointCloudFileName(const std::string& path);
+
 /// A point cloud of `count` points of `dim` coordinates, written as it is
 /// generated, by extension: .xyz/.txt (space separated), .csv (header
 /// x,y(,z)), .npy (float64, (N, dim)), .ply (binary little endian, double
