@@ -161,21 +161,30 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
-std::string ReadWholeFile(const std::string& path) {
+std::string ReadWholeFile(const std::string& path, std::uint64_t maxBytes) {
   std::int64_t size = -1;  // ReadWholeStream sizes the stream itself
   const std::unique_ptr<std::ifstream> in = OpenInputFile(path, &size);
-  return ReadWholeStream(*in, path);
+  return ReadWholeStream(*in, path, maxBytes);
 }
 
-std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages) {
+std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages, std::uint64_t maxBytes) {
   std::string bytes;
+  const auto tooLarge = [&] {
+    const std::string limit = maxBytes % (1 << 20) == 0 ? std::to_string(maxBytes >> 20) + " MiB"
+                                                         : std::to_string(maxBytes) + " bytes";
+    return InputError(nameForMessages, 0, "more than " + limit + ", more than a file of this kind ever holds");
+  };
   // Seekable streams (files) are sized once, which spares the copies of
   // growing a 100 MB string.
   const std::istream::pos_type start = in.tellg();
   if (start != std::istream::pos_type(-1)) {
     if (in.seekg(0, std::ios::end)) {
       const std::istream::pos_type end = in.tellg();
-      if (end != std::istream::pos_type(-1) && end >= start) bytes.reserve(static_cast<std::size_t>(end - start));
+      if (end != std::istream::pos_type(-1) && end >= start) {
+        const auto size = static_cast<std::uint64_t>(end - start);
+        if (size > maxBytes) throw tooLarge();
+        bytes.reserve(static_cast<std::size_t>(size));
+      }
     }
     in.clear();
     in.seekg(start);
@@ -183,6 +192,7 @@ std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages
   char chunk[1 << 16];
   while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
     bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (bytes.size() > maxBytes) throw tooLarge();
   }
   if (in.bad()) throw InputError(nameForMessages, 0, "read error after " + std::to_string(bytes.size()) + " bytes");
   return bytes;

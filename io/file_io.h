@@ -1,8 +1,9 @@
 // Buffered sequential input, whole-file reads and all-or-nothing output
-// files, shared by every reader and writer of io/. The point, PLY and result
-// readers stream through InputBuffer and never load a whole file (inputs may
-// be larger than memory); the formats parsed as one text (the JSON files,
-// OBJ, STL, OFF) read it with ReadWholeFile. Output goes to a temporary file
+// files, shared by every reader and writer of io/. The geometry, point, PLY
+// and result readers stream through InputBuffer and never load a whole file
+// (inputs may be larger than memory); the small formats parsed as one text
+// (implicit function lists and CSG trees, Cubit's JSON) read it with
+// ReadWholeFile, up to a limit. Output goes to a temporary file
 // beside the target and is renamed onto it only when complete, so a target
 // is either the complete new file or untouched (FORMATS.md section 5).
 #pragma once
@@ -11,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <istream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -68,13 +70,18 @@ bool ParseInteger(std::string_view token, std::int64_t* value);
 std::string LowerExtension(const std::string& path);
 
 /// The whole content of the file at `path`, bytes as stored. Throws InputError
-/// when the path does not exist, is a directory or cannot be read; an empty
-/// file gives an empty string (each format decides what that means).
-std::string ReadWholeFile(const std::string& path);
+/// when the path does not exist, is a directory or cannot be read, and when
+/// it holds more than `maxBytes` (then no more than that is read: an endless
+/// input, /dev/zero under a format's name, fails at once); an empty file
+/// gives an empty string (each format decides what that means).
+std::string ReadWholeFile(const std::string& path,
+                          std::uint64_t maxBytes = std::numeric_limits<std::uint64_t>::max());
 
 /// The rest of `in`, bytes as stored. Throws InputError naming
-/// `nameForMessages` when the stream fails before its end.
-std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages);
+/// `nameForMessages` when the stream fails before its end, or holds more
+/// than `maxBytes`.
+std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages,
+                            std::uint64_t maxBytes = std::numeric_limits<std::uint64_t>::max());
 
 /// Sequential reader of a file or stream through a buffer that grows only
 /// as far as a caller asks (one record or line), so memory stays bounded

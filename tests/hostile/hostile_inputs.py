@@ -129,6 +129,16 @@ def cases():
                link("/dev/zero", "zero" + ext)) for ext in (".json", ".stl", ".obj", ".off", ".ply", ".msh")],
         *[Case(f"/dev/zero as {ext} points", invert("s.json", "zero" + ext), 3, "zero" + ext,
                chain(surface, link("/dev/zero", "zero" + ext))) for ext in (".xyz", ".csv", ".ply", ".npy")],
+        *[Case(f"/dev/zero as grid {what}", ["grid", *args, "--box", "0,0,0,1,1,1", "-o", "{dir}/grid"], 3, "zero",
+               chain(link("/dev/zero", "zero.json"), link("/dev/zero", "zero.msh"),
+                     lambda d: write(os.path.join(d, "f.json"), '[{"type": "sphere", "center": [0.5, 0.5, 0.5], '
+                                                                 '"radius": 0.3}]')))
+          for what, args in (("functions", ["-f", "{dir}/zero.json"]),
+                             ("tree", ["-f", "{dir}/f.json", "--mode", "csg", "--tree", "{dir}/zero.json"]))],
+        Case("/dev/zero as initial grid", ["grid", "-f", "{dir}/f.json", "--grid", "{dir}/zero.msh", "-o", "{dir}/grid"],
+             3, "zero.msh", chain(link("/dev/zero", "zero.msh"),
+                                  lambda d: write(os.path.join(d, "f.json"), '[{"type": "sphere", "center": '
+                                                                              '[0.5, 0.5, 0.5], "radius": 0.3}]'))),
         # Sparse files: gigabytes of zeros that cost no disk.
         Case("6 GB sparse stl", ["info", "-g", "{dir}/big.stl"], 3, "this file has 6442450944",
              lambda d: sparse(os.path.join(d, "big.stl"), 6 << 30)),
