@@ -140,6 +140,10 @@ def cases():
                                   lambda d: write(os.path.join(d, "f.json"), '[{"type": "sphere", "center": '
                                                                               '[0.5, 0.5, 0.5], "radius": 0.3}]'))),
         # Sparse files: gigabytes of zeros that cost no disk.
+        *[Case(f"/dev/zero as {ext} geometry", ["info", "-g", "{dir}/zero" + ext], 3, "not a regular file",
+               link("/dev/zero", "zero" + ext)) for ext in (".vtu", ".exo", ".e")],
+        *[Case(f"2 GB sparse {ext}", ["info", "-g", "{dir}/big" + ext], 3, "big" + ext,
+               lambda d, ext=ext: sparse(os.path.join(d, "big" + ext), 2 << 30)) for ext in (".vtu", ".exo", ".bext")],
         Case("6 GB sparse stl", ["info", "-g", "{dir}/big.stl"], 3, "this file has 6442450944",
              lambda d: sparse(os.path.join(d, "big.stl"), 6 << 30)),
         *[Case(f"2 GB sparse {ext}", ["info", "-g", "{dir}/big" + ext], 3, "big" + ext,
