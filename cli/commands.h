@@ -1,4 +1,4 @@
-// The subcommands of `invmap` (FORMATS.md section 5). Each returns the
+// The subcommands of `invmap` (docs/cli.md). Each returns the
 // process exit code; input and output errors are thrown as io::InputError
 // and mapped to exit codes 3 and 4 by main.
 #pragma once
@@ -62,7 +62,7 @@ struct GenerateOptions {
 int RunGenerate(const GenerateOptions& options);
 
 /// `invmap grid`: an adaptive simplicial grid for an implicit complex
-/// (FORMATS.md section 6).
+/// (docs/grids.md).
 struct GridCommandOptions {
   std::string functions;
   std::string mode = "arrangement";  ///< arrangement, material or csg.

@@ -1,4 +1,4 @@
-// invmap: the command line (FORMATS.md section 5).
+// invmap: the command line (docs/cli.md).
 //   exit codes: 0 success, 2 usage error, 3 unreadable or invalid input,
 //   4 output not writable, 1 internal error.
 #include <CLI/CLI.hpp>

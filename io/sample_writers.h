@@ -14,7 +14,7 @@
 
 namespace invmap::io {
 
-/// Writes `geometry` as the JSON geometry file of FORMATS.md section 2
+/// Writes `geometry` as the JSON geometry file of docs/formats.md, section 2
 /// (bspline, bezier and mesh patches; every number the shortest decimal that
 /// reads back as the same double), as text straight from the patches.
 /// Throws InputError (kind Output) when the file cannot be written or a patch

@@ -27,7 +27,7 @@ Vec3 Warp(double a, double b, double c) {
   return Vec3{a + 0.15 * b * b + 0.05 * c, b + 0.1 * std::sin(2 * a) + 0.05 * c * a, c + 0.1 * a * b};
 }
 
-/// The centre of a reference domain (FORMATS.md section 1).
+/// The centre of a reference domain (docs/formats.md, section 1).
 std::array<double, 3> DomainCenter(kernels::CellType type) {
   switch (type) {
     case kernels::CellType::Tri:
