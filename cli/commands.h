@@ -31,6 +31,8 @@ struct InvertOptions {
   /// Each point's answer a function of the point and the geometry only
   /// (InversionOptions::pointwise).
   bool pointwise = false;
+  /// invert: every local minimum of each point's distance (RunInvertAllMinima).
+  bool allMinima = false;
 };
 
 /// The geometry file at `path`, read and built. A malformed file throws
@@ -42,6 +44,9 @@ Manifold LoadManifold(const std::string& path);
 Manifold BuildManifold(const Geometry& geometry, const std::string& path);
 
 int RunInvert(const InvertOptions& options);
+/// invert --all-minima: every local minimum of each point's distance, one
+/// row each (docs/distance.md).
+int RunInvertAllMinima(const InvertOptions& options);
 int RunTrim(const InvertOptions& options);
 int RunInfo(const std::string& geometry);
 
@@ -94,5 +99,10 @@ struct ProbeOptions {
 int RunProbe(const ProbeOptions& options);
 /// Adds the `probe` subcommand and its options to `app`.
 CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options);
+
+/// `invmap distance` (docs/distance.md): AddDistanceCommand registers
+/// the subcommand and its options on `app`; RunDistance runs it once parsed.
+CLI::App* AddDistanceCommand(CLI::App* app);
+int RunDistance();
 
 }  // namespace invmap::cli

@@ -130,6 +130,7 @@ Manifold BuildManifold(const Geometry& geometry, const std::string& path) {
 }
 
 int RunInvert(const InvertOptions& options) {
+  if (options.allMinima) return RunInvertAllMinima(options);
   Stream(options, false, "invert", ResultSink{options, nullptr});
   return 0;
 }
