@@ -1,4 +1,4 @@
-// The subcommands of `invmap` (FORMATS.md section 5). Each returns the
+// The subcommands of `invmap` (docs/cli.md). Each returns the
 // process exit code; input and output errors are thrown as io::InputError
 // and mapped to exit codes 3 and 4 by main.
 #pragma once
@@ -16,11 +16,6 @@ class App;
 
 namespace invmap::cli {
 
-/// The manifold of the geometry file at `path`. Any problem, the reader's or
-/// one Manifold::Build finds, throws io::InputError naming the file and the
-/// line it came from (for the formats that record lines).
-Manifold LoadManifold(const std::string& path);
-
 /// Options shared by invert and trim.
 struct InvertOptions {
   std::string geometry;
@@ -33,9 +28,22 @@ struct InvertOptions {
   bool color = false;
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
+  /// Each point's answer a function of the point and the geometry only
+  /// (InversionOptions::pointwise).
+  bool pointwise = false;
   /// invert: every local minimum of each point's distance (RunInvertAllMinima).
   bool allMinima = false;
 };
+
+/// The geometry file at `path`, read and built. A malformed file, whether the
+/// reader or Manifold::Build finds the problem, throws io::InputError naming
+/// the file and the line it came from (for the formats that record lines;
+/// exit code 3); a lack of memory throws std::bad_alloc, a bug
+/// std::runtime_error (both exit code 1).
+Manifold LoadManifold(const std::string& path);
+
+/// `geometry`, read from `path`, built (errors as LoadManifold's).
+Manifold BuildManifold(const Geometry& geometry, const std::string& path);
 
 int RunInvert(const InvertOptions& options);
 /// invert --all-minima: every local minimum of each point's distance, one
@@ -61,7 +69,7 @@ struct GenerateOptions {
 int RunGenerate(const GenerateOptions& options);
 
 /// `invmap grid`: an adaptive simplicial grid for an implicit complex
-/// (FORMATS.md section 6).
+/// (docs/grids.md).
 struct GridCommandOptions {
   std::string functions;
   std::string mode = "arrangement";  ///< arrangement, material or csg.

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "cli/run_summary.h"
 #include "invmap/distance.h"
 #include "io/file_io.h"
@@ -96,16 +97,17 @@ class MinimaWriter {
 }  // namespace
 
 int RunInvertAllMinima(const InvertOptions& options) {
+  RefuseOutputOverInput(options.output, options.points, "--points");
+  RefuseOutputOverInput(options.output, options.geometry, "--geometry");
   const std::string extension = io::LowerExtension(options.output);
   if (extension != ".csv" && extension != ".npy") {
     std::fprintf(stderr, "invmap invert: --all-minima writes .csv or .npy (several rows per point), not '%s'\n",
                  extension.c_str());
     return 2;
   }
+  io::PointFormatOf(options.points);  // an unknown point format before the geometry is read
   const auto start = std::chrono::steady_clock::now();
-  BuildResult built = Manifold::Build(io::ReadGeometryFile(options.geometry));
-  if (!built.error.empty()) throw io::InputError(options.geometry, 0, built.error);
-  const Manifold manifold = std::move(built.manifold);
+  const Manifold manifold = LoadManifold(options.geometry);
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;
   readOptions.forcedDim = dim;

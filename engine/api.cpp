@@ -104,13 +104,16 @@ BuildResult Manifold::Build(const Geometry& geometry) {
     result.problem = engine::ValidateGeometry(geometry);
     if (result.problem) {
       result.error = Describe(result.problem);
+      result.code = Error::InvalidArgument;
       return result;
     }
     result.manifold.impl_ = std::make_unique<Impl>(Impl{engine::SearchIndex::Build(geometry)});
   } catch (const std::bad_alloc&) {
     result.problem.message = "out of memory while building the manifold";
+    result.code = Error::OutOfMemory;
   } catch (const std::exception& e) {
     result.problem.message = std::string("building the manifold failed: ") + e.what();
+    result.code = Error::Internal;
   }
   result.error = Describe(result.problem);
   return result;

@@ -5,15 +5,6 @@
 #include "engine/bezier_extraction.h"
 
 namespace invmap::engine {
-namespace {
-
-/// Vertices per linear mesh cell, and the finite-element to Bezier order
-/// (docs/formats.md: quads and hexes list their faces counter-clockwise,
-/// Bezier nets are tensor products with the first coordinate fastest).
-struct MeshCellLayout {
-  int vertices;
-  int bezierFromFe[8];
-};
 
 MeshCellLayout LayoutOf(CellType type) {
   switch (type) {
@@ -32,6 +23,8 @@ MeshCellLayout LayoutOf(CellType type) {
   }
   return {0, {}};
 }
+
+namespace {
 
 /// Appends one Bezier cell (control points copied) and its origin.
 void AddCell(const kernels::CellShape& shape, const double* points, const double* weights, const CellOrigin& origin,

@@ -30,6 +30,18 @@ struct CellOrigin {
   std::array<std::int32_t, 3> span{0, 0, 0};
 };
 
+/// Vertices per linear mesh cell, and the finite-element to Bezier order
+/// (docs/formats.md: quads and hexes list their faces counter-clockwise,
+/// Bezier nets are tensor products with the first coordinate fastest):
+/// corner k of the cell's net is its vertex bezierFromFe[k].
+struct MeshCellLayout {
+  int vertices;
+  int bezierFromFe[8];
+};
+
+/// The layout of a mesh cell of `type`.
+MeshCellLayout LayoutOf(CellType type);
+
 /// The cells of one B-spline patch: a grid of spans, first direction fastest.
 struct SplineGrid {
   std::int64_t firstCell = 0;          ///< Index of the patch's first cell.

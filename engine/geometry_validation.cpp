@@ -370,18 +370,31 @@ void PatchCheck::AddUsedPoints(Extent* extent) const {
 }
 
 /// The geometry's extent (the diagonal of the box of the points its cells
-/// use): 0 (a single point) or at least kMinExtent.
+/// use): 0 (a single point) or at least kMinExtent. No cell at all is an
+/// error too: every point would be "none", a mistake (an empty file or
+/// list), not a geometry.
 GeometryError CheckExtent(const Extent& extent, int dim) {
-  if (extent.empty()) return {};
-  double extent2 = 0.0;
-  for (int k = 0; k < dim; ++k) {
-    // In units of kMinExtent: the squares of lengths near it would underflow.
-    extent2 += ((extent.hi[k] - extent.lo[k]) / kMinExtent) * ((extent.hi[k] - extent.lo[k]) / kMinExtent);
+  if (extent.empty()) {
+    return GeometryError{-1, GeometryField::None, -1, -1,
+                         "the geometry has no cells (no patches, or only empty ones): nothing to invert onto"};
   }
-  if (extent2 == 0.0 || extent2 >= 1.0) return {};
+  double span[3] = {0.0, 0.0, 0.0};
+  double largest = 0.0;
+  for (int k = 0; k < dim; ++k) {
+    span[k] = extent.hi[k] - extent.lo[k];
+    largest = std::max(largest, span[k]);
+  }
+  // The diagonal is at least its largest side; it is measured in units of
+  // that side, so that no square underflows (squares in absolute units, or
+  // in units of kMinExtent, vanish below about 1e-254 and took a geometry
+  // 1e-280 across for a single point).
+  if (largest == 0.0 || largest >= kMinExtent) return {};
+  double sum = 0.0;
+  for (int k = 0; k < dim; ++k) sum += (span[k] / largest) * (span[k] / largest);
+  const double diagonal = largest * std::sqrt(sum);
+  if (diagonal >= kMinExtent) return {};
   std::ostringstream message;
-  message << "the geometry is " << std::sqrt(extent2) * kMinExtent
-          << " across (its box diagonal), below 1e-100 (the smallest extent invmap supports)";
+  message << "the geometry is " << diagonal << " across (its box diagonal), below 1e-100 (the smallest extent invmap supports)";
   return GeometryError{-1, GeometryField::None, -1, -1, message.str()};
 }
 

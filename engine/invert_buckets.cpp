@@ -5,7 +5,7 @@
 
 #include "engine/bucket_candidates.h"
 #include "engine/bucket_scratch.h"
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "engine/point_results.h"
 #include "engine/point_search.h"
 #include "engine/search_bvh.h"
@@ -21,6 +21,7 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
   const std::int64_t n = points.count;
   const int dim = store.dimension();
   const double maxDistance = options.maxDistance;
+  const bool pointwise = options.pointwise;
   ForEachBlock(
       ExecutionPolicy::Par, (n + bucketSize - 1) / bucketSize, 8,
       [&](std::int64_t bucketBegin, std::int64_t bucketEnd) {
@@ -59,7 +60,10 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
             prepared = true;
             list = CullBucket(store, bvh, points, first, last - first, blo, bhi, maxDistance, scratch);
           };
-          if (!store.hasVolumeCells()) prepare();
+          // Pointwise (InversionOptions::pointwise): no warm start from the
+          // previous point and no bucket list or lanes, so that nothing but
+          // the point and the geometry decides its search.
+          if (!store.hasVolumeCells() && !pointwise) prepare();
           WarmStart warm;
           for (std::int64_t s = first; s < last; ++s) {
             double p[3] = {0, 0, 0};
@@ -69,13 +73,14 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
               finite = finite && std::isfinite(p[k]);
             }
             if (!finite) continue;
+            if (pointwise) warm = WarmStart();
             std::int64_t startCell;
             double startRef[3];
             PredictStart(store, warm, p, &startCell, startRef);
             PointSearch search(store, index.simplices(), p, scratch, startCell, startRef, maxDistance);
             if (store.hasVolumeCells()) search.TryInsideByWalk(bvh);
             if (!search.inside) {
-              if (!prepared) prepare();
+              if (!prepared && !pointwise) prepare();
               if (list.use) {
                 if (list.lanesSolved) search.Seed(scratch.laneBestCell[s - first], scratch.laneBest[s - first]);
                 SearchCandidates(search);

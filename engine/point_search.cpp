@@ -43,8 +43,16 @@ std::int64_t DescendToVolumeCell(const Bvh& bvh, const CellStore& store, const d
 
 void PointSearch::SolveRegion(const AffineRegion& region) {
   const RegionSolution r = SolveAffineRegion(region, p);
-  if (!Beats(r.distance)) return;
+  if (!Beats(r.distance, [&] { return RegionSize(region); })) return;
   Accept(r);
+}
+
+double PointSearch::RegionSize(const AffineRegion& region) const {
+  double size2 = 0.0;
+  for (int k = 0; k < store.dimension(); ++k) {
+    size2 += (region.boxHi[k] - region.boxLo[k]) * (region.boxHi[k] - region.boxLo[k]);
+  }
+  return std::sqrt(size2);
 }
 
 void PointSearch::TryInside(std::int64_t subdivision) {
@@ -84,9 +92,7 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
 void PointSearch::TryInsideRegion(const AffineRegion& region) {
   if (region.paramDim != store.dimension()) return;
   const RegionSolution r = SolveAffineRegion(region, p);
-  double size2 = 0.0;
-  for (int k = 0; k < store.dimension(); ++k) size2 += (region.boxHi[k] - region.boxLo[k]) * (region.boxHi[k] - region.boxLo[k]);
-  if (r.distance > kernels::kDistanceTolerance * std::sqrt(size2)) return;
+  if (r.distance > kernels::kDistanceTolerance * RegionSize(region)) return;
   Accept(r);
   inside = true;
 }

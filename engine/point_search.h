@@ -53,15 +53,35 @@ struct PointSearch {
     inside = solver.isFullRank() && result.distance <= kernels::kDistanceTolerance * solver.size();
   }
 
-  /// The squared distance a cell must beat.
-  double Bound2() const {
-    return bestCell >= 0 ? best * best : std::nextafter(best * best, std::numeric_limits<double>::infinity());
+  /// Before any answer, how far beyond the gap tolerance a cell of `size`
+  /// may answer and still be found: its solve's tolerance. A point is none
+  /// only when every cell is certified farther than the gap tolerance (its
+  /// lower bounds, or a minimum beyond this band), so a point at distance
+  /// exactly D (0 for a point on or inside a cell) is never lost to a solve
+  /// that lands a rounding's width beyond it (InversionOptions::maxDistance).
+  static double GapBand(double size) { return kernels::kDistanceTolerance * size; }
+
+  /// The squared distance a cell must beat: the best's, or before any
+  /// answer the gap tolerance widened by the cell's band (equality admitted).
+  double Bound2(const kernels::CellSolver& solver) const {
+    if (bestCell >= 0) return best * best;
+    const double gap = best + GapBand(solver.size());
+    return std::nextafter(gap * gap, std::numeric_limits<double>::infinity());
   }
 
-  /// True when an answer at `distance` replaces the best: the gap tolerance
-  /// admits equality, a found answer only a strictly nearer one. (Compared
-  /// as distances: their squares overflow beyond about 1e154.)
-  bool Beats(double distance) const { return bestCell >= 0 ? distance < best : distance <= best; }
+  /// True when an answer at `distance` from a cell of size size() replaces
+  /// the best: a found answer only a strictly nearer one; before any, one
+  /// within the gap tolerance and its band (size() is read only then: it
+  /// is a cold read for a mesh's triangle). Compared as distances: their
+  /// squares overflow beyond about 1e154.
+  template <typename Size>
+  bool Beats(double distance, const Size& size) const {
+    if (bestCell >= 0) return distance < best;
+    return distance <= best || distance <= best + GapBand(size());
+  }
+
+  /// The diagonal of a region's box.
+  double RegionSize(const AffineRegion& region) const;
 
   /// Algorithm 6: a region is solved as one block, a cell by the cell solver.
   void Solve(std::int64_t subdivision) {
@@ -106,7 +126,7 @@ struct PointSearch {
     for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
     kernels::CellSolveResult r;
     kernels::CellSolver::SolveAffineSimplex(pd, dim, vertices, p, &r);
-    if (!Beats(r.distance)) return;
+    if (!Beats(r.distance, [&] { return store.solver(simplices.cell(i)).size(); })) return;
     Consider(simplices.cell(i), r);
   }
 
@@ -177,7 +197,7 @@ inline void PointSearch::SolveCell(std::int64_t cell) {
   double start[3];
   const double* initial = cell == warmCell ? warmRef : (StartFromBest(cell, start) ? start : nullptr);
   const int slot = bestModel == 0 ? 1 : 0;
-  const kernels::CellSolveResult r = solver.Solve(p, initial, &scratch.workspace, Bound2(), &scratch.models[slot]);
+  const kernels::CellSolveResult r = solver.Solve(p, initial, &scratch.workspace, Bound2(solver), &scratch.models[slot]);
   iterations += r.iterations;
   if (r.status == kernels::PointStatus::Farther) return;
   if (Consider(cell, r) && scratch.models[slot].known) bestModel = slot;

@@ -1,6 +1,7 @@
 #include "engine/simplex_lanes.h"
 
 #include "engine/bucket_candidates.h"
+#include "engine/point_search.h"
 
 namespace invmap::engine {
 
@@ -39,9 +40,13 @@ bool SolveAffineSimplexLanes(const CellStore& store, const QueryPoints& points, 
     for (int l = 0; l < lanes; ++l) {
       if (scratch.laneStatus[l] == kernels::PointStatus::InvalidInput) continue;
       const double d = scratch.laneDistance[l];
-      // As PointSearch: the gap tolerance admits equality, a found answer
-      // only a strictly better one (so ties keep the earlier candidate).
-      if (scratch.laneBestCell[l] >= 0 ? !(d < scratch.laneBest[l].distance) : !(d <= maxDistance)) continue;
+      // As PointSearch::Beats: the gap tolerance admits equality and the
+      // cell's band beyond it, a found answer only a strictly better one (so
+      // ties keep the earlier candidate).
+      const bool beats = scratch.laneBestCell[l] >= 0
+                             ? d < scratch.laneBest[l].distance
+                             : d <= maxDistance || d <= maxDistance + PointSearch::GapBand(store.solver(cell).size());
+      if (!beats) continue;
       kernels::CellSolveResult& best = scratch.laneBest[l];
       for (int k = 0; k < 3; ++k) {
         best.ref[k] = scratch.laneRef[k][l];

@@ -17,8 +17,10 @@ Geometry ReadGeometryFile(const std::string& path, GeometrySource* source) {
     return reader->read(path, {}).geometry;
   }
   if (ext == ".json") return ReadGeometryJson(path, source);
-  if (ext == ".obj" || ext == ".stl" || ext == ".off") return ReadMeshFile(path, source);
+  // The other readers check every value Manifold::Build would (their own
+  // errors name the line): their geometry's source records no lines.
   if (source) *source = GeometrySource(path);
+  if (ext == ".obj" || ext == ".stl" || ext == ".off") return ReadMeshFile(path);
   if (ext == ".ply") return ReadPlyMesh(path);
   if (ext == ".msh") return ReadGmsh(path);
   throw InputError(

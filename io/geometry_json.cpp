@@ -4,7 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
+#include <memory>
 #include <istream>
 #include <iterator>
 #include <limits>
@@ -114,31 +114,31 @@ std::string Describe(const Scalar& v) {
 /// streaming. JSON objects are unordered ("dimension" may follow "patches",
 /// "cell" may follow "cells"), so the lengths are checked once the file is
 /// read: row 0 against the expectation, then the first row that differs
-/// from row 0. Offsets are byte positions of the rows, for the line.
+/// from row 0. Lines are those of the rows, for messages.
 struct RowShape {
   std::size_t rows = 0;
   std::size_t firstLength = 0;
-  std::size_t firstOffset = 0;
+  std::size_t firstLine = 0;
   std::size_t oddRow = kNone;  ///< First row whose length differs from row 0's.
   std::size_t oddLength = 0;
-  std::size_t oddOffset = 0;
+  std::size_t oddLine = 0;
   std::size_t openLength = 0;  ///< Length so far of the row being read.
-  std::size_t openOffset = 0;
+  std::size_t openLine = 0;
 
-  /// A row starts at byte `offset`.
-  void Open(std::size_t offset) {
+  /// A row starts at `line`.
+  void Open(std::size_t line) {
     openLength = 0;
-    openOffset = offset;
+    openLine = line;
   }
   /// The open row ends.
   void Close() {
     if (rows == 0) {
       firstLength = openLength;
-      firstOffset = openOffset;
+      firstLine = openLine;
     } else if (oddRow == kNone && openLength != firstLength) {
       oddRow = rows;
       oddLength = openLength;
-      oddOffset = openOffset;
+      oddLine = openLine;
     }
     ++rows;
   }
@@ -148,18 +148,18 @@ struct RowShape {
 /// shapes checked when its object closes; the values themselves go straight
 /// into the Patch.
 struct PatchSource {
-  std::size_t offset = 0;                ///< The patch object's opening brace.
-  std::size_t fieldOffset[kNumFields];   ///< Of each field's name; kNone when absent.
+  std::size_t line = 0;                  ///< Of the patch object's opening brace.
+  std::size_t fieldLine[kNumFields];     ///< Of each field's name; kNone when absent.
   std::string kind;                      ///< As written (checked when the patch closes).
   std::string cell;                      ///< As written.
   RowShape points;                       ///< control_points or vertices.
   RowShape cells;
 
   /// A patch with no field seen yet.
-  PatchSource() { std::fill(std::begin(fieldOffset), std::end(fieldOffset), kNone); }
+  PatchSource() { std::fill(std::begin(fieldLine), std::end(fieldLine), kNone); }
   /// Whether field f was present, and where.
-  bool Has(Field f) const { return fieldOffset[static_cast<int>(f)] != kNone; }
-  std::size_t At(Field f) const { return fieldOffset[static_cast<int>(f)]; }
+  bool Has(Field f) const { return fieldLine[static_cast<int>(f)] != kNone; }
+  std::size_t At(Field f) const { return fieldLine[static_cast<int>(f)]; }
 };
 
 /// The check of one patch that needs the dimension: coordinates per point.
@@ -179,15 +179,10 @@ struct DimensionCheck {
 /// InputError with the line of the offending value.
 class GeometryHandler {
  public:
-  /// `begin` is the buffer start and `*cursor` the lexer's reading position
-  /// (see TrackingIterator); both outlive the handler.
-  /// `source` receives the line of every patch, field and element read.
-  GeometryHandler(const std::string& name, const char* begin, std::size_t size, const char* const* cursor,
-                  GeometrySource* source)
-      : name_(name), begin_(begin), size_(size), cursor_(cursor), source_(*source) {
-    const void* first = std::memchr(begin_, '\n', size_);
-    nextNewline_ = first ? static_cast<std::size_t>(static_cast<const char*>(first) - begin_) : size_;
-  }
+  /// `text` is what the lexer reads; it outlives the handler. `source`
+  /// receives the line of every patch, field and element read.
+  GeometryHandler(const std::string& name, JsonTextStream* text, GeometrySource* source)
+      : name_(name), text_(text), source_(*source) {}
 
   // nlohmann's SAX events (nlohmann::json_sax): each returns true to go on;
   // a problem throws InputError instead of returning false, so the message
@@ -263,33 +258,13 @@ class GeometryHandler {
   /// Coordinates per point, once the dimension is known.
   void CheckDimension(const DimensionCheck& check) const;
 
-  /// Byte offset of the lexer: just past the current token (for a number,
-  /// one character further, which LineAt excludes).
-  std::size_t Here() const { return static_cast<std::size_t>(*cursor_ - begin_); }
-  /// 1-based line of the last character read before byte `offset`.
-  std::int64_t LineAt(std::size_t offset) const {
-    const std::size_t end = std::min(offset, size_);
-    const std::size_t last = end > 0 ? end - 1 : 0;
-    return 1 + std::count(begin_, begin_ + last, '\n');
-  }
-  /// LineAt(offset) for offsets that never decrease (those of the values as
-  /// they are read): only the newlines passed since the last call are
-  /// looked at, and a value on the line of the one before costs a compare.
-  std::int64_t LineNow(std::size_t offset) {
-    const std::size_t end = std::min(offset, size_);
-    const std::size_t last = end > 0 ? end - 1 : 0;
-    if (last < scanned_) return LineAt(offset);
-    while (nextNewline_ < last) {
-      ++newlines_;
-      scanned_ = nextNewline_ + 1;
-      const void* next = std::memchr(begin_ + scanned_, '\n', size_ - scanned_);
-      nextNewline_ = next ? static_cast<std::size_t>(static_cast<const char*>(next) - begin_) : size_;
-    }
-    return 1 + newlines_;
-  }
-  /// Throws InputError at the line of byte `offset`.
-  [[noreturn]] void Fail(std::size_t offset, const std::string& message) const {
-    throw InputError(name_, LineAt(offset), message);
+  /// The 1-based line of the current token (JsonTextStream::Line).
+  std::size_t Here() const { return static_cast<std::size_t>(text_->Line()); }
+  /// Here() as GeometrySource records lines.
+  std::int64_t HereLine() const { return text_->Line(); }
+  /// Throws InputError at `line`.
+  [[noreturn]] void Fail(std::size_t line, const std::string& message) const {
+    throw InputError(name_, static_cast<std::int64_t>(line), message);
   }
 
   /// JSON paths for messages: "patches[3]", "patches[3].knots",
@@ -307,15 +282,9 @@ class GeometryHandler {
   }
 
   const std::string& name_;    ///< File name for messages.
-  const char* begin_;          ///< The text.
-  std::size_t size_;           ///< Its length.
-  const char* const* cursor_;  ///< The lexer's reading position in it.
+  JsonTextStream* text_;       ///< What the lexer reads, with its lines.
   GeometrySource& source_;     ///< Where each patch, field and element was read.
-  /// LineNow's place: newlines_ newlines lie before byte scanned_, and the
-  /// next one is at nextNewline_ (size_ when there is none).
-  std::size_t scanned_ = 0;
-  std::int64_t newlines_ = 0;
-  std::size_t nextNewline_ = 0;
+  bool started_ = false;       ///< A SAX event has come: the file is not empty.
   std::int64_t rowLine_ = 0;   ///< Line of the row being read (its opening bracket).
 
   int depth_ = 0;                     ///< Containers open (see the class comment).
@@ -325,9 +294,9 @@ class GeometryHandler {
   std::size_t element_ = 0;           ///< Index in the current field's array.
   std::size_t rowElement_ = 0;        ///< Index in the current row.
 
-  std::size_t rootOffset_ = 0;  ///< The root object's opening brace.
+  std::size_t rootLine_ = 0;  ///< The root object's opening brace.
   /// Where the top-level fields are; kNone until seen.
-  std::size_t formatOffset_ = kNone, versionOffset_ = kNone, dimensionOffset_ = kNone, patchesOffset_ = kNone;
+  std::size_t formatLine_ = kNone, versionLine_ = kNone, dimensionLine_ = kNone, patchesLine_ = kNone;
   int dimension_ = 0;                     ///< 0 until "dimension" is read.
   std::vector<Patch> patches_;            ///< The result, filled while reading.
   PatchSource patch_;                     ///< Of the patch being read.
@@ -359,6 +328,7 @@ std::string GeometryHandler::FieldExpectation(Field f) {
 }
 
 bool GeometryHandler::OnScalar(const Scalar& v) {
+  started_ = true;
   if (skipDepth_ > 0) return true;
   switch (depth_) {
     case 0:
@@ -423,7 +393,7 @@ void GeometryHandler::ListScalar(const Scalar& v) {
                                                : "a point (array of numbers)";
     Fail(Here(), ElementPath() + ": expected " + row + ", found " + Describe(v));
   }
-  source_.Element(kGeometryFields[static_cast<int>(field_)], static_cast<std::int64_t>(element_), LineNow(Here()));
+  source_.Element(kGeometryFields[static_cast<int>(field_)], static_cast<std::int64_t>(element_), HereLine());
   if (field_ == Field::Weights) {
     if (!v.IsNumber()) Fail(Here(), ElementPath() + ": expected a number, found " + Describe(v));
     patch.weights.push_back(v.AsDouble());
@@ -444,7 +414,7 @@ void GeometryHandler::ListScalar(const Scalar& v) {
 void GeometryHandler::RowScalar(const Scalar& v) {
   Patch& patch = patches_.back();
   // A row written over several lines: the lines of its values off the row's.
-  if (const std::int64_t line = LineNow(Here()); line != rowLine_) {
+  if (const std::int64_t line = HereLine(); line != rowLine_) {
     source_.Item(kGeometryFields[static_cast<int>(field_)], static_cast<std::int64_t>(element_),
                  static_cast<std::int64_t>(rowElement_), line);
   }
@@ -472,19 +442,20 @@ void GeometryHandler::RowScalar(const Scalar& v) {
 void GeometryHandler::BeginPatch() {
   patches_.emplace_back();
   patch_ = PatchSource();
-  patch_.offset = Here();
-  source_.BeginPatch(LineNow(Here()));
+  patch_.line = Here();
+  source_.BeginPatch(HereLine());
   field_ = Field::None;
 }
 
 bool GeometryHandler::start_object(std::size_t) {
+  started_ = true;
   if (skipDepth_ > 0) {
     ++skipDepth_;
     return true;
   }
   switch (depth_) {
     case 0:
-      rootOffset_ = Here();
+      rootLine_ = Here();
       break;
     case 1:
       if (rootKey_ != RootKey::Other) {
@@ -508,6 +479,7 @@ bool GeometryHandler::start_object(std::size_t) {
 }
 
 bool GeometryHandler::start_array(std::size_t) {
+  started_ = true;
   if (skipDepth_ > 0) {
     ++skipDepth_;
     return true;
@@ -539,7 +511,7 @@ bool GeometryHandler::start_array(std::size_t) {
                          ", found an array");
       }
       rowElement_ = 0;
-      rowLine_ = LineNow(Here());
+      rowLine_ = HereLine();
       source_.Element(kGeometryFields[static_cast<int>(field_)], static_cast<std::int64_t>(element_), rowLine_);
       if (field_ == Field::Knots) {
         patches_.back().knots.emplace_back();
@@ -585,12 +557,12 @@ bool GeometryHandler::key(std::string& name) {
                                                             {"version", RootKey::Version},
                                                             {"dimension", RootKey::Dimension},
                                                             {"patches", RootKey::Patches}};
-    std::size_t* offsets[] = {&formatOffset_, &versionOffset_, &dimensionOffset_, &patchesOffset_};
+    std::size_t* lines[] = {&formatLine_, &versionLine_, &dimensionLine_, &patchesLine_};
     rootKey_ = RootKey::Other;
     for (int k = 0; k < 4; ++k) {
       if (name == kKeys[k].first) {
-        if (*offsets[k] != kNone) Fail(Here(), "duplicate field \"" + name + "\"");
-        *offsets[k] = Here();
+        if (*lines[k] != kNone) Fail(Here(), "duplicate field \"" + name + "\"");
+        *lines[k] = Here();
         rootKey_ = kKeys[k].second;
       }
     }
@@ -606,21 +578,27 @@ bool GeometryHandler::key(std::string& name) {
                      "\" (patch fields: kind, cell, degrees, knots, counts, control_points, weights, vertices, cells)");
   }
   if (patch_.Has(field_)) Fail(Here(), PatchPath() + ": duplicate field \"" + name + "\"");
-  patch_.fieldOffset[static_cast<int>(field_)] = Here();
-  source_.Field(kGeometryFields[static_cast<int>(field_)], LineNow(Here()));
+  patch_.fieldLine[static_cast<int>(field_)] = Here();
+  source_.Field(kGeometryFields[static_cast<int>(field_)], HereLine());
   return true;
 }
 
 bool GeometryHandler::parse_error(std::size_t position, const std::string& /*lastToken*/,
                                   const Json::exception& error) {
-  Fail(position, DescribeJsonParseError(begin_, size_, position, error.what()));
+  if (!started_ && text_->OnlyBlankRead()) {
+    Fail(static_cast<std::size_t>(text_->LineBefore(text_->Offset() + 1)), "empty file, expected a JSON object");
+  }
+  const std::int64_t at = static_cast<std::int64_t>(position);
+  const std::size_t inWindow = static_cast<std::size_t>(std::max<std::int64_t>(0, at - text_->windowOffset()));
+  Fail(static_cast<std::size_t>(text_->LineBefore(at)),
+       DescribeJsonParseError(text_->window(), text_->windowSize(), inWindow, error.what()));
 }
 
 Geometry GeometryHandler::Finish() {
-  if (formatOffset_ == kNone) Fail(rootOffset_, "missing field \"format\" (expected \"invmap-geometry\")");
-  if (versionOffset_ == kNone) Fail(rootOffset_, "missing field \"version\" (expected 1)");
-  if (dimensionOffset_ == kNone) Fail(rootOffset_, "missing field \"dimension\" (expected 2 or 3)");
-  if (patchesOffset_ == kNone) Fail(rootOffset_, "missing field \"patches\" (an array, possibly empty)");
+  if (formatLine_ == kNone) Fail(rootLine_, "missing field \"format\" (expected \"invmap-geometry\")");
+  if (versionLine_ == kNone) Fail(rootLine_, "missing field \"version\" (expected 1)");
+  if (dimensionLine_ == kNone) Fail(rootLine_, "missing field \"dimension\" (expected 2 or 3)");
+  if (patchesLine_ == kNone) Fail(rootLine_, "missing field \"patches\" (an array, possibly empty)");
   for (const DimensionCheck& check : deferred_) CheckDimension(check);
   Geometry geometry;
   geometry.dimension = dimension_;
@@ -635,7 +613,7 @@ void GeometryHandler::CheckPatchFields() {
   const std::string where = "patches[" + std::to_string(index) + "]";
 
   // Kind, then which fields it allows and needs.
-  if (!source.Has(Field::Kind)) Fail(source.offset, where + ": missing field \"kind\" (bspline, bezier or mesh)");
+  if (!source.Has(Field::Kind)) Fail(source.line, where + ": missing field \"kind\" (bspline, bezier or mesh)");
   // Fields of each kind as bit sets over Field.
   const auto bit = [](Field f) { return 1u << static_cast<int>(f); };
   unsigned required = 0, optional = bit(Field::Kind);
@@ -656,13 +634,13 @@ void GeometryHandler::CheckPatchFields() {
   }
   for (int f = 0; f < kNumFields; ++f) {
     if (source.Has(static_cast<Field>(f)) && !((required | optional) & (1u << f))) {
-      Fail(source.fieldOffset[f],
+      Fail(source.fieldLine[f],
            where + ": field \"" + kFieldNames[f] + "\" does not belong to a " + source.kind + " patch");
     }
   }
   for (int f = 0; f < kNumFields; ++f) {
     if ((required & (1u << f)) && !source.Has(static_cast<Field>(f))) {
-      Fail(source.offset,
+      Fail(source.line,
            where + ": missing field \"" + kFieldNames[f] + "\" (required for a " + source.kind + " patch)");
     }
   }
@@ -680,8 +658,8 @@ void GeometryHandler::CheckPatchFields() {
       return where + ".cells[" + std::to_string(row) + "]: " + std::to_string(length) + " vertex indices, a " +
              CellTypeName(patch.cell) + " cell has " + std::to_string(perCell);
     };
-    if (cells.rows > 0 && cells.firstLength != perCell) Fail(cells.firstOffset, cellCountMessage(0, cells.firstLength));
-    if (cells.oddRow != kNone) Fail(cells.oddOffset, cellCountMessage(cells.oddRow, cells.oddLength));
+    if (cells.rows > 0 && cells.firstLength != perCell) Fail(cells.firstLine, cellCountMessage(0, cells.firstLength));
+    if (cells.oddRow != kNone) Fail(cells.oddLine, cellCountMessage(cells.oddRow, cells.oddLength));
   }
 
   DimensionCheck check;
@@ -701,39 +679,39 @@ void GeometryHandler::CheckDimension(const DimensionCheck& check) const {
   const char* pointsName = check.kind == Patch::Kind::Mesh ? "vertices" : "control_points";
   const RowShape& points = check.points;
   if (points.rows > 0 && points.firstLength != dim) {
-    Fail(points.firstOffset, where + "." + pointsName + "[0]: " + std::to_string(points.firstLength) +
+    Fail(points.firstLine, where + "." + pointsName + "[0]: " + std::to_string(points.firstLength) +
                                  " coordinates, expected " + std::to_string(dim) + " (the dimension)");
   }
   if (points.oddRow != kNone) {
-    Fail(points.oddOffset, where + "." + pointsName + "[" + std::to_string(points.oddRow) +
+    Fail(points.oddLine, where + "." + pointsName + "[" + std::to_string(points.oddRow) +
                                "]: " + std::to_string(points.oddLength) + " coordinates, expected " +
                                std::to_string(dim) + " (the dimension)");
   }
 }
 
-/// Parses a whole geometry file held in `text`, named `name` in messages,
+/// Parses a geometry file streamed from `in`, named `name` in messages,
 /// recording where its parts are into `source` (when not null).
-Geometry ParseGeometryText(const std::string& text, const std::string& name, GeometrySource* source) {
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
-    throw InputError(name, 1 + std::count(text.begin(), text.end(), '\n'), "empty file, expected a JSON object");
-  }
+Geometry ParseGeometryStream(InputBuffer* in, const std::string& name, GeometrySource* source) {
   GeometrySource unused;
   if (!source) source = &unused;
   *source = GeometrySource(name);
-  const char* cursor = text.data();
-  GeometryHandler handler(name, text.data(), text.size(), &cursor, source);
-  Json::sax_parse(TrackingIterator(&cursor), TrackingIterator(text.data() + text.size()), &handler);
+  JsonTextStream text(in);
+  GeometryHandler handler(name, &text, source);
+  Json::sax_parse(text.begin(), text.end(), &handler);
   return handler.Finish();
 }
 
 }  // namespace
 
 Geometry ReadGeometryJson(const std::string& path, GeometrySource* source) {
-  return ParseGeometryText(ReadWholeFile(path), path, source);
+  InputBuffer in(path);
+  return ParseGeometryStream(&in, path, source);
 }
 
 Geometry ReadGeometryJson(std::istream& in, const std::string& nameForMessages, GeometrySource* source) {
-  return ParseGeometryText(ReadWholeStream(in, nameForMessages), nameForMessages, source);
+  // A stream of its own over the caller's buffer: reading advances `in`.
+  InputBuffer buffer(std::make_unique<std::istream>(in.rdbuf()), nameForMessages);
+  return ParseGeometryStream(&buffer, nameForMessages, source);
 }
 
 }  // namespace invmap::io

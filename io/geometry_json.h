@@ -25,7 +25,9 @@ namespace invmap::io {
 /// problem, e.g. "g.json:12: patches[3].knots: expected an array of knot
 /// vectors (arrays of numbers), found 5".
 /// Cost: one SAX pass over the text, about 2 s per 100 MB (nlohmann's lexer
-/// is most of it); memory is the text plus the patches, with no DOM.
+/// is most of it); memory is the patches and a block of the file, never the
+/// whole text nor a DOM, so a file of any size (or an endless one) is read
+/// only as far as its first error.
 Geometry ReadGeometryJson(const std::string& path, GeometrySource* source = nullptr);
 
 /// Reads a geometry file from `in` (to its end); `nameForMessages` is the

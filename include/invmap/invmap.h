@@ -108,13 +108,27 @@ struct PointsView {
 /// Options of a batch inversion.
 struct InversionOptions {
   /// Gap tolerance (model units): points farther than this from every cell
-  /// get Status::None. Default: unlimited.
+  /// get Status::None. Default: unlimited. Any D >= 0 is exact on the near
+  /// side: a point at distance <= D is always found (D = 0 finds every point
+  /// on the geometry, and every point inside a volume, at distance 0). A
+  /// point is None only when every cell is certified farther than D; a
+  /// cell's distance is computed to 1e-11 of its size, so a found point may
+  /// report a distance up to that much beyond D.
   double maxDistance = std::numeric_limits<double>::infinity();
-  /// Worker threads; 0 means all cores. Results do not depend on it.
+  /// Worker threads; 0 means all cores, and more than the cores this process
+  /// may use runs as many as the cores. Results do not depend on it.
   int threads = 0;
   /// Query points per spatial bucket (a bucket shares one BVH traversal).
   /// Cost: larger buckets cull less precisely; smaller ones traverse more.
   int bucketSize = 32;
+  /// Optional: every point searched on its own, from a start of its own,
+  /// so that its answer is a function of the point and the geometry only,
+  /// bit for bit, whatever batch (chunk, Dask partition) it comes in. By
+  /// default a point's solve starts from its spatial neighbour's answer and
+  /// its bucket shares one candidate list: the same minimum to the solve's
+  /// tolerance, but its last digits (and which of two equally near cells is
+  /// reported) depend on the batch. Cost: see docs/limitations.md.
+  bool pointwise = false;
 };
 
 /// Results of a batch, structure of arrays, one entry per query point in
@@ -204,6 +218,9 @@ struct BuildResult {
   /// field None.
   GeometryError problem;
   std::string error;  ///< Describe(problem): empty on success.
+  /// Why it failed: InvalidArgument for a malformed geometry (`problem`
+  /// says where), OutOfMemory, or Internal (a bug); Ok on success.
+  Error code = Error::Ok;
 };
 
 /// Library version, "major.minor.patch".

@@ -249,6 +249,28 @@ TEST_P(RandomCellTest, MatchesBruteForce) {
 INSTANTIATE_TEST_SUITE_P(AllCells, RandomCellTest, ::testing::ValuesIn(AllCombos()),
                          ComboParamName);
 
+/// Degrees 5 to 8 (the highest the formats allow) of every cell type,
+/// polynomial and rational, against the same reference: fewer cells and
+/// queries than degrees 1 to 4, since a degree-8 hex's nets hold 4,913
+/// coefficients each and the reference's lattice grows with the degree too.
+std::vector<Combo> HighDegreeCombos() {
+  std::vector<Combo> out;
+  for (CellType type : {CellType::Line, CellType::Tri, CellType::Quad, CellType::Tet, CellType::Hex, CellType::Wedge}) {
+    const int ad = std::max(ParamDimOf(type), 2);
+    for (int degree = 5; degree <= 8; ++degree)
+      for (bool rational : {false, true}) out.push_back({type, degree, rational, ad});
+  }
+  return out;
+}
+
+class HighDegreeCellTest : public ::testing::TestWithParam<Combo> {};
+
+TEST_P(HighDegreeCellTest, MatchesBruteForce) {
+  RunAgainstReference(GetParam(), 10, std::max(20, QueriesPerCombination() / 50));
+}
+
+INSTANTIATE_TEST_SUITE_P(HighDegrees, HighDegreeCellTest, ::testing::ValuesIn(HighDegreeCombos()), ComboParamName);
+
 /// Cells whose factors have different degrees (the control-net order of each
 /// factor matters then).
 TEST(CellSolverMixedDegrees, MatchesBruteForce) {
