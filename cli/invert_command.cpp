@@ -4,12 +4,16 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <new>
+#include <stdexcept>
 #include <vector>
 
+#include "cad/model.h"
 #include "cli/commands.h"
 #include "cli/deviation_summary.h"
+#include "cli/path_checks.h"
 #include "cli/run_summary.h"
-#include "cad/model.h"
+#include "io/file_io.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 #include "io/point_reader.h"
@@ -32,20 +36,14 @@ struct LoadedGeometry {
 
 LoadedGeometry LoadGeometry(const std::string& path) {
   LoadedGeometry loaded;
-  const Geometry* geometry = nullptr;
-  Geometry fromFile;
-  if (cad::IsCadFile(path)) {
-    cad::LoadResult model = cad::Model::Load(path);
-    if (!model.error.empty()) throw io::InputError(path, 0, model.error);
-    loaded.cad = std::move(model.model);
-    geometry = &loaded.cad->geometry();
-  } else {
-    fromFile = io::ReadGeometryFile(path);
-    geometry = &fromFile;
+  if (!cad::IsCadFile(path)) {
+    loaded.manifold = LoadManifold(path);
+    return loaded;
   }
-  BuildResult built = Manifold::Build(*geometry);
-  if (!built.error.empty()) throw io::InputError(path, 0, built.error);
-  loaded.manifold = std::move(built.manifold);
+  cad::LoadResult model = cad::Model::Load(path);
+  if (!model.error.empty()) throw io::InputError(path, 0, model.error);
+  loaded.cad = std::move(model.model);
+  loaded.manifold = BuildManifold(loaded.cad->geometry(), path);
   return loaded;
 }
 
@@ -74,6 +72,7 @@ void InvertChunk(const Manifold& manifold, const io::PointChunk& chunk, int dim,
 template <typename Sink>
 int Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& sink) {
   const auto start = std::chrono::steady_clock::now();
+  CheckInversionPaths(options.geometry, options.points, options.output, keepRaw);
   const LoadedGeometry loaded = LoadGeometry(options.geometry);
   if (const std::string error = SignedUsageError(options, loaded); !error.empty()) {
     std::fprintf(stderr, "invmap %s: %s\n", verb, error.c_str());
@@ -88,6 +87,7 @@ int Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& 
   InversionOptions inversion;
   inversion.maxDistance = options.maxDistance;
   inversion.threads = options.threads;
+  inversion.pointwise = options.pointwise;
   // Signed trimming keeps the inside however deep: every point needs its side.
   if (options.signedDistance && keepRaw) inversion.maxDistance = std::numeric_limits<double>::infinity();
 
@@ -196,6 +196,38 @@ void PrintCadInfo(const cad::ModelInfo& info) {
 }
 
 }  // namespace
+
+namespace {
+
+/// The manifold `built` holds, or its failure thrown as LoadManifold
+/// promises; an invalid geometry's error names the line `source` recorded
+/// for it when there is one.
+Manifold TakeManifold(BuildResult built, const std::string& path, const io::GeometrySource* source) {
+  switch (built.code) {
+    case Error::Ok:
+      return std::move(built.manifold);
+    case Error::InvalidArgument:
+      if (source != nullptr) source->Check(built.problem);
+      throw io::InputError(path, 0, built.error);
+    case Error::OutOfMemory:
+      throw std::bad_alloc();
+    case Error::Internal:
+      break;
+  }
+  throw std::runtime_error(built.error);
+}
+
+}  // namespace
+
+Manifold LoadManifold(const std::string& path) {
+  io::GeometrySource source;
+  const Geometry geometry = io::ReadGeometryFile(path, &source);
+  return TakeManifold(Manifold::Build(geometry), path, &source);
+}
+
+Manifold BuildManifold(const Geometry& geometry, const std::string& path) {
+  return TakeManifold(Manifold::Build(geometry), path, nullptr);
+}
 
 int RunInvert(const InvertOptions& options) {
   if (options.allMinima) return RunInvertAllMinima(options);

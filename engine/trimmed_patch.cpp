@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "engine/bezier_extraction.h"
-#include "engine/cell_store.h"
+#include "engine/bezier_nets.h"
 #include "kernels/own_parameter.h"
 #include "kernels/trimmed_cell.h"
 
@@ -24,19 +24,6 @@ BSplinePatch AsBSpline(const SplineCurve& curve, int dim) {
   spline.controlPoints = curve.points;
   spline.weights = curve.weights;
   return spline;
-}
-
-/// Arcs of an angular direction are symmetric rational quadratics of less
-/// than a half turn (kernels/own_parameter.h).
-std::string CheckAngularSpans(const std::vector<double>& knots, int degree, const std::string& field) {
-  if (degree != 2) return field + ": angular, so degree 2 (rational quadratic arcs) expected, not " + std::to_string(degree);
-  for (std::size_t i = 1; i < knots.size(); ++i) {
-    if (knots[i] - knots[i - 1] >= M_PI) {
-      return field + ": angular knot span [" + std::to_string(knots[i - 1]) + ", " + std::to_string(knots[i]) +
-             "] is not shorter than pi";
-    }
-  }
-  return {};
 }
 
 /// The Bezier pieces of a valid 2D curve of any degree up to
@@ -109,53 +96,9 @@ void AddCurvePieces(const SplineCurve& curve, kernels::TrimRegion* region, bool*
   }
 }
 
-}  // namespace
-
-std::string ValidateSplineCurve(const SplineCurve& curve, int dim, const std::string& field) {
-  // Curves in the parameter plane (loops, pcurves) are only bounded and
-  // evaluated, never solved on: any degree OpenCascade writes. Curves in
-  // space become curve cells, up to the kernels' degree.
-  const int maxDegree = dim == 2 ? kernels::TrimRegion::kMaxPieceDegree : kernels::kMaxDegree;
-  const int p = curve.degree;
-  if (p < 1 || p > maxDegree) return field + ": degree " + std::to_string(p) + ", expected 1 to " + std::to_string(maxDegree);
-  if (curve.points.size() % dim != 0) {
-    return field + ": points: " + std::to_string(curve.points.size()) + " values, not a multiple of " +
-           std::to_string(dim);
-  }
-  const std::size_t n = curve.points.size() / dim;
-  if (n < static_cast<std::size_t>(p) + 1) {
-    return field + ": " + std::to_string(n) + " control points, a degree " + std::to_string(p) + " curve needs " +
-           std::to_string(p + 1);
-  }
-  if (curve.knots.size() != n + p + 1) {
-    return field + ": knots: length " + std::to_string(curve.knots.size()) + ", expected control points + degree + 1 = " +
-           std::to_string(n + p + 1);
-  }
-  for (std::size_t i = 0; i < curve.knots.size(); ++i) {
-    if (!std::isfinite(curve.knots[i])) return field + ": knots[" + std::to_string(i) + "]: not finite";
-    if (i > 0 && curve.knots[i] < curve.knots[i - 1]) return field + ": knots: decreasing at index " + std::to_string(i);
-  }
-  if (!(curve.knots[p] < curve.knots[n])) return field + ": knots: empty parameter domain";
-  for (std::size_t i = 0; i < curve.points.size(); ++i) {
-    if (!std::isfinite(curve.points[i]) || std::abs(curve.points[i]) > kernels::kMaxCoordinate) {
-      return field + ": points[" + std::to_string(i / dim) + "]: coordinate not finite or outside [-1e100, 1e100]";
-    }
-  }
-  if (!curve.weights.empty()) {
-    if (curve.weights.size() != n) {
-      return field + ": weights: " + std::to_string(curve.weights.size()) + " values, expected " + std::to_string(n);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const double w = curve.weights[i];
-      if (!(w >= 1.0 / kernels::kMaxWeight && w <= kernels::kMaxWeight)) {
-        return field + ": weights[" + std::to_string(i) + "]: not in [1e-50, 1e50]";
-      }
-    }
-  }
-  if (curve.angular) return CheckAngularSpans(curve.knots, curve.degree, field);
-  return {};
-}
-
+/// Appends the closed loops of `loops` to `region` (their curves' Bezier
+/// pieces, with a straight segment across each gap between consecutive
+/// curves) and finishes it.
 void BuildTrimRegion(const std::vector<std::vector<SplineCurve>>& loops, kernels::TrimRegion* region) {
   for (const std::vector<SplineCurve>& loop : loops) {
     bool haveEnd = false;
@@ -168,6 +111,8 @@ void BuildTrimRegion(const std::vector<std::vector<SplineCurve>>& loops, kernels
   }
   region->Finish();
 }
+
+}  // namespace
 
 EdgeParameters::EdgeParameters(const SplineCurve& pcurve) {
   if (pcurve.points.empty()) return;
@@ -213,46 +158,22 @@ std::size_t EdgeParameters::MemoryBytes() const {
   return (spanLo_.capacity() + spanHi_.capacity() + points_.capacity() + weights_.capacity()) * sizeof(double);
 }
 
-BSplinePatch SplineOf(const Patch& patch, int dim) {
-  BSplinePatch spline;
-  spline.ambientDim = dim;
-  spline.degrees = patch.degrees;
-  spline.knots = patch.knots;
-  spline.counts = patch.counts;
-  spline.controlPoints = patch.points;
-  spline.weights = patch.weights;
-  return spline;
+std::size_t TrimmedFaces::MemoryBytes() const {
+  std::size_t bytes = regions.capacity() * sizeof(regions[0]) + crossingCells.capacity() * sizeof(crossingCells[0]) +
+                      edges.capacity() * sizeof(EdgeParameters) + spanCells.capacity() * sizeof(spanCells[0]);
+  for (const auto& region : regions) bytes += sizeof(kernels::TrimRegion) + region->MemoryBytes();
+  for (const auto& [cell, trim] : crossingCells) bytes += sizeof(kernels::TrimmedCell) + trim->near.MemoryBytes();
+  for (const EdgeParameters& edge : edges) bytes += edge.MemoryBytes();
+  for (const std::vector<std::int64_t>& spans : spanCells) bytes += spans.capacity() * sizeof(std::int64_t);
+  return bytes;
 }
 
-std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index) {
-  const int dim = dimension_;
-  if (dim != 3) return "a trimmed surface needs dimension 3";
-  if (patch.degrees.size() != 2) return "degrees: a trimmed surface has 2 directions";
-  const BSplinePatch spline = SplineOf(patch, dim);
-  if (std::string e = ValidateBSplinePatch(spline); !e.empty()) return e;
-  if (!patch.angular.empty() && patch.angular.size() != 2) return "angular: expected 2 values (u, v) or none";
-  bool angular[2] = {false, false};
-  for (std::size_t d = 0; d < patch.angular.size(); ++d) {
-    angular[d] = patch.angular[d] != 0;
-    if (!angular[d]) continue;
-    if (std::string e = CheckAngularSpans(patch.knots[d], patch.degrees[d], "knots[" + std::to_string(d) + "]");
-        !e.empty()) {
-      return e;
-    }
-  }
-  for (std::size_t l = 0; l < patch.trimLoops.size(); ++l) {
-    for (std::size_t c = 0; c < patch.trimLoops[l].size(); ++c) {
-      const std::string field = "trimLoops[" + std::to_string(l) + "][" + std::to_string(c) + "]";
-      if (std::string e = ValidateSplineCurve(patch.trimLoops[l][c], 2, field); !e.empty()) return e;
-    }
-  }
-  for (std::size_t e = 0; e < patch.edges.size(); ++e) {
-    const std::string field = "edges[" + std::to_string(e) + "]";
-    if (std::string m = ValidateSplineCurve(patch.edges[e].curve, 3, field + ".curve"); !m.empty()) return m;
-    if (!patch.edges[e].pcurve.points.empty()) {
-      if (std::string m = ValidateSplineCurve(patch.edges[e].pcurve, 2, field + ".pcurve"); !m.empty()) return m;
-    }
-  }
+void AddTrimmedSurfaceCells(const Patch& patch, std::size_t p, BezierNets* nets) {
+  const int dim = nets->dimension;
+  TrimmedFaces& faces = nets->trimmed;
+  faces.spanCells.resize(nets->numPatches);
+  const bool angular[2] = {patch.angular.size() == 2 && patch.angular[0] != 0,
+                           patch.angular.size() == 2 && patch.angular[1] != 0};
 
   auto region = std::make_unique<kernels::TrimRegion>();
   BuildTrimRegion(patch.trimLoops, region.get());
@@ -260,12 +181,13 @@ std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index)
 
   // The surface's cells: those wholly outside the region are left out,
   // those wholly inside are plain cells, the others search within it.
-  const ExtractedCells cells = ExtractBezierCells(spline);
+  const ExtractedCells cells = ExtractBezierCells(SplineOf(patch, dim));
   const kernels::CellShape shape(cells.type, cells.degrees);
-  splineSpans_[index] = cells.spans;
-  spanCells_[index].assign(static_cast<std::size_t>(cells.numCells), -1);
+  nets->splineSpans[p] = cells.spans;
+  std::vector<std::int64_t>& spanCells = faces.spanCells[p];
+  spanCells.assign(static_cast<std::size_t>(cells.numCells), -1);
   CellOrigin origin;
-  origin.patch = index;
+  origin.patch = static_cast<std::int32_t>(p);
   origin.sharedParameters = true;
   origin.angular = static_cast<std::uint8_t>((angular[0] ? 1 : 0) | (angular[1] ? 2 : 0));
   for (int c = 0; c < cells.numCells; ++c) {
@@ -286,11 +208,11 @@ std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index)
     if (side == kernels::TrimRegion::Side::Outside) continue;
     origin.indexInPatch = c;
     origin.span = {c % cells.spans[0], c / cells.spans[0], 0};
-    const std::int64_t cell = static_cast<std::int64_t>(shapes_.size());
+    const std::int64_t cell = nets->size();
     const std::size_t first = static_cast<std::size_t>(c) * cells.pointsPerCell;
-    AddCell(shape, cells.points.data() + first * dim, cells.weights.empty() ? nullptr : cells.weights.data() + first,
-            origin);
-    spanCells_[index][c] = cell;
+    nets->Add(shape, cells.points.data() + first * dim, cells.weights.empty() ? nullptr : cells.weights.data() + first,
+              origin);
+    spanCells[c] = cell;
     if (side == kernels::TrimRegion::Side::Crossing) {
       auto trim = std::make_unique<kernels::TrimmedCell>();
       trim->region = region.get();
@@ -300,10 +222,10 @@ std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index)
         trim->angular[d] = angular[d];
       }
       trim->near = std::move(near);
-      trimmedCells_.emplace_back(cell, std::move(trim));
+      faces.crossingCells.emplace_back(cell, std::move(trim));
     }
   }
-  trimRegions_.push_back(std::move(region));
+  faces.regions.push_back(std::move(region));
 
   // The edges: curve cells, numbered on after the surface's spans.
   std::int64_t next = cells.numCells;
@@ -311,34 +233,18 @@ std::string CellStore::AddTrimmedSurface(const Patch& patch, std::int32_t index)
     const ExtractedCells curve = ExtractBezierCells(AsBSpline(edge.curve, dim));
     const kernels::CellShape curveShape(curve.type, curve.degrees);
     CellOrigin edgeOrigin;
-    edgeOrigin.patch = index;
+    edgeOrigin.patch = static_cast<std::int32_t>(p);
     edgeOrigin.angular = edge.curve.angular ? 1 : 0;
-    edgeOrigin.edge = static_cast<std::int32_t>(edgeParameters_.size());
-    edgeParameters_.emplace_back(edge.pcurve);
+    edgeOrigin.edge = static_cast<std::int32_t>(faces.edges.size());
+    faces.edges.emplace_back(edge.pcurve);
     for (int c = 0; c < curve.numCells; ++c) {
       edgeOrigin.indexInPatch = next++;
       edgeOrigin.paramLo[0] = curve.spanLo[c];
       edgeOrigin.paramScale[0] = curve.spanHi[c] - curve.spanLo[c];
       const std::size_t first = static_cast<std::size_t>(c) * curve.pointsPerCell;
-      AddCell(curveShape, curve.points.data() + first * dim,
-              curve.weights.empty() ? nullptr : curve.weights.data() + first, edgeOrigin);
+      nets->Add(curveShape, curve.points.data() + first * dim,
+                curve.weights.empty() ? nullptr : curve.weights.data() + first, edgeOrigin);
     }
-  }
-  return {};
-}
-
-void CellStore::ReportedParameters(std::int64_t cell, const double* ref, double* params) const {
-  const CellOrigin& origin = origins_[cell];
-  const int pd = kernels::CellShape::ParamDimOf(origin.type);
-  if (origin.edge >= 0) {
-    const double own = kernels::OwnParameter(origin.paramLo[0], origin.paramScale[0], origin.angular & 1, ref[0]);
-    edgeParameters_[origin.edge].At(own, params);
-    params[2] = kNaN;
-    return;
-  }
-  for (int k = 0; k < 3; ++k) {
-    params[k] = k < pd ? kernels::OwnParameter(origin.paramLo[k], origin.paramScale[k], (origin.angular >> k) & 1, ref[k])
-                       : kNaN;
   }
 }
 

@@ -8,11 +8,14 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <new>
+#include <stdexcept>
 #include <string>
 
 #include "invmap/distance.h"
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
+#include "io/geometry_source.h"
 #include "python/cad_binding.h"
 #include "python/errors.h"
 #include "python/fields_binding.h"
@@ -23,19 +26,21 @@ namespace invmap::python {
 class PyManifold {
  public:
   /// Builds `geometry`; a malformed one throws InputError
-  /// "<nameForMessages>: <reason>", worded as the command line words it.
-  /// Pure C++: callers may release the GIL around it.
-  PyManifold(const Geometry& geometry, const std::string& nameForMessages)
-      : PyManifold(geometry, nameForMessages, SerializeGeometry(geometry)) {}
+  /// "<nameForMessages>: <reason>", worded as the command line words it, or,
+  /// for a geometry read from a file with its `source`, naming the file and
+  /// line. Pure C++: callers may release the GIL around it.
+  PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
+      : PyManifold(geometry, nameForMessages, source, SerializeGeometry(geometry)) {}
 
   /// A CAD model's manifold: it pickles as the model's file (CadSource).
   PyManifold(const CadSource& source, const std::string& nameForMessages)
-      : PyManifold(source.model->geometry(), nameForMessages, source.state) {
+      : PyManifold(source.model->geometry(), nameForMessages, nullptr, source.state) {
     cad_ = source.model;
   }
 
   /// The same with the node fields of the geometry's file (kept for probe).
-  PyManifold(FieldGeometry&& model, const std::string& nameForMessages) : PyManifold(model.geometry, nameForMessages) {
+  PyManifold(FieldGeometry&& model, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
+      : PyManifold(model.geometry, nameForMessages, source) {
     if (model.fields.empty()) return;
     state_ = SerializeModel(state_, model.fields);
     fields_ = std::make_shared<const FieldGeometry>(std::move(model));
@@ -66,9 +71,13 @@ class PyManifold {
   }
 
  private:
-  PyManifold(const Geometry& geometry, const std::string& nameForMessages, std::string state)
+  PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source,
+             std::string state)
       : state_(std::move(state)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
     BuildResult built = Manifold::Build(geometry);
+    if (built.code == Error::OutOfMemory) throw std::bad_alloc();  // MemoryError
+    if (built.code == Error::Internal) throw std::runtime_error(nameForMessages + ": " + built.error);
+    if (built.problem && source) throw InputError(source->ToInputError(built.problem).what());
     if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
     manifold_ = std::move(built.manifold);
     for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));

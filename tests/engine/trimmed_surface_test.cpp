@@ -207,15 +207,26 @@ TEST(TrimmedSurface, InvalidFieldsAreNamed) {
   p.trimLoops[0][1].knots = {0, 5, 1, 10};
   Geometry g;
   g.patches.push_back(p);
-  EXPECT_NE(Manifold::Build(g).error.find("trimLoops[0][1]"), std::string::npos);
+  BuildResult built = Manifold::Build(g);
+  EXPECT_EQ(built.code, Error::InvalidArgument);
+  EXPECT_EQ(built.problem.field, GeometryField::TrimLoops);
+  EXPECT_EQ(built.problem.element, 0);
+  EXPECT_EQ(built.problem.item, 1);
+  EXPECT_NE(built.error.find("patch 0: trimLoops[0]: curve 1: knots: decreasing"), std::string::npos) << built.error;
   p = CylinderWindow();
   p.angular = {0, 1};  // v is linear: an angular direction must be quadratic arcs
   g.patches = {p};
-  EXPECT_NE(Manifold::Build(g).error.find("angular"), std::string::npos);
+  built = Manifold::Build(g);
+  EXPECT_EQ(built.problem.field, GeometryField::Knots);
+  EXPECT_EQ(built.problem.element, 1);
+  EXPECT_NE(built.error.find("angular"), std::string::npos) << built.error;
   p = PlateWithHole();
   p.edges[4].curve.weights[1] = -1.0;
   g.patches = {p};
-  EXPECT_NE(Manifold::Build(g).error.find("edges[4].curve"), std::string::npos);
+  built = Manifold::Build(g);
+  EXPECT_EQ(built.problem.field, GeometryField::Edges);
+  EXPECT_EQ(built.problem.element, 4);
+  EXPECT_NE(built.error.find("edges[4]: curve: weights[1]"), std::string::npos) << built.error;
 }
 
 }  // namespace
