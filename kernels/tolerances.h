@@ -145,6 +145,11 @@ constexpr int kMaxDepth = 64;
 /// of the halvings, and far below any trimming tolerance a CAD model has.
 constexpr double kTrimResolution = 1e-11;
 
+/// Trimmed surfaces: the trimming pieces a cell or subdomain keeps are those
+/// near its box widened by this share of its width (plus kTrimResolution of
+/// the loops): the subdomains' own boxes are widened by their rounding.
+constexpr double kTrimBoxMargin = 1e-9;
+
 /// Pair search (kernels/pair_search.h): the most pairs of subdomains
 /// examined for one pair of cells. Each costs more than a cell search's
 /// subdomain (two sides' nets, a joint bound); only valleys of equal

@@ -320,7 +320,7 @@ TrimPieces TrimRegion::PiecesFor(const double* lo, const double* hi) const {
   // A hair wider: the subdomains' own boxes are widened by their rounding.
   double wideLo[2], wideHi[2];
   for (int d = 0; d < 2; ++d) {
-    const double margin = 1e-9 * (hi[d] - lo[d]) + resolution_[d];
+    const double margin = kTrimBoxMargin * (hi[d] - lo[d]) + resolution_[d];
     wideLo[d] = lo[d] - margin;
     wideHi[d] = hi[d] + margin;
   }
