@@ -3,6 +3,7 @@
 // face it names and that face's surface at its (u, v).
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <string>
 
 #include "tests/cad/occ_reference.h"
@@ -61,6 +62,9 @@ const SampleModel kModels[] = {
     {"occ/wedge_ok.brep", 2000},
     {"occ/wing.brep", 1000},
 };
+
+/// How gtest names a model (ctest's test names include it).
+void PrintTo(const SampleModel& model, std::ostream* out) { *out << model.path; }
 
 class SampleModelTest : public ::testing::TestWithParam<SampleModel> {};
 
