@@ -1,4 +1,4 @@
-// Tests of the JSON geometry reader (FORMATS.md section 2): every accepted
+// Tests of the JSON geometry reader (docs/formats.md section 2): every accepted
 // form, every validation message with its JSON path and line (the reader's
 // own, and Manifold::Build's mapped back to the file by GeometrySource),
 // malformed and hostile files, and round trips through Manifold::Build.
