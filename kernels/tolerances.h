@@ -147,6 +147,13 @@ constexpr int kMaxDepth = 64;
 /// distances across both cells' parameters (parallel cylinders) come near it.
 constexpr int kMaxPairSubdomains = 1024;
 
+/// Pair solve (two cells' joint parameters): a constraint holds when its
+/// slack is within this (reference coordinates); points clamped onto a face
+/// have slack 0 exactly.
+constexpr double kActiveSlack = 1e-14;
+/// Pair solve: a QP step shorter than this (reference coordinates) is no step.
+constexpr double kNoStep = 1e-15;
+
 // ---------------------------------------------------------------- convexity certificates
 // (kernels/curvature_bounds.h, kernels/interval_matrix.h)
 
