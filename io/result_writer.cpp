@@ -171,7 +171,7 @@ class PlyResultWriter : public ResultWriter {
     signed_ = options_.signedColorColumn >= 0 && static_cast<std::size_t>(options_.signedColorColumn) < extraColumns_;
     twoPass_ = options_.colorByDistance &&
                (signed_ ? std::isnan(options_.colorMax) : std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
-    std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n";
+    std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (docs/formats.md section 5)\n";
     if (options_.colorByDistance) {
       colorCommentOffset_ = static_cast<std::int64_t>(header.size());
       header += ColorComment(options_.colorMin, options_.colorMax);

@@ -147,16 +147,6 @@ bool Elongated(const CellShape& shape, double* slot, const double* paramScale) {
   return longest > kMaxElongation * shortest;
 }
 
-/// A part of a cell whose squared distance stays at or above this level
-/// cannot beat a best squared distance `best2` by more than tau (the
-/// distance tolerance times the cell's size); `slack` covers the rounding of
-/// the nets' coefficients.
-double ExclusionLevel(double best2, double tau, double slack) {
-  // Nothing found yet (a trimmed cell's search may start so): no level.
-  if (best2 == std::numeric_limits<double>::infinity()) return best2;
-  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
-}
-
 /// A trimmed cell's subdomain box in reference coordinates (line factors).
 void SubdomainBox(const CellShape& shape, double* slot, double* lo, double* hi) {
   for (int d = 0; d < shape.numFactors(); ++d) {

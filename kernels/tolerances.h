@@ -10,6 +10,8 @@
 // the split of the work, so only its speed, stay with their code.)
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace invmap::kernels {
@@ -156,6 +158,13 @@ constexpr double kTrimBoxMargin = 1e-9;
 /// distances across both cells' parameters (parallel cylinders) come near it.
 constexpr int kMaxPairSubdomains = 1024;
 
+/// Pair solve (two cells' joint parameters): a constraint holds when its
+/// slack is within this (reference coordinates); points clamped onto a face
+/// have slack 0 exactly.
+constexpr double kActiveSlack = 1e-14;
+/// Pair solve: a QP step shorter than this (reference coordinates) is no step.
+constexpr double kNoStep = 1e-15;
+
 // ---------------------------------------------------------------- convexity certificates
 // (kernels/curvature_bounds.h, kernels/interval_matrix.h)
 
@@ -234,5 +243,16 @@ constexpr double kRegionConditioning = 1e-8;
 /// the box is clamped onto it: rounding puts on-face minimizers a hair
 /// outside; beyond it the minimizer lies on another face.
 constexpr double kRegionFaceSlack = 1e-12;
+
+/// The branch and bound searches' pruning level (of one cell, or of a pair
+/// of cells): a part whose squared distance stays at or above it cannot
+/// beat a best squared distance `best2` by more than tau (the distance
+/// tolerance times the size); `slack` covers the rounding of the nets'
+/// coefficients.
+inline double ExclusionLevel(double best2, double tau, double slack) {
+  // Nothing found yet (a trimmed cell's search may start so): no level.
+  if (best2 == std::numeric_limits<double>::infinity()) return best2;
+  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
+}
 
 }  // namespace invmap::kernels
