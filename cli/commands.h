@@ -28,6 +28,12 @@ struct InvertOptions {
   bool color = false;
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
+  /// CAD solids: the signed distance, negative inside (invert: an extra
+  /// column and the deviation summary; trim: near is signed distance <=
+  /// maxDistance, inside included).
+  bool signedDistance = false;
+  /// invert --signed: the band +-tolerance whose share the summary gives.
+  double tolerance = std::numeric_limits<double>::infinity();
   /// Each point's answer a function of the point and the geometry only
   /// (InversionOptions::pointwise).
   bool pointwise = false;
@@ -54,16 +60,20 @@ int RunInfo(const std::string& geometry);
 
 /// `invmap generate <what>`: a sample geometry or a point cloud.
 struct GenerateOptions {
-  std::string what;    ///< surface, torus, curve, tets, trimesh or points.
+  std::string what;    ///< surface, torus, curve, tets, trimesh, bracket, points or scan.
   std::string output;
   int spans = 32;                      ///< surface: knot spans per direction.
   int resolution = 6;                  ///< tets: cubes per direction (6 tets each).
   std::int64_t triangles = 1000000;    ///< trimesh: at least this many triangles.
-  std::string geometry;                ///< points: the geometry to sample around.
+  std::string geometry;                ///< points, scan: the geometry to sample around.
   std::int64_t count = 100000;         ///< points: how many.
   std::string kind = "near";           ///< points: near, far, inside or box.
   double spread = 0.01;                ///< points, near: largest offset, relative to the geometry's size.
   std::uint64_t seed = 1;
+  /// scan: measurement noise (standard deviation) and the part's growth at
+  /// the top of its box, relative to the model's size (NaN: 1e-4 and 5e-4).
+  double noise = std::numeric_limits<double>::quiet_NaN();
+  double warp = std::numeric_limits<double>::quiet_NaN();
 };
 
 int RunGenerate(const GenerateOptions& options);

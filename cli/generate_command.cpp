@@ -8,9 +8,11 @@
 #include <stdexcept>
 #include <vector>
 
+#include "cad/sample_part.h"
 #include "cli/commands.h"
 #include "cli/path_checks.h"
 #include "io/file_io.h"
+#include "io/input_error.h"
 #include "io/sample_writers.h"
 #include "samples/sample_geometries.h"
 
@@ -107,6 +109,29 @@ void GeneratePoints(const GenerateOptions& options) {
   writer.Finish();
 }
 
+/// A simulated scan of a CAD model (cad::SimulateScan), written as points.
+void WriteScan(const GenerateOptions& options) {
+  RefuseOutputOverInput(options.output, options.geometry, "--geometry");
+  if (!io::IsPointCloudFileName(options.output)) {
+    throw UsageError("--output " + options.output + ": unknown point file extension '" +
+                     io::LowerExtension(options.output) + "' (use .xyz, .txt, .csv, .npy or .ply)");
+  }
+  cad::LoadResult loaded = cad::Model::Load(options.geometry);
+  if (!loaded.error.empty()) throw io::InputError(options.geometry, 0, loaded.error);
+  const cad::ModelInfo info = loaded.model->Info();
+  double size2 = 0.0;
+  for (int k = 0; k < 3; ++k) size2 += (info.boundsHi[k] - info.boundsLo[k]) * (info.boundsHi[k] - info.boundsLo[k]);
+  const double size = std::sqrt(size2);
+  cad::ScanOptions scan;
+  scan.count = options.count;
+  scan.seed = options.seed;
+  scan.noise = std::isnan(options.noise) ? 1e-4 * size : options.noise * size;
+  scan.warp = std::isnan(options.warp) ? 5e-4 * size : options.warp * size;
+  scan.outlierReach = 1e-2 * size;
+  const std::vector<double> points = cad::SimulateScan(*loaded.model, scan);
+  io::WritePoints(options.output, points.data(), points.size() / 3, 3);
+}
+
 /// Throws UsageError unless `output` ends in `extension`, the one format
 /// sample `what` is written in (a .json name on a gmsh mesh would make the
 /// next command read it as a geometry file and fail).
@@ -123,6 +148,7 @@ int RunGenerate(const GenerateOptions& options) {
   if (w == "surface" || w == "torus" || w == "curve") RequireExtension(options.output, ".json", w);
   if (w == "tets") RequireExtension(options.output, ".msh", w);
   if (w == "trimesh") RequireExtension(options.output, ".ply", w);
+  if (w == "bracket") RequireExtension(options.output, ".step", w);
   if (w == "surface") {
     io::WriteGeometryJson(samples::WavySurface(options.spans), options.output);
   } else if (w == "torus") {
@@ -141,10 +167,17 @@ int RunGenerate(const GenerateOptions& options) {
     mesh.ForEachVertex([&](double x, double y, double z) { writer.Vertex(x, y, z); });
     mesh.ForEachTriangle([&](std::int64_t a, std::int64_t b, std::int64_t c) { writer.Triangle(a, b, c); });
     writer.Finish();
+  } else if (w == "bracket") {
+    if (const std::string error = cad::WriteSampleBracket(options.output); !error.empty()) {
+      throw io::InputError(options.output, 0, error, io::InputError::Kind::Output);
+    }
+  } else if (w == "scan") {
+    WriteScan(options);
   } else if (w == "points") {
     GeneratePoints(options);
   } else {
-    std::fprintf(stderr, "invmap generate: unknown sample '%s' (surface, torus, curve, tets, trimesh, points)\n",
+    std::fprintf(stderr,
+                 "invmap generate: unknown sample '%s' (surface, torus, curve, tets, trimesh, bracket, points, scan)\n",
                  w.c_str());
     return 2;
   }

@@ -177,12 +177,8 @@ bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], dou
   }
   kernels::MapJet jet;
   kernels::EvaluateMap(solver.cell(), ref, kernels::JetOrder::Value, &jet);
-  const engine::CellOrigin& origin = store.origin(c);
-  for (int k = 0; k < 3; ++k) {
-    params[k] = k < shape.paramDim() ? origin.paramLo[k] + origin.paramScale[k] * ref[k]
-                                     : std::numeric_limits<double>::quiet_NaN();
-    point[k] = k < solver.cell().ambientDim ? jet.x[k] : 0.0;
-  }
+  store.ReportedParameters(c, ref, params);
+  for (int k = 0; k < 3; ++k) point[k] = k < solver.cell().ambientDim ? jet.x[k] : 0.0;
   return true;
 }
 

@@ -24,29 +24,7 @@ MeshCellLayout LayoutOf(CellType type) {
   return {0, {}};
 }
 
-namespace {
-
-/// Appends one Bezier cell (control points copied) and its origin.
-void AddCell(const kernels::CellShape& shape, const double* points, const double* weights, const CellOrigin& origin,
-             BezierNets* nets) {
-  const int n = shape.numControlPoints();
-  nets->hasVolumeCells = nets->hasVolumeCells || shape.paramDim() == nets->dimension;
-  nets->shapes.push_back(shape);
-  nets->pointOffset.push_back(static_cast<std::int64_t>(nets->points.size()));
-  nets->points.insert(nets->points.end(), points, points + static_cast<std::size_t>(n) * nets->dimension);
-  if (weights) {
-    nets->weightOffset.push_back(static_cast<std::int64_t>(nets->weights.size()));
-    nets->weights.insert(nets->weights.end(), weights, weights + n);
-  } else {
-    nets->weightOffset.push_back(-1);
-  }
-  nets->origins.push_back(origin);
-  nets->origins.back().type = shape.type();
-}
-
-/// The Bezier cells of a B-spline patch, one per non-empty span.
-void AddSplineCells(const Patch& patch, std::size_t p, CellOrigin origin, BezierNets* nets) {
-  const int dim = nets->dimension;
+BSplinePatch SplineOf(const Patch& patch, int dim) {
   BSplinePatch spline;
   spline.ambientDim = dim;
   spline.degrees = patch.degrees;
@@ -54,7 +32,15 @@ void AddSplineCells(const Patch& patch, std::size_t p, CellOrigin origin, Bezier
   spline.counts = patch.counts;
   spline.controlPoints = patch.points;
   spline.weights = patch.weights;
-  const ExtractedCells cells = ExtractBezierCells(spline);
+  return spline;
+}
+
+namespace {
+
+/// The Bezier cells of a B-spline patch, one per non-empty span.
+void AddSplineCells(const Patch& patch, std::size_t p, CellOrigin origin, BezierNets* nets) {
+  const int dim = nets->dimension;
+  const ExtractedCells cells = ExtractBezierCells(SplineOf(patch, dim));
   const kernels::CellShape shape(cells.type, cells.degrees);
   nets->splineGrids.push_back({nets->size(), cells.spans, cells.paramDim});
   nets->splineSpans[p] = cells.spans;
@@ -69,8 +55,8 @@ void AddSplineCells(const Patch& patch, std::size_t p, CellOrigin origin, Bezier
       origin.paramScale[d] = hi - lo;
     }
     const std::size_t first = static_cast<std::size_t>(c) * cells.pointsPerCell;
-    AddCell(shape, cells.points.data() + first * dim, cells.weights.empty() ? nullptr : cells.weights.data() + first,
-            origin, nets);
+    nets->Add(shape, cells.points.data() + first * dim, cells.weights.empty() ? nullptr : cells.weights.data() + first,
+              origin);
   }
 }
 
@@ -78,8 +64,8 @@ void AddSplineCells(const Patch& patch, std::size_t p, CellOrigin origin, Bezier
 void AddBezierCell(const Patch& patch, const CellOrigin& origin, BezierNets* nets) {
   std::array<int, kernels::kMaxFactors> degrees{};
   std::copy(patch.degrees.begin(), patch.degrees.end(), degrees.begin());
-  AddCell(kernels::CellShape(patch.cell, degrees), patch.points.data(),
-          patch.weights.empty() ? nullptr : patch.weights.data(), origin, nets);
+  nets->Add(kernels::CellShape(patch.cell, degrees), patch.points.data(),
+            patch.weights.empty() ? nullptr : patch.weights.data(), origin);
 }
 
 /// The cells of a BezierCells patch, each with its own type and degrees.
@@ -91,8 +77,8 @@ void AddBezierCells(const Patch& patch, CellOrigin origin, BezierNets* nets) {
     for (int f = 0; f < factors; ++f) degrees[f] = patch.cellDegrees[3 * c + f];
     const std::int64_t first = patch.cellOffsets[c];
     origin.indexInPatch = static_cast<std::int64_t>(c);
-    AddCell(kernels::CellShape(patch.cellTypes[c], degrees), patch.points.data() + first * dim,
-            patch.weights.empty() ? nullptr : patch.weights.data() + first, origin, nets);
+    nets->Add(kernels::CellShape(patch.cellTypes[c], degrees), patch.points.data() + first * dim,
+              patch.weights.empty() ? nullptr : patch.weights.data() + first, origin);
   }
 }
 
@@ -109,11 +95,28 @@ void AddMeshCells(const Patch& patch, CellOrigin origin, BezierNets* nets) {
       for (int k = 0; k < dim; ++k) corner[v * dim + k] = patch.points[static_cast<std::size_t>(index) * dim + k];
     }
     origin.indexInPatch = static_cast<std::int64_t>(c);
-    AddCell(shape, corner, nullptr, origin, nets);
+    nets->Add(shape, corner, nullptr, origin);
   }
 }
 
 }  // namespace
+
+void BezierNets::Add(const kernels::CellShape& shape, const double* cellPoints, const double* cellWeights,
+                     const CellOrigin& origin) {
+  const int n = shape.numControlPoints();
+  hasVolumeCells = hasVolumeCells || shape.paramDim() == dimension;
+  shapes.push_back(shape);
+  pointOffset.push_back(static_cast<std::int64_t>(points.size()));
+  points.insert(points.end(), cellPoints, cellPoints + static_cast<std::size_t>(n) * dimension);
+  if (cellWeights) {
+    weightOffset.push_back(static_cast<std::int64_t>(weights.size()));
+    weights.insert(weights.end(), cellWeights, cellWeights + n);
+  } else {
+    weightOffset.push_back(-1);
+  }
+  origins.push_back(origin);
+  origins.back().type = shape.type();
+}
 
 kernels::CellView BezierNets::View(std::int64_t cell) const {
   kernels::CellView view;
@@ -128,7 +131,7 @@ std::size_t BezierNets::MemoryBytes() const {
   return points.capacity() * sizeof(double) + weights.capacity() * sizeof(double) +
          shapes.capacity() * sizeof(kernels::CellShape) +
          (pointOffset.capacity() + weightOffset.capacity()) * sizeof(std::int64_t) +
-         origins.capacity() * sizeof(CellOrigin);
+         origins.capacity() * sizeof(CellOrigin) + trimmed.MemoryBytes();
 }
 
 BezierNets ToBezierNets(const Geometry& geometry) {
@@ -153,6 +156,9 @@ BezierNets ToBezierNets(const Geometry& geometry) {
         break;
       case Patch::Kind::Mesh:
         AddMeshCells(patch, origin, &nets);
+        break;
+      case Patch::Kind::TrimmedSurface:
+        AddTrimmedSurfaceCells(patch, p, &nets);
         break;
     }
   }

@@ -1,8 +1,10 @@
 #include "engine/cell_store.h"
 
+#include <limits>
 #include <utility>
 
 #include "common/parallel.h"
+#include "kernels/own_parameter.h"
 
 namespace invmap::engine {
 namespace {
@@ -18,6 +20,7 @@ std::vector<kernels::CellSolver> BuildSolvers(const BezierNets& nets, int maxThr
         for (std::int64_t c = begin; c < end; ++c) solvers[c] = kernels::CellSolver(nets.View(c));
       },
       maxThreads);
+  for (const auto& [cell, trim] : nets.trimmed.crossingCells) solvers[cell].SetTrim(trim.get());
   return solvers;
 }
 
@@ -100,7 +103,29 @@ std::int64_t CellStore::SplineNeighbor(std::int64_t cell, const int* step) const
     index += span * stride;
     stride *= spans[d];
   }
+  // Trimmed surfaces leave out the spans outside their region.
+  if (origin.patch < static_cast<std::int32_t>(nets_.trimmed.spanCells.size())) {
+    const std::vector<std::int64_t>& spanCells = nets_.trimmed.spanCells[origin.patch];
+    if (!spanCells.empty()) return spanCells[index];
+  }
   return nets_.patchFirst[origin.patch] + index;
+}
+
+void CellStore::ReportedParameters(std::int64_t cell, const double* ref, double* params) const {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const CellOrigin& from = origin(cell);
+  if (from.edge >= 0) {
+    const double own = kernels::OwnParameter(from.paramLo[0], from.paramScale[0], from.angular & 1, ref[0]);
+    nets_.trimmed.edges[from.edge].At(own, params);
+    params[2] = kNaN;
+    return;
+  }
+  const int pd = kernels::CellShape::ParamDimOf(from.type);
+  for (int k = 0; k < 3; ++k) {
+    params[k] =
+        k < pd ? kernels::OwnParameter(from.paramLo[k], from.paramScale[k], (from.angular >> k) & 1, ref[k])
+               : kNaN;
+  }
 }
 
 std::size_t CellStore::MemoryBytes() const {

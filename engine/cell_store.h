@@ -21,7 +21,8 @@ class CellStore {
  public:
   /// Builds the cells of `geometry`, in steps that each take the finished
   /// results of the ones before: the Bezier nets (ToBezierNets), their
-  /// solvers (bounds and distance nets, in parallel), the tetrahedra's face
+  /// solvers (bounds and distance nets, in parallel; those of cells a
+  /// trimming loop crosses search within its region), the tetrahedra's face
   /// neighbours, the affine regions, and the subdivisions. Precondition:
   /// ValidateGeometry(geometry) found no problem (engine/geometry_validation.h).
   /// `maxThreads` bounds the threads used (0 = all).
@@ -52,6 +53,14 @@ class CellStore {
   /// Heap memory of the cells: control points, weights, solvers and their nets.
   std::size_t MemoryBytes() const;
 
+  /// The parameters reported for reference point `ref` of `cell` (3 values,
+  /// NaN where unused): knot values, angles where a direction is angular,
+  /// and for an edge of a trimmed surface its pcurve's (u, v).
+  void ReportedParameters(std::int64_t cell, const double* ref, double* params) const;
+  /// True when some patch is a TrimmedSurface (a CAD face): features that
+  /// enumerate a cell's minima without its trimming region refuse it.
+  bool hasTrimmedSurfaces() const { return !nets_.trimmed.empty(); }
+
   /// Affine regions of the B-spline patches (engine/affine_regions.h).
   const std::vector<AffineRegion>& regions() const { return regions_; }
   /// Subdivisions (algorithm 6): what the BVH holds and the search visits:
@@ -73,7 +82,8 @@ class CellStore {
   bool inRegion(std::int64_t cell) const { return regionOfCell_[cell] >= 0; }
   /// The cell of the same B-spline patch `step[d]` spans (-1, 0 or +1)
   /// away from `cell` along each of its parameter directions d, or -1 when
-  /// that leaves the patch or `cell` is not a B-spline patch's.
+  /// that leaves the patch, lands on a trimmed surface's span outside its
+  /// region, or `cell` is not a B-spline patch's or a trimmed surface's.
   std::int64_t SplineNeighbor(std::int64_t cell, const int* step) const;
   /// Face neighbours of the tetrahedral cells (empty without tetrahedra).
   const TetAdjacency& tetAdjacency() const { return tetAdjacency_; }

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "kernels/cell_shape.h"
+#include "kernels/trim_region.h"
 
 namespace invmap::engine {
 namespace {
@@ -44,6 +45,65 @@ const char* DegreeForm(CellType type) {
     default:
       return "[p]";
   }
+}
+
+/// Why the knots of an angular direction or curve (degree `degree`) are not
+/// arcs of less than a half turn (kernels/own_parameter.h), or "".
+std::string AngularSpansProblem(const std::vector<double>& knots, int degree) {
+  if (degree != 2) return "angular, so degree 2 (rational quadratic arcs) expected, not " + std::to_string(degree);
+  for (std::size_t i = 1; i < knots.size(); ++i) {
+    if (knots[i] - knots[i - 1] >= M_PI) {
+      return "angular knot span [" + Number(knots[i - 1]) + ", " + Number(knots[i]) + "] is not shorter than pi";
+    }
+  }
+  return {};
+}
+
+/// Why a curve of a TrimmedSurface with `dim` coordinates per control
+/// point (2: a trimming curve or a pcurve, 3: an edge) is malformed, or "".
+std::string SplineCurveProblem(const SplineCurve& curve, int dim) {
+  // Curves in the parameter plane (loops, pcurves) are only bounded and
+  // evaluated, never solved on: any degree OpenCascade writes. Curves in
+  // space become curve cells, up to the kernels' degree.
+  const int maxDegree = dim == 2 ? kernels::TrimRegion::kMaxPieceDegree : kMaxDegree;
+  const int p = curve.degree;
+  if (p < 1 || p > maxDegree) return "degree " + std::to_string(p) + ", expected 1 to " + std::to_string(maxDegree);
+  if (curve.points.size() % dim != 0) {
+    return "points: " + std::to_string(curve.points.size()) + " values, not a multiple of " + std::to_string(dim);
+  }
+  const std::size_t n = curve.points.size() / dim;
+  if (n < static_cast<std::size_t>(p) + 1) {
+    return std::to_string(n) + " control points, a degree " + std::to_string(p) + " curve needs " +
+           std::to_string(p + 1);
+  }
+  if (curve.knots.size() != n + p + 1) {
+    return "knots: length " + std::to_string(curve.knots.size()) + ", expected control points + degree + 1 = " +
+           std::to_string(n + p + 1);
+  }
+  for (std::size_t i = 0; i < curve.knots.size(); ++i) {
+    if (!std::isfinite(curve.knots[i])) return "knots" + Index(static_cast<std::int64_t>(i)) + ": not finite";
+    if (i > 0 && curve.knots[i] < curve.knots[i - 1]) return "knots: decreasing at index " + std::to_string(i);
+  }
+  if (!(curve.knots[p] < curve.knots[n])) return "knots: empty parameter domain";
+  for (std::size_t i = 0; i < curve.points.size(); ++i) {
+    if (!std::isfinite(curve.points[i]) || std::abs(curve.points[i]) > kMaxCoordinate) {
+      return "points" + Index(static_cast<std::int64_t>(i / dim)) +
+             ": coordinate not finite or outside [-1e100, 1e100]";
+    }
+  }
+  if (!curve.weights.empty()) {
+    if (curve.weights.size() != n) {
+      return "weights: " + std::to_string(curve.weights.size()) + " values, expected " + std::to_string(n);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const double w = curve.weights[i];
+      if (!(w >= 1.0 / kMaxWeight && w <= kMaxWeight)) {
+        return "weights" + Index(static_cast<std::int64_t>(i)) + ": not in [1e-50, 1e50]";
+      }
+    }
+  }
+  if (curve.angular) return AngularSpansProblem(curve.knots, curve.degree);
+  return {};
 }
 
 /// The box of the points the cells use, grown one point at a time (empty:
@@ -84,6 +144,7 @@ class PatchCheck {
   GeometryError Bezier() const;
   GeometryError Mesh() const;
   GeometryError BezierCells() const;
+  GeometryError TrimmedSurface() const;
   /// The degrees of one Bezier cell of the known type `type`, `count` of
   /// them listed in `degrees`: its shape in *shape, or a message (without
   /// the place) with the index of the degree at fault in *badDegree (-1
@@ -98,11 +159,11 @@ class PatchCheck {
 };
 
 GeometryError PatchCheck::Run(Extent* extent) const {
-  if (static_cast<int>(patch_.kind) > static_cast<int>(Patch::Kind::BezierCells)) {
+  if (static_cast<int>(patch_.kind) > static_cast<int>(Patch::Kind::TrimmedSurface)) {
     return Fail(GeometryField::Kind, -1, -1, "unknown patch kind " + std::to_string(static_cast<int>(patch_.kind)));
   }
   if (patch_.kind != Patch::Kind::BSpline && patch_.kind != Patch::Kind::BezierCells &&
-      !IsKnownCellType(patch_.cell)) {
+      patch_.kind != Patch::Kind::TrimmedSurface && !IsKnownCellType(patch_.cell)) {
     return Fail(GeometryField::Cell, -1, -1, "unknown cell type " + std::to_string(static_cast<int>(patch_.cell)));
   }
   if (GeometryError e = Coordinates()) return e;
@@ -119,6 +180,9 @@ GeometryError PatchCheck::Run(Extent* extent) const {
       break;
     case Patch::Kind::BezierCells:
       e = BezierCells();
+      break;
+    case Patch::Kind::TrimmedSurface:
+      e = TrimmedSurface();
       break;
   }
   if (!e) AddUsedPoints(extent);
@@ -345,6 +409,44 @@ GeometryError PatchCheck::BezierCells() const {
                   "control points [" + std::to_string(first) + ", " + std::to_string(last) + "), expected " +
                       std::to_string(shape.numControlPoints()) + " within the " + std::to_string(numPoints) +
                       " points");
+    }
+  }
+  return {};
+}
+
+GeometryError PatchCheck::TrimmedSurface() const {
+  if (dim_ != 3) return Fail(GeometryField::Kind, -1, -1, "a trimmed surface needs dimension 3");
+  if (patch_.degrees.size() != 2) {
+    return Fail(GeometryField::Degrees, -1, -1,
+                std::to_string(patch_.degrees.size()) + " values, a trimmed surface has 2 directions");
+  }
+  if (GeometryError e = BSpline()) return e;
+  if (!patch_.angular.empty() && patch_.angular.size() != 2) {
+    return Fail(GeometryField::Angular, -1, -1,
+                std::to_string(patch_.angular.size()) + " values, expected 2 (u, v) or none");
+  }
+  for (std::size_t d = 0; d < patch_.angular.size(); ++d) {
+    if (patch_.angular[d] == 0) continue;
+    if (std::string m = AngularSpansProblem(patch_.knots[d], patch_.degrees[d]); !m.empty()) {
+      return Fail(GeometryField::Knots, static_cast<std::int64_t>(d), -1, m);
+    }
+  }
+  for (std::size_t l = 0; l < patch_.trimLoops.size(); ++l) {
+    for (std::size_t c = 0; c < patch_.trimLoops[l].size(); ++c) {
+      if (std::string m = SplineCurveProblem(patch_.trimLoops[l][c], 2); !m.empty()) {
+        return Fail(GeometryField::TrimLoops, static_cast<std::int64_t>(l), static_cast<std::int64_t>(c),
+                    "curve " + std::to_string(c) + ": " + m);
+      }
+    }
+  }
+  for (std::size_t e = 0; e < patch_.edges.size(); ++e) {
+    const PatchEdge& edge = patch_.edges[e];
+    if (std::string m = SplineCurveProblem(edge.curve, 3); !m.empty()) {
+      return Fail(GeometryField::Edges, static_cast<std::int64_t>(e), -1, "curve: " + m);
+    }
+    if (edge.pcurve.points.empty()) continue;  // unknown: its answers' (u, v) are NaN
+    if (std::string m = SplineCurveProblem(edge.pcurve, 2); !m.empty()) {
+      return Fail(GeometryField::Edges, static_cast<std::int64_t>(e), -1, "pcurve: " + m);
     }
   }
   return {};

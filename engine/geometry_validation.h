@@ -24,6 +24,11 @@ namespace invmap::engine {
 ///  - Bezier patches and cells: a degree per simplex factor, each 1 to
 ///    kMaxDegree, the control points the degrees give, a cell type that
 ///    fits the dimension;
+///  - trimmed surfaces: dimension 3, a 2-direction B-spline as above,
+///    angular directions of degree 2 with knot spans shorter than pi, and
+///    trimming curves (2D), edges (3D) and pcurves (2D) that are valid
+///    B-spline curves (degrees up to TrimRegion::kMaxPieceDegree in the
+///    plane, kMaxDegree in space);
 ///  - meshes: no weights, whole cells, vertex indices within the vertices;
 ///  - weights: one per control point, finite and within [1 / kMaxWeight,
 ///    kMaxWeight];

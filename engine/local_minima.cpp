@@ -144,6 +144,10 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
     INVMAP_VERIFY(manifold.valid(), "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
     const engine::CellStore& store = ManifoldAccess::Store(manifold);
+    // The per-cell enumeration knows nothing of a trimmed face's region: it
+    // would give minima outside the face and miss those on its edges.
+    INVMAP_VERIFY(!store.hasTrimmedSurfaces(),
+                  "every local minimum: not available for trimmed surfaces (CAD faces) yet");
     const engine::Bvh& bvh = ManifoldAccess::Tree(manifold);
     const int dim = store.dimension();
     INVMAP_VERIFY(points.dim == dim, "points: dimension " << points.dim << ", the geometry's is " << dim);

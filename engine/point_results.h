@@ -61,11 +61,8 @@ inline void WriteFound(const CellStore& store, const PointSearch& search, std::i
   results->status[index] = Status::Found;
   results->patch[index] = origin.patch;
   results->cell[index] = origin.indexInPatch;
-  for (int k = 0; k < 3; ++k) {
-    results->params[3 * index + k] =
-        k < pd ? origin.paramLo[k] + origin.paramScale[k] * ref[k] : std::numeric_limits<double>::quiet_NaN();
-    results->closest[3 * index + k] = k < dim ? (holds ? search.p[k] : r.closest[k]) : 0.0;
-  }
+  store.ReportedParameters(search.bestCell, ref, &results->params[3 * index]);
+  for (int k = 0; k < 3; ++k) results->closest[3 * index + k] = k < dim ? (holds ? search.p[k] : r.closest[k]) : 0.0;
   // Beyond about 1e154 the solvers' squared distances overflow: measure
   // such an answer's distance from its closest point instead.
   results->distance[index] =

@@ -130,11 +130,10 @@ void PointTracker::Impl::Search(const double* p, PointAnswer* answer) {
   answer->status = Status::Found;
   answer->patch = origin.patch;
   answer->cell = origin.indexInPatch;
-  for (int k = 0; k < 3; ++k) {
-    answer->params[k] = k < shape.paramDim() ? origin.paramLo[k] + origin.paramScale[k] * ref[k]
-                                             : std::numeric_limits<double>::quiet_NaN();
-    answer->closest[k] = k < dim ? best.closest[k] : 0.0;
-  }
+  // As Manifold::Invert reports them (a trimmed CAD face's own parameters,
+  // angles, an edge's pcurve).
+  store.ReportedParameters(best.cell, ref, answer->params);
+  for (int k = 0; k < 3; ++k) answer->closest[k] = k < dim ? best.closest[k] : 0.0;
   answer->distance = std::sqrt(best.distance2);
 }
 

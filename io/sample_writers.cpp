@@ -83,6 +83,9 @@ void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
     if (geometry.patches[p].kind == Patch::Kind::BezierCells) {
       FailOutput(path, "patch " + std::to_string(p) + " holds many Bezier cells, which the JSON format cannot express");
     }
+    if (geometry.patches[p].kind == Patch::Kind::TrimmedSurface) {
+      FailOutput(path, "patch " + std::to_string(p) + " is a trimmed CAD face, which the JSON format cannot express");
+    }
   }
   AtomicOutput out(path);
   out.Write("{\n \"format\": \"invmap-geometry\",\n \"version\": 1,\n \"dimension\": " + std::to_string(dim) +
@@ -121,6 +124,7 @@ void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
         WriteRows(out, "cells", patch.cells, static_cast<std::size_t>(TraitsOf(patch.cell).vertices));
         break;
       case Patch::Kind::BezierCells:
+      case Patch::Kind::TrimmedSurface:
         break;  // refused above
     }
     if (!patch.weights.empty()) {

@@ -141,6 +141,17 @@ constexpr int kHardSearch = 64;
 constexpr int kHardSeeds = 256;
 constexpr int kMaxDepth = 64;
 
+/// Trimmed surfaces: a parameter point within this share of the trimming
+/// loops' extent plus magnitude (per parameter) of a loop counts as on it
+/// (kernels/trim_region.h): its halvings stop there. Far above the rounding
+/// of the halvings, and far below any trimming tolerance a CAD model has.
+constexpr double kTrimResolution = 1e-11;
+
+/// Trimmed surfaces: the trimming pieces a cell or subdomain keeps are those
+/// near its box widened by this share of its width (plus kTrimResolution of
+/// the loops): the subdomains' own boxes are widened by their rounding.
+constexpr double kTrimBoxMargin = 1e-9;
+
 /// Pair search (kernels/pair_search.h): the most pairs of subdomains
 /// examined for one pair of cells. Each costs more than a cell search's
 /// subdomain (two sides' nets, a joint bound); only valleys of equal
@@ -239,6 +250,8 @@ constexpr double kRegionFaceSlack = 1e-12;
 /// tolerance times the size); `slack` covers the rounding of the nets'
 /// coefficients.
 inline double ExclusionLevel(double best2, double tau, double slack) {
+  // Nothing found yet (a trimmed cell's search may start so): no level.
+  if (best2 == std::numeric_limits<double>::infinity()) return best2;
   return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
 }
 

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "cad/register_readers.h"
 #include "fem/register_readers.h"
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
@@ -27,6 +29,7 @@
 #include "io/geometry_json.h"
 #include "io/geometry_source.h"
 #include "io/input_error.h"
+#include "python/cad_binding.h"
 #include "python/errors.h"
 #include "python/fields_binding.h"
 #include "python/geometry_state.h"
@@ -51,6 +54,7 @@ bool IsReadableFile(const std::string& path) {
 /// invmap.load of a path: ReadGeometryFile, then the build, without the GIL.
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
+  if (IsCadPath(path)) return PyManifold(LoadCad(path), path);
   FieldGeometry model;
   io::GeometrySource source;
   try {
@@ -80,6 +84,7 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
 PyManifold FromState(const py::bytes& state) {
   const std::string bytes = state;
   py::gil_scoped_release noGil;
+  if (IsCadState(bytes)) return PyManifold(LoadCadState(bytes), "pickled CAD model");
   FieldGeometry model;
   try {
     std::string geometryState;
@@ -266,10 +271,35 @@ py::dict ResultsDict(Results&& results, int dim) {
   return out;
 }
 
+/// The signed distances of the points of `results` (the `signed` option of
+/// invert and trim): InputError unless the manifold is a CAD model whose
+/// shells are closed.
+std::vector<double> Signed(const PyManifold& self, const py::handle& points, const Results& results, int threads) {
+  if (!self.cad()) throw InputError("signed: needs a CAD model (.step, .stp, .iges, .igs, .brep) with closed solids");
+  const NumpyPoints view = ReadNumpyPoints(points, self.dimension());
+  const std::size_t n = view.view.count;
+  std::vector<double> xyz(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      xyz[3 * i + k] = view.view.scalar == Scalar::Float64
+                           ? static_cast<const double*>(view.view.coord[k])[i * view.view.stride]
+                           : static_cast<const float*>(view.view.coord[k])[i * view.view.stride];
+    }
+  }
+  py::gil_scoped_release noGil;
+  return SignedDistances(*self.cad(), xyz.data(), n, results, threads);
+}
+
 /// Manifold.invert: the Results as numpy arrays.
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads, bool pointwise) {
-  return ResultsDict(InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise)), self.dimension());
+                std::optional<int> threads, bool pointwise, bool signedDistance) {
+  Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise));
+  if (!signedDistance) return ResultsDict(std::move(results), self.dimension());
+  std::vector<double> sd = Signed(self, points, results, threads.value_or(0));
+  const auto n = static_cast<py::ssize_t>(sd.size());
+  py::dict out = ResultsDict(std::move(results), self.dimension());
+  out["signed_distance"] = Adopt(std::move(sd), {n}, py::dtype::of<double>());
+  return out;
 }
 
 /// Manifold.probe: Manifold.invert's dict with "fields" added.
@@ -285,10 +315,24 @@ py::dict Probe(const PyManifold& self, const py::handle& points, const std::opti
 
 /// Manifold.trim: the mask of the points `invmap trim` keeps.
 py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep,
-                       bool pointwise) {
+                       bool pointwise, bool signedDistance) {
   if (keep != "near" && keep != "far") throw InputError("keep: '" + keep + "', expected 'near' or 'far'");
-  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt, pointwise));
   const bool keepFar = keep == "far";
+  InversionOptions options = MakeOptions(maxDistance, std::nullopt, pointwise);
+  if (signedDistance) {
+    // As `invmap trim --signed`: near is at most max_distance outside (the
+    // inside however deep), so every point needs its side.
+    options.maxDistance = std::numeric_limits<double>::infinity();
+    const Results results = InvertPoints(self, points, options);
+    const std::vector<double> sd = Signed(self, points, results, 0);
+    py::array_t<bool> mask(static_cast<py::ssize_t>(sd.size()));
+    bool* out = mask.mutable_data();
+    for (std::size_t i = 0; i < sd.size(); ++i) {
+      out[i] = !std::isnan(sd[i]) && (keepFar ? sd[i] > maxDistance : sd[i] <= maxDistance);
+    }
+    return mask;
+  }
+  const Results results = InvertPoints(self, points, options);
   py::array_t<bool> mask(static_cast<py::ssize_t>(results.status.size()));
   bool* out = mask.mutable_data();
   // As `invmap trim`: Found means within max_distance, None beyond it;
@@ -317,6 +361,7 @@ py::dict Info(const PyManifold& self) {
   out["bounds_lo"] = py::tuple(lo);
   out["bounds_hi"] = py::tuple(hi);
   out["memory_bytes"] = info.memoryBytes;
+  if (self.cad()) out["cad"] = CadInfo(*self.cad());
   return out;
 }
 
@@ -326,6 +371,7 @@ py::dict Info(const PyManifold& self) {
 PYBIND11_MODULE(_invmap, m) {
   using namespace invmap::python;
   invmap::fem::RegisterFemReaders();
+  invmap::cad::RegisterCadReaders();
   m.doc() = "Compiled core of the invmap package; use `import invmap`.";
   m.attr("__version__") = invmap::Version();
 
@@ -350,10 +396,13 @@ Counts describing the manifold, as `invmap info` prints them.
 
 Returns a dict: dimension (int), patches (int), cells (int), cells_by_shape
 (dict such as {"quad 3x3": 1024}), bounds_lo and bounds_hi (tuples of
-`dimension` floats) and memory_bytes (heap memory of cells, bounds and BVH).
+`dimension` floats) and memory_bytes (heap memory of cells, bounds and BVH). A CAD model adds "cad": format, faces,
+faces_by_surface, edges, vertices, shells, solids, open_parts,
+approximated_faces, approximation_tolerance, approximation_deviation,
+model_bounds_lo and model_bounds_hi, as `invmap info` prints them.
 )doc")
       .def("invert", &Invert, py::arg("points"), py::arg("max_distance") = py::none(),
-           py::arg("threads") = py::none(), py::arg("pointwise") = false, R"doc(
+           py::arg("threads") = py::none(), py::arg("pointwise") = false, py::arg("signed") = false, R"doc(
 Closest point, cell and parameters of every query point.
 
 points: (N, dimension) array-like. float32 and float64 arrays are read in
@@ -366,6 +415,8 @@ pointwise: each answer a function of its point and the geometry only, bit
   for bit whatever batch or chunk the point comes in (by default a point's
   solve starts from its neighbour's answer: the same minimum, but the last
   digits depend on the batch). Slower; see docs/limitations.md.
+signed: CAD models with closed solids only: also return signed_distance,
+  negative inside a solid (InputError naming the open shell otherwise).
 
 Returns a dict of numpy arrays, one row per point in input order:
   status   (N,) uint8: 0 found, 1 none, 2 invalid (NaN or infinite input)
@@ -375,7 +426,10 @@ Returns a dict of numpy arrays, one row per point in input order:
            (Bezier, mesh); NaN where the cell has fewer parameters
   closest  (N, dimension) float64, NaN when not found
   distance (N,) float64, NaN when not found
-The GIL is released while the engine works.
+  signed_distance (N,) float64, with signed=True
+CAD models (invmap.load of .step, .iges, .brep): patch is the face in
+OpenCascade's face-map order, params the face surface's own (u, v)
+(docs/cad.md). The GIL is released while the engine works.
 
 Raises InputError for points of the wrong shape or type and for bad options.
 )doc")
@@ -396,10 +450,12 @@ Raises InputError for an unknown name or a manifold without fields.
       .def_property_readonly("fields", [](const PyManifold& self) { return FieldComponents(self.fields()); },
                              "The node fields the manifold carries: {name: components}.")
       .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near",
-           py::arg("pointwise") = false, R"doc(
+           py::arg("pointwise") = false, py::arg("signed") = false, R"doc(
 Boolean mask of the points `invmap trim` keeps: those within max_distance
 of the geometry (keep="near") or beyond it (keep="far"). Points with NaN or
 infinite coordinates are in neither set. pointwise: as in invert.
+signed=True (CAD solids): near is a signed distance <= max_distance (inside
+the solid, however deep, or at most max_distance outside), far the rest.
 )doc")
       .def("__repr__",
            [](const PyManifold& self) {

@@ -1,7 +1,8 @@
 // The manifold the Python module hands out (invmap.Manifold): a built
 // manifold with the serialized geometry it was built from, which is what
 // pickling sends (workers rebuild from it, not from a file), its node
-// fields if any, and its distance model, prepared on first use.
+// fields if any, the CAD model it was read from if any, and its distance
+// model, prepared on first use.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
 #include "io/geometry_source.h"
+#include "python/cad_binding.h"
 #include "python/errors.h"
 #include "python/fields_binding.h"
 #include "python/geometry_state.h"
@@ -28,14 +30,12 @@ class PyManifold {
   /// for a geometry read from a file with its `source`, naming the file and
   /// line. Pure C++: callers may release the GIL around it.
   PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
-      : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
-    BuildResult built = Manifold::Build(geometry);
-    if (built.code == Error::OutOfMemory) throw std::bad_alloc();  // MemoryError
-    if (built.code == Error::Internal) throw std::runtime_error(nameForMessages + ": " + built.error);
-    if (built.problem && source) throw InputError(source->ToInputError(built.problem).what());
-    if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
-    manifold_ = std::move(built.manifold);
-    for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
+      : PyManifold(geometry, nameForMessages, source, SerializeGeometry(geometry)) {}
+
+  /// A CAD model's manifold: it pickles as the model's file (CadSource).
+  PyManifold(const CadSource& source, const std::string& nameForMessages)
+      : PyManifold(source.model->geometry(), nameForMessages, nullptr, source.state) {
+    cad_ = source.model;
   }
 
   /// The same with the node fields of the geometry's file (kept for probe).
@@ -47,6 +47,8 @@ class PyManifold {
   }
 
   const Manifold& manifold() const { return manifold_; }
+  /// The CAD model the manifold was read from, or null.
+  const cad::Model* cad() const { return cad_.get(); }
   /// The geometry and its node fields; null without fields.
   const FieldGeometry* fields() const { return fields_.get(); }
   /// SerializeGeometry of the geometry, with the fields (SerializeModel): the pickled state.
@@ -69,10 +71,23 @@ class PyManifold {
   }
 
  private:
+  PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source,
+             std::string state)
+      : state_(std::move(state)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
+    BuildResult built = Manifold::Build(geometry);
+    if (built.code == Error::OutOfMemory) throw std::bad_alloc();  // MemoryError
+    if (built.code == Error::Internal) throw std::runtime_error(nameForMessages + ": " + built.error);
+    if (built.problem && source) throw InputError(source->ToInputError(built.problem).what());
+    if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
+    manifold_ = std::move(built.manifold);
+    for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
+  }
+
   struct DistanceCache {
     std::mutex mutex;
     DistanceModel model;
   };
+  std::shared_ptr<const cad::Model> cad_;
   Manifold manifold_;
   std::string state_;
   std::shared_ptr<const FieldGeometry> fields_;

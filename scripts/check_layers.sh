@@ -13,7 +13,7 @@ root=$(cd "${1:-$(dirname "$0")/..}" && pwd)
 # What each folder may include besides its own headers. "invmap" is the
 # public API (include/invmap/); tests, benchmarks and fuzzers may use every
 # library but not the command or the Python module.
-libraries="common kernels engine implicit fields io implicit_io fem samples invmap"
+libraries="common kernels engine implicit fields io implicit_io fem cad samples invmap"
 declare -A may_use=(
   [include]="invmap"
   [common]=""
@@ -23,10 +23,11 @@ declare -A may_use=(
   [fields]="common kernels engine invmap"
   [io]="common kernels invmap"
   [fem]="common kernels io invmap"
+  [cad]="common kernels engine io invmap"
   [implicit_io]="common implicit io invmap"
   [samples]="invmap"
-  [cli]="common io implicit_io fem samples invmap"
-  [python]="common io implicit_io fem invmap"
+  [cli]="common io implicit_io fem cad samples invmap"
+  [python]="common io implicit_io fem cad invmap"
   [examples]="invmap"
   [bench]="$libraries"
   [fuzz]="$libraries"

@@ -13,7 +13,9 @@ jobs=$(nproc)
 packages=(build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libeigen3-dev libtbb-dev
           libembree-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev gmsh
           python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
-          libvtk9-dev libexodusii-dev libnetcdf-dev libgmsh-dev liblzf-dev pcl-tools)
+          libvtk9-dev libexodusii-dev libnetcdf-dev libgmsh-dev liblzf-dev pcl-tools
+          libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
+          occt-misc)
 # The distance benchmark's peers (bench/peers/distance_peers.cpp): FCL and OpenCascade's BRepExtrema.
 packages+=(libfcl-dev libocct-modeling-algorithms-dev)
 
@@ -54,15 +56,16 @@ mkdir -p "$root/build"
 case "$mode" in
   demo)
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF
-    # The main job: a million scanned points against the bundled creased surface.
+    # The main job: a simulated scan of the bundled bracket checked against
+    # its CAD model, signed (negative inside the part), coloured by deviation.
     invmap="$root/build/release/cli/invmap"
     demo="$root/build/demo"
     mkdir -p "$demo"
-    geometry="$root/examples/data/wavy_surface.json"
-    [ -f "$demo/scan.npy" ] || "$invmap" generate points -g "$geometry" -n 1000000 --kind near --spread 0.02 -o "$demo/scan.npy"
-    "$invmap" info -g "$geometry"
-    "$invmap" invert -g "$geometry" -p "$demo/scan.npy" -o "$demo/result.csv"
-    echo "results: $demo/result.csv"
+    part="$root/examples/data/bracket.step"
+    [ -f "$demo/scan.ply" ] || "$invmap" generate scan -g "$part" -n 1000000 -o "$demo/scan.ply"
+    "$invmap" info -g "$part"
+    "$invmap" invert --signed --color --tolerance 0.05 -g "$part" -p "$demo/scan.ply" -o "$demo/deviation.ply"
+    echo "deviation map: $demo/deviation.ply (points coloured blue inside to red outside; CloudCompare, MeshLab)"
     ;;
   test)
     configure_and_build "$root/build/release" Release -DINVMAP_BUILD_TESTS=ON -DINVMAP_BUILD_BENCH=ON

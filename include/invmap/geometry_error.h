@@ -28,6 +28,9 @@ enum class GeometryField : std::uint8_t {
   Cells,
   CellDegrees,  ///< Patch::cellDegrees as a whole (its length).
   CellOffsets,  ///< Patch::cellOffsets as a whole (its length).
+  Angular,      ///< Patch::angular of a TrimmedSurface: element = direction.
+  TrimLoops,    ///< Patch::trimLoops: element = loop, item = its curve.
+  Edges,        ///< Patch::edges: element = edge (the message says curve or pcurve).
 };
 
 /// The field's name in the geometry file: "degrees", "control_points",
@@ -35,7 +38,8 @@ enum class GeometryField : std::uint8_t {
 inline const char* GeometryFieldName(GeometryField field) {
   static const char* const kNames[] = {"",        "dimension", "kind",           "cell",     "degrees",
                                        "knots",   "counts",    "control_points", "vertices", "weights",
-                                       "cells",   "cellDegrees", "cellOffsets"};
+                                       "cells",   "cellDegrees", "cellOffsets", "angular",  "trimLoops",
+                                       "edges"};
   return kNames[static_cast<int>(field)];
 }
 

@@ -24,6 +24,38 @@
 
 namespace invmap {
 
+/// A B-spline or NURBS curve: the trimming loops and the edges of a
+/// TrimmedSurface patch.
+struct SplineCurve {
+  int degree = 1;
+  /// count + degree + 1 non-decreasing knots; the curve is the part over
+  /// [knots[degree], knots[count]].
+  std::vector<double> knots;
+  /// Control points, point-major: 2 coordinates each for a curve in a
+  /// surface's parameters, 3 for a curve in space.
+  std::vector<double> points;
+  /// Optional: one positive weight per control point.
+  std::vector<double> weights;
+  /// The curve's own parameter is an angle (an arc of a circle or an
+  /// ellipse): degree 2, and every knot span [a, b] is one symmetric rational
+  /// quadratic arc (end weights equal, middle weight cos((b - a) / 2) times
+  /// theirs) whose knots a, b are the angles at its ends. False: the own
+  /// parameter is the knot value.
+  bool angular = false;
+};
+
+/// An edge of a TrimmedSurface patch: a boundary curve of the face, whose
+/// points are answers too (searched as curve cells).
+struct PatchEdge {
+  /// The edge in space (3 coordinates per control point).
+  SplineCurve curve;
+  /// The same edge in the surface's own parameters (2 coordinates per
+  /// control point), over the same own parameter as `curve`: an answer on
+  /// the edge reports pcurve's (u, v) there. No points: unknown (the
+  /// answer's u and v are NaN).
+  SplineCurve pcurve;
+};
+
 /// One patch of a geometry, as in the geometry file (docs/formats.md section 2).
 /// Fields not used by a kind are left empty.
 ///  - BSpline: degrees, knots, counts, points, optional weights.
@@ -32,8 +64,21 @@ namespace invmap {
 ///  - BezierCells: many Bezier cells of any types and degrees (a high-order
 ///    mesh after the change to Bernstein form, e.g. one gmsh physical group):
 ///    cellTypes, cellDegrees, cellOffsets, points, optional weights.
+///  - TrimmedSurface: a trimmed face of a CAD model (docs/cad.md): a
+///    B-spline or NURBS surface as for BSpline (degrees [p, q], knots, counts,
+///    points, optional weights; 3D only), optional `angular`, restricted to
+///    the region of its parameter plane that `trimLoops` enclose, with the
+///    face's `edges`. Its cells are the surface's knot spans, numbered as a
+///    BSpline patch's (u fastest; spans wholly outside the region have no
+///    cell), then the spans of each edge's curve, edge after edge, numbered
+///    on from the surface's span count. Surface cells report the surface's
+///    own (u, v); edge cells the edge's pcurve (u, v) at the answer.
+///    The closest point of a face is either inside its region or on the
+///    region's boundary, so every curve of that boundary must be an edge
+///    of some TrimmedSurface patch of the geometry (of this one or of the
+///    face across it).
 struct Patch {
-  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells };
+  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells, TrimmedSurface };
   Kind kind = Kind::Bezier;
   /// Bezier and Mesh: the cell type. BSpline: ignored (the parametric
   /// dimension is degrees.size(): line, quad or hex cells).
@@ -61,6 +106,20 @@ struct Patch {
   /// BezierCells: cellTypes.size() + 1 offsets; cell c's control points (and
   /// weights) are points [cellOffsets[c], cellOffsets[c + 1]) of `points`.
   std::vector<std::int64_t> cellOffsets;
+  /// TrimmedSurface: per direction (u, v), 1 when the surface's own parameter
+  /// there is an angle (see SplineCurve::angular: degree 2, every knot span
+  /// one symmetric arc of every row of control points), 0 when it is the knot
+  /// value. Empty: neither.
+  std::vector<std::uint8_t> angular;
+  /// TrimmedSurface: closed loops in the surface's own parameters, each a
+  /// list of 2D curves following each other end to end (a gap between one
+  /// curve's end and the next one's start, the last's and the first's
+  /// included, is closed by a straight segment). The region is what they
+  /// enclose by the even-odd rule, so their orientation does not matter.
+  /// No loops: the whole surface.
+  std::vector<std::vector<SplineCurve>> trimLoops;
+  /// TrimmedSurface: the boundary curves of the face answered from this patch.
+  std::vector<PatchEdge> edges;
 };
 
 /// A geometry: its ambient dimension (2 or 3) and its patches.

@@ -47,9 +47,10 @@ def load(source):
         --geometry` reads it: .json (invmap's geometry, docs/formats.md, or
         Coreform Cubit's Bezier extraction JSON), .obj, .stl, .off, .ply
         meshes, .msh gmsh meshes, .vtu VTK grids, .exo/.e Exodus II files,
-        .bext/.bxt Cubit LS-DYNA Bezier extraction. Node fields of the file
-        (gmsh $NodeData, VTU point data, Exodus nodal variables at the last
-        time step) come with it: Manifold.fields, Manifold.probe;
+        .bext/.bxt Cubit LS-DYNA Bezier extraction, CAD models (.step, .stp,
+        .iges, .igs, .brep: one patch per face, docs/cad.md). Node fields of
+        the file (gmsh $NodeData, VTU point data, Exodus nodal variables at
+        the last time step) come with it: Manifold.fields, Manifold.probe;
       - JSON text of an invmap geometry (a str starting with "{");
       - a dict in the same schema (as json.load returns it); numpy arrays
         inside are accepted.
