@@ -1,0 +1,221 @@
+#include "pou/pou_surface.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/parallel.h"
+#include "pou/blend.h"
+#include "pou/bump.h"
+#include "pou/chart_maps.h"
+
+namespace invmap::pou {
+namespace {
+
+/// Below this fraction of the p-domain radius no neighbour's gluing domain
+/// reaches: canonical distance 1 - sqrt(3)/2 from the vertex, that is
+/// 2 / sqrt(3) - 1 = 0.1547 of R.
+constexpr double kOwnOnly = 0.1547;
+
+ShapeDerivatives<double> ShapeAt(const ShapeNet& net, double x, double y) {
+  const ShapeJet s = EvaluateShape(net, x, y);
+  ShapeDerivatives<double> d;
+  for (int c = 0; c < 3; ++c) {
+    d.value[c] = s.value[c];
+    d.grad[c][0] = s.grad[c][0];
+    d.grad[c][1] = s.grad[c][1];
+    for (int h = 0; h < 3; ++h) d.hess[c][h] = s.hess[c][h];
+  }
+  return d;
+}
+
+/// The sector (star triangle) of a chart of valence n that holds the
+/// direction of (x, y).
+int SectorOf(int n, double x, double y) {
+  double a = std::atan2(y, x);
+  if (a < 0) a += 2.0 * kPi;
+  const int s = static_cast<int>(std::floor(a / (2.0 * kPi / n)));
+  return ((s % n) + n) % n;
+}
+
+}  // namespace
+
+std::string PouSurface::Build(const double* xyz, std::int64_t numVertices, const std::int64_t* triangles,
+                              std::int64_t numTriangles, BaseKind base, int degree) {
+  if (std::string e = mesh_.Build(xyz, numVertices, triangles, numTriangles); !e.empty()) return e;
+  const std::unique_ptr<BaseSurface> surface = MakeBaseSurface(base, mesh_);
+  return FitCharts(*surface, degree);
+}
+
+std::string PouSurface::Restore(const std::vector<double>& xyz, const std::vector<std::int64_t>& triangles,
+                                const std::vector<int>& degrees, const std::vector<double>& nets) {
+  const std::int64_t nv = static_cast<std::int64_t>(xyz.size() / 3);
+  if (std::string e = mesh_.Build(xyz.data(), nv, triangles.data(), static_cast<std::int64_t>(triangles.size() / 3));
+      !e.empty()) {
+    return e;
+  }
+  if (static_cast<std::int64_t>(degrees.size()) != nv) {
+    return "degrees: " + std::to_string(degrees.size()) + " values, expected one per vertex (" + std::to_string(nv) +
+           ")";
+  }
+  degree_ = degrees;
+  radius_.resize(nv);
+  netOffset_.resize(nv + 1);
+  netOffset_[0] = 0;
+  for (std::int64_t v = 0; v < nv; ++v) {
+    if (degrees[v] < 1 || degrees[v] > 8) {
+      return "degrees[" + std::to_string(v) + "]: " + std::to_string(degrees[v]) + ", expected 1 to 8";
+    }
+    radius_[v] = DomainRadius(mesh_.valence(v));
+    netOffset_[v + 1] = netOffset_[v] + 3 * (degrees[v] + 1) * (degrees[v] + 1);
+  }
+  if (static_cast<std::int64_t>(nets.size()) != netOffset_[nv]) {
+    return "chart_control_points: " + std::to_string(nets.size() / 3) + " points, expected " +
+           std::to_string(netOffset_[nv] / 3) + " ((degree + 1)^2 per vertex)";
+  }
+  for (std::size_t i = 0; i < nets.size(); ++i) {
+    if (!std::isfinite(nets[i])) return "chart_control_points: a coordinate is not finite";
+  }
+  nets_ = nets;
+  return {};
+}
+
+std::string PouSurface::FitCharts(const BaseSurface& base, int degree) {
+  const std::int64_t nv = mesh_.numVertices();
+  degree_.resize(nv);
+  radius_.resize(nv);
+  netOffset_.resize(nv + 1);
+  netOffset_[0] = 0;
+  for (std::int64_t v = 0; v < nv; ++v) {
+    degree_[v] = degree > 0 ? degree : AutomaticDegree(mesh_.valence(v));
+    radius_[v] = DomainRadius(mesh_.valence(v));
+    netOffset_[v + 1] = netOffset_[v] + 3 * (degree_[v] + 1) * (degree_[v] + 1);
+  }
+  nets_.assign(netOffset_[nv], 0.0);
+  std::vector<std::string> errors(nv);
+  engine::ForEachBlock(engine::ExecutionPolicy::Par, nv, 64, [&](std::int64_t begin, std::int64_t end) {
+    std::vector<double> uv, xyz, net;
+    for (std::int64_t v = begin; v < end; ++v) {
+      const int n = mesh_.valence(v), d = degree_[v];
+      const double r = radius_[v];
+      const int steps = 2 * d;
+      uv.clear();
+      xyz.clear();
+      // Samples: a (2d + 1)^2 grid over [-R, R]^2, kept where the point's
+      // canonical image lies in the star, mapped to the base surface through
+      // the barycentric coordinates of that image in its triangle.
+      for (int j = 0; j <= steps; ++j) {
+        for (int i = 0; i <= steps; ++i) {
+          const double x = -r + 2.0 * r * i / steps, y = -r + 2.0 * r * j / steps;
+          const int s = SectorOf(n, x, y);
+          double lu = 0.0, lw = 0.0;
+          if (x != 0.0 || y != 0.0) {
+            const double a = (std::atan2(y, x) - 2.0 * kPi * s / n) * n / 6.0;
+            const double rho = std::hypot(x, y) * kFrameRadius / r;
+            const double cx = rho * std::cos(a), cy = rho * std::sin(a);
+            lw = std::max(0.0, cy / kFrameRadius);
+            lu = std::max(0.0, cx - cy / std::sqrt(3.0));
+          }
+          const double lv = 1.0 - lu - lw;
+          if (lv < -1e-12) continue;
+          const std::int64_t t = mesh_.starTriangle(v, s);
+          const int k = mesh_.CornerOf(t, v);
+          double bary[3];
+          bary[k] = std::max(lv, 0.0);
+          bary[(k + 1) % 3] = lu;
+          bary[(k + 2) % 3] = lw;
+          double p[3];
+          base.Evaluate(t, bary, p);
+          uv.push_back(x);
+          uv.push_back(y);
+          xyz.insert(xyz.end(), p, p + 3);
+        }
+      }
+      std::string e = FitShape(d, r, uv, xyz, &net);
+      if (!e.empty()) {
+        errors[v] = "vertex " + std::to_string(v) + " (valence " + std::to_string(n) + "): " + e;
+        continue;
+      }
+      std::copy(net.begin(), net.end(), nets_.begin() + netOffset_[v]);
+    }
+  });
+  for (const std::string& e : errors) {
+    if (!e.empty()) return e;
+  }
+  return {};
+}
+
+ThetaJet PouSurface::Evaluate(std::int64_t chart, double u, double v) const {
+  const int n = mesh_.valence(chart);
+  const double r = radius_[chart];
+  const JetPoint<double> p{Jet<double>::Variable(u, 0), Jet<double>::Variable(v, 1)};
+  ThetaJet out;
+  Jet<double> own[3];
+  ComposeShape(ShapeAt(net(chart), u, v), p, own);
+  if (std::hypot(u, v) < kOwnOnly * r) {
+    for (int c = 0; c < 3; ++c) out.x[c] = own[c];
+    return out;
+  }
+  const Jet<double> ownWeight = JetBump((1.0 / r) * JetSqrt(p.x * p.x + p.y * p.y));
+  std::vector<Contribution<double>> others;
+  const int sector = SectorOf(n, u, v);
+  for (int edge : {sector, (sector + 1) % n}) {
+    Jet<double> angle, distance;
+    const JetPoint<double> frame = ToFrame(n, ToEdgeDirection(n, edge, p), &angle, &distance);
+    if (!(std::fabs(angle.v) < 3.0 * kPi / n)) continue;
+    const JetPoint<double> other = HalfTurn(frame);
+    const Jet<double> otherDistance = JetSqrt(other.x * other.x + other.y * other.y);
+    if (!(otherDistance.v < kFrameRadius)) continue;
+    const std::int64_t z = mesh_.neighbor(chart, edge);
+    const JetPoint<double> q = FromFrame(mesh_.valence(z), mesh_.mate(chart, edge), other);
+    Contribution<double> c;
+    c.weight = JetBump((1.0 / kFrameRadius) * otherDistance);
+    if (c.weight.v == 0.0) continue;
+    ComposeShape(ShapeAt(net(z), q.x.v, q.y.v), q, c.point);
+    others.push_back(c);
+  }
+  Blend(ownWeight, own, others, out.x);
+  return out;
+}
+
+void PouSurface::EvaluatePoint(std::int64_t chart, double u, double v, double out[3]) const {
+  const ThetaJet jet = Evaluate(chart, u, v);
+  for (int c = 0; c < 3; ++c) out[c] = jet.x[c].v;
+}
+
+bool PouSurface::Transition(std::int64_t chart, int edge, double x, double y, double* qx, double* qy) const {
+  const int n = mesh_.valence(chart);
+  if (x == 0.0 && y == 0.0) return false;
+  const JetPoint<double> p{Jet<double>::Constant(x), Jet<double>::Constant(y)};
+  Jet<double> angle, distance;
+  const JetPoint<double> frame = ToFrame(n, ToEdgeDirection(n, edge, p), &angle, &distance);
+  if (!(std::fabs(angle.v) < 3.0 * kPi / n)) return false;
+  const JetPoint<double> other = HalfTurn(frame);
+  if (!(std::hypot(other.x.v, other.y.v) < kFrameRadius) || !(distance.v < kFrameRadius)) return false;
+  const std::int64_t z = mesh_.neighbor(chart, edge);
+  const JetPoint<double> q = FromFrame(mesh_.valence(z), mesh_.mate(chart, edge), other);
+  *qx = q.x.v;
+  *qy = q.y.v;
+  return true;
+}
+
+ChartPoint PouSurface::Owner(std::int64_t chart, double u, double v) const {
+  ChartPoint best{chart, u, v};
+  const int n = mesh_.valence(chart);
+  double bestDistance = std::hypot(u, v) * kFrameRadius / radius_[chart];
+  if (bestDistance < 0.5) return best;  // nearer to the vertex than to any neighbour
+  const int sector = SectorOf(n, u, v);
+  for (int edge : {sector, (sector + 1) % n}) {
+    const JetPoint<double> p{Jet<double>::Constant(u), Jet<double>::Constant(v)};
+    Jet<double> angle, distance;
+    const JetPoint<double> frame = ToFrame(n, ToEdgeDirection(n, edge, p), &angle, &distance);
+    const double d = std::hypot(1.0 - frame.x.v, frame.y.v);
+    double qx, qy;
+    if (d < bestDistance && Transition(chart, edge, u, v, &qx, &qy)) {
+      bestDistance = d;
+      best = {mesh_.neighbor(chart, edge), qx, qy};
+    }
+  }
+  return best;
+}
+
+}  // namespace invmap::pou

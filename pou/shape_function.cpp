@@ -1,0 +1,170 @@
+#include "pou/shape_function.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace invmap::pou {
+namespace {
+
+constexpr int kMaxBasis = 32;
+
+/// Bernstein polynomials of degree d at s, with their first and second
+/// derivatives in s.
+struct Basis1 {
+  double b[kMaxBasis], d1[kMaxBasis], d2[kMaxBasis];
+};
+
+/// All Bernstein polynomials of degree `degree` at s, into out[0 .. degree].
+void Bernstein(int degree, double s, double* out) {
+  out[0] = 1.0;
+  for (int d = 1; d <= degree; ++d) {
+    out[d] = s * out[d - 1];
+    for (int j = d - 1; j >= 1; --j) out[j] = (1.0 - s) * out[j] + s * out[j - 1];
+    out[0] *= 1.0 - s;
+  }
+}
+
+Basis1 BernsteinWithDerivatives(int degree, double s) {
+  Basis1 r;
+  double lower1[kMaxBasis] = {}, lower2[kMaxBasis] = {};
+  Bernstein(degree, s, r.b);
+  if (degree >= 1) Bernstein(degree - 1, s, lower1);
+  if (degree >= 2) Bernstein(degree - 2, s, lower2);
+  for (int j = 0; j <= degree; ++j) {
+    const double a = j >= 1 ? lower1[j - 1] : 0.0;
+    const double b = j <= degree - 1 ? lower1[j] : 0.0;
+    r.d1[j] = degree * (a - b);
+    const double c0 = j >= 2 ? lower2[j - 2] : 0.0;
+    const double c1 = j >= 1 && j - 1 <= degree - 2 ? lower2[j - 1] : 0.0;
+    const double c2 = j <= degree - 2 ? lower2[j] : 0.0;
+    r.d2[j] = degree * (degree - 1) * (c0 - 2.0 * c1 + c2);
+  }
+  return r;
+}
+
+}  // namespace
+
+ShapeJet EvaluateShape(const ShapeNet& net, double x, double y) {
+  const int d = net.degree;
+  const double scale = 1.0 / (2.0 * net.radius);
+  const Basis1 bx = BernsteinWithDerivatives(d, (x + net.radius) * scale);
+  const Basis1 by = BernsteinWithDerivatives(d, (y + net.radius) * scale);
+  ShapeJet jet{};
+  for (int k = 0; k <= d; ++k) {
+    // Contract the row first: sums over j of each x factor, then the y factor.
+    double row[3][3] = {};  // [x factor: b, d1, d2][coordinate]
+    for (int j = 0; j <= d; ++j) {
+      const double* p = net.points + 3 * (j + (d + 1) * k);
+      for (int c = 0; c < 3; ++c) {
+        row[0][c] += bx.b[j] * p[c];
+        row[1][c] += bx.d1[j] * p[c];
+        row[2][c] += bx.d2[j] * p[c];
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      jet.value[c] += by.b[k] * row[0][c];
+      jet.grad[c][0] += by.b[k] * row[1][c];
+      jet.grad[c][1] += by.d1[k] * row[0][c];
+      jet.hess[c][0] += by.b[k] * row[2][c];
+      jet.hess[c][1] += by.d1[k] * row[1][c];
+      jet.hess[c][2] += by.d2[k] * row[0][c];
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    jet.grad[c][0] *= scale;
+    jet.grad[c][1] *= scale;
+    for (int h = 0; h < 3; ++h) jet.hess[c][h] *= scale * scale;
+  }
+  return jet;
+}
+
+void EvaluateShapePoint(const ShapeNet& net, double x, double y, double out[3]) {
+  const int d = net.degree;
+  const double scale = 1.0 / (2.0 * net.radius);
+  double bx[kMaxBasis], by[kMaxBasis];
+  Bernstein(d, (x + net.radius) * scale, bx);
+  Bernstein(d, (y + net.radius) * scale, by);
+  out[0] = out[1] = out[2] = 0.0;
+  for (int k = 0; k <= d; ++k) {
+    double row[3] = {};
+    for (int j = 0; j <= d; ++j) {
+      const double* p = net.points + 3 * (j + (d + 1) * k);
+      for (int c = 0; c < 3; ++c) row[c] += bx[j] * p[c];
+    }
+    for (int c = 0; c < 3; ++c) out[c] += by[k] * row[c];
+  }
+}
+
+ShapeBounds BoundShape(const ShapeNet& net) {
+  const int d = net.degree, n = d + 1;
+  ShapeBounds bounds;
+  for (int i = 0; i < 3 * n * n; ++i) bounds.value = std::max(bounds.value, std::fabs(net.points[i]));
+  const double scale = 1.0 / (2.0 * net.radius);
+  for (int order = 1; order <= 3; ++order) {
+    double largest = 0.0;
+    for (int a = 0; a <= order; ++a) {
+      const int b = order - a;
+      if (a > d || b > d) continue;
+      // Coefficients of d^a/ds^a d^b/dt^b: falling factorials times forward
+      // differences a times along x and b times along y.
+      double factor = 1.0;
+      for (int i = 0; i < a; ++i) factor *= d - i;
+      for (int i = 0; i < b; ++i) factor *= d - i;
+      for (int c = 0; c < 3; ++c) {
+        std::vector<double> diff(n * n);
+        for (int i = 0; i < n * n; ++i) diff[i] = net.points[3 * i + c];
+        int nx = n, ny = n;
+        for (int i = 0; i < a; ++i, --nx) {
+          for (int k = 0; k < ny; ++k)
+            for (int j = 0; j + 1 < nx; ++j) diff[j + n * k] = diff[j + 1 + n * k] - diff[j + n * k];
+        }
+        for (int i = 0; i < b; ++i, --ny) {
+          for (int k = 0; k + 1 < ny; ++k)
+            for (int j = 0; j < nx; ++j) diff[j + n * k] = diff[j + n * (k + 1)] - diff[j + n * k];
+        }
+        for (int k = 0; k < ny; ++k)
+          for (int j = 0; j < nx; ++j) largest = std::max(largest, factor * std::fabs(diff[j + n * k]));
+      }
+    }
+    // Rounding of the differences: each of the `order` levels adds at most
+    // an ulp of values up to 2^order times the largest coordinate.
+    double factorMax = 1.0;
+    for (int i = 0; i < order; ++i) factorMax *= d;
+    const double rounding = factorMax * std::ldexp(bounds.value, order) * order * 0x1p-51;
+    bounds.derivative[order] = (largest + rounding) * std::pow(scale, order) * (1.0 + 1e-12);
+  }
+  return bounds;
+}
+
+std::string FitShape(int degree, double radius, const std::vector<double>& uv, const std::vector<double>& xyz,
+                     std::vector<double>* out) {
+  const int n = degree + 1, unknowns = n * n;
+  const int count = static_cast<int>(uv.size() / 2);
+  if (count < unknowns) {
+    return std::to_string(count) + " samples for " + std::to_string(unknowns) + " control points";
+  }
+  Eigen::MatrixXd a(count, unknowns);
+  Eigen::MatrixXd rhs(count, 3);
+  const double scale = 1.0 / (2.0 * radius);
+  double bx[kMaxBasis], by[kMaxBasis];
+  for (int s = 0; s < count; ++s) {
+    Bernstein(degree, (uv[2 * s] + radius) * scale, bx);
+    Bernstein(degree, (uv[2 * s + 1] + radius) * scale, by);
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j) a(s, j + n * k) = bx[j] * by[k];
+    for (int c = 0; c < 3; ++c) rhs(s, c) = xyz[3 * s + c];
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  if (qr.rank() < unknowns) {
+    return "the samples determine only " + std::to_string(qr.rank()) + " of " + std::to_string(unknowns) +
+           " control points";
+  }
+  const Eigen::MatrixXd solution = qr.solve(rhs);
+  out->resize(3 * unknowns);
+  for (int i = 0; i < unknowns; ++i)
+    for (int c = 0; c < 3; ++c) (*out)[3 * i + c] = solution(i, c);
+  return {};
+}
+
+}  // namespace invmap::pou
