@@ -62,4 +62,18 @@ struct GridCommandOptions {
 
 int RunGrid(const GridCommandOptions& options);
 
+/// `invmap manifold`: a partition-of-unity surface over a closed triangle
+/// mesh (FORMATS.md section 9 / docs/manifold.md).
+struct ManifoldOptions {
+  std::string mesh;
+  std::string base = "loop";   ///< flat, pn or loop.
+  int degree = 0;              ///< 0: automatic.
+  std::string output;
+  std::string tessellate;      ///< Optional .ply output.
+  int resolution = 8;          ///< Tessellation: segments along each mesh edge.
+  bool quiet = false;
+};
+
+int RunManifold(const ManifoldOptions& options);
+
 }  // namespace invmap::cli

@@ -13,6 +13,7 @@
 #include "engine/cell_store.h"
 #include "engine/invert_batch.h"
 #include "engine/parallel.h"
+#include "engine/pou_patches.h"
 #include "engine/simplex_items.h"
 #include "engine/wide_bvh.h"
 #include "invmap/invmap.h"
@@ -24,6 +25,7 @@ struct Manifold::Impl {
   engine::Bvh bvh;
   engine::WideBvh wideBvh;
   engine::SimplexItems simplices;
+  engine::PouPatches pou;  ///< The pou_manifold patches, which the cells above do not hold.
 };
 
 namespace {
@@ -121,6 +123,8 @@ BuildResult Manifold::Build(const Geometry& geometry) {
       store.SubdivisionHullPoints(s, xyz);
     });
     impl->simplices.Build(impl->store, impl->bvh);
+    result.error = impl->pou.Build(geometry, 0);
+    if (!result.error.empty()) return result;
     result.manifold.impl_ = std::move(impl);
   } catch (const std::bad_alloc&) {
     result.error = "out of memory while building the manifold";
@@ -156,17 +160,20 @@ ManifoldInfo Manifold::Info() const {
     info.boundsHi[k] = info.cells ? bounds.hi[k] : 0.0;
   }
   info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + impl_->wideBvh.MemoryBytes() +
-                     impl_->simplices.MemoryBytes() + sizeof(Impl);
+                     impl_->simplices.MemoryBytes() + impl_->pou.MemoryBytes() + sizeof(Impl);
+  impl_->pou.AddInfo(&info);
   return info;
 }
 
 std::int64_t Manifold::NumCells(int patch) const {
   if (!impl_ || patch < 0 || static_cast<std::size_t>(patch) >= impl_->store.numPatches()) return 0;
+  if (const std::int64_t charts = impl_->pou.NumCells(patch); charts >= 0) return charts;
   return impl_->store.patchFirstCell(patch + 1) - impl_->store.patchFirstCell(patch);
 }
 
 bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], double params[3], double point[3]) const {
   if (cell < 0 || cell >= NumCells(patch)) return false;
+  if (impl_->pou.NumCells(patch) >= 0) return impl_->pou.PointAt(patch, cell, sample, params, point);
   const std::int64_t c = impl_->store.patchFirstCell(patch) + cell;
   const kernels::CellSolver& solver = impl_->store.solver(c);
   const kernels::CellShape& shape = solver.cell().shape;
@@ -221,6 +228,7 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
     query.count = static_cast<std::int64_t>(points.count);
     for (int k = 0; k < dim; ++k) query.coord[k] = soa.get() + k * points.count;
     engine::InvertBatch(impl_->store, impl_->bvh, impl_->wideBvh, impl_->simplices, query, options, results);
+    impl_->pou.Invert(query, options, results);
   } catch (const std::invalid_argument& e) {
     SetMessage(message, e.what());
     return Error::InvalidArgument;

@@ -186,11 +186,14 @@ std::string CellStore::Build(const Geometry& geometry, int maxThreads) {
     const std::string where = "patch " + std::to_string(p) + ": ";
     CellOrigin origin;
     origin.patch = static_cast<std::int32_t>(p);
+    if (patch.kind == Patch::Kind::PouManifold) continue;  // built by engine/pou_patches.h
     if (std::string e = CheckCoordinates(patch.points, patch.kind == Patch::Kind::Mesh ? "vertices" : "control_points", dim);
         !e.empty()) {
       return where + e;
     }
     switch (patch.kind) {
+      case Patch::Kind::PouManifold:
+        break;  // skipped above
       case Patch::Kind::BSpline: {
         BSplinePatch spline;
         spline.ambientDim = dim;

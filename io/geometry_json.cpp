@@ -28,10 +28,23 @@ using Json = nlohmann::json;
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
 
 /// The fields a patch object may have (the union over all kinds).
-enum class Field : int { Kind, Cell, Degrees, Knots, Counts, ControlPoints, Weights, Vertices, Cells, None };
+enum class Field : int {
+  Kind,
+  Cell,
+  Degrees,
+  Knots,
+  Counts,
+  ControlPoints,
+  Weights,
+  Vertices,
+  Cells,
+  ChartControlPoints,
+  None
+};
 constexpr int kNumFields = static_cast<int>(Field::None);
-constexpr const char* kFieldNames[kNumFields] = {"kind",           "cell",    "degrees",  "knots", "counts",
-                                                 "control_points", "weights", "vertices", "cells"};
+constexpr const char* kFieldNames[kNumFields] = {"kind",    "cell",     "degrees", "knots",
+                                                 "counts",  "control_points", "weights", "vertices",
+                                                 "cells",   "chart_control_points"};
 
 /// The top-level fields; Other is any unknown one, which is skipped.
 enum class RootKey { Format, Version, Dimension, Patches, Other };
@@ -161,6 +174,7 @@ struct PatchSource {
   std::string cell;                      ///< As written.
   std::vector<std::size_t> knotOffsets;  ///< One per knot vector.
   RowShape points;                       ///< control_points or vertices.
+  RowShape chartPoints;                  ///< chart_control_points.
   RowShape cells;
   /// Extreme vertex indices of `cells` with their rows, checked against the
   /// vertex count when the patch closes ("vertices" may follow "cells").
@@ -375,7 +389,7 @@ class GeometryHandler {
   /// True for the fields that are arrays of arrays.
   bool NestedField() const {
     return field_ == Field::Knots || field_ == Field::ControlPoints || field_ == Field::Vertices ||
-           field_ == Field::Cells;
+           field_ == Field::Cells || field_ == Field::ChartControlPoints;
   }
 
   const std::string& name_;    ///< File name for messages.
@@ -414,6 +428,7 @@ const char* GeometryHandler::FieldExpectation(Field f) {
       return "an array of knot vectors (arrays of numbers)";
     case Field::ControlPoints:
     case Field::Vertices:
+    case Field::ChartControlPoints:
       return "an array of points (arrays of numbers)";
     case Field::Cells:
       return "an array of cells (arrays of vertex indices)";
@@ -553,8 +568,13 @@ void GeometryHandler::RowScalar(const Scalar& v) {
         Fail(Here(), RowElementPath() + ": coordinate " + FormatNumber(x) +
                          " is outside [-1e100, 1e100] (the range invmap supports)");
       }
-      patch.points.push_back(x);
-      ++source.points.openLength;
+      if (field_ == Field::ChartControlPoints) {
+        patch.chartControlPoints.push_back(x);
+        ++source.chartPoints.openLength;
+      } else {
+        patch.points.push_back(x);
+        ++source.points.openLength;
+      }
     }
   }
   ++rowElement_;
@@ -633,7 +653,10 @@ bool GeometryHandler::start_array(std::size_t) {
         patches_.back().knots.emplace_back();
         source_.knotOffsets.push_back(Here());
       } else {
-        (field_ == Field::Cells ? source_.cells : source_.points).Open(Here());
+        (field_ == Field::Cells                ? source_.cells
+         : field_ == Field::ChartControlPoints ? source_.chartPoints
+                                               : source_.points)
+            .Open(Here());
       }
       break;
     default:
@@ -651,6 +674,7 @@ bool GeometryHandler::end_array() {
   --depth_;
   if (depth_ == 4) {
     if (field_ == Field::ControlPoints || field_ == Field::Vertices) source_.points.Close();
+    if (field_ == Field::ChartControlPoints) source_.chartPoints.Close();
     if (field_ == Field::Cells) source_.cells.Close();
     ++element_;
   }
@@ -692,7 +716,8 @@ bool GeometryHandler::key(std::string& name) {
   }
   if (field_ == Field::None) {
     Fail(Here(), PatchPath() + ": unknown field \"" + name +
-                     "\" (patch fields: kind, cell, degrees, knots, counts, control_points, weights, vertices, cells)");
+                     "\" (patch fields: kind, cell, degrees, knots, counts, control_points, weights, vertices, cells, "
+                     "chart_control_points)");
   }
   PatchSource& source = source_;
   if (source.Has(field_)) Fail(Here(), PatchPath() + ": duplicate field \"" + name + "\"");
@@ -724,7 +749,9 @@ void GeometryHandler::ValidatePatch() {
   const std::string where = "patches[" + std::to_string(index) + "]";
 
   // Kind, then which fields it allows and needs.
-  if (!source.Has(Field::Kind)) Fail(source.offset, where + ": missing field \"kind\" (bspline, bezier or mesh)");
+  if (!source.Has(Field::Kind)) {
+    Fail(source.offset, where + ": missing field \"kind\" (bspline, bezier, mesh or pou_manifold)");
+  }
   // Fields of each kind as bit sets over Field.
   const auto bit = [](Field f) { return 1u << static_cast<int>(f); };
   unsigned required = 0, optional = bit(Field::Kind);
@@ -739,9 +766,13 @@ void GeometryHandler::ValidatePatch() {
   } else if (source.kind == "mesh") {
     patch.kind = Patch::Kind::Mesh;
     required = bit(Field::Cell) | bit(Field::Vertices) | bit(Field::Cells);
+  } else if (source.kind == "pou_manifold") {
+    patch.kind = Patch::Kind::PouManifold;
+    patch.cell = CellType::Tri;
+    required = bit(Field::Vertices) | bit(Field::Cells) | bit(Field::Degrees) | bit(Field::ChartControlPoints);
   } else {
-    Fail(source.At(Field::Kind),
-         where + ".kind: unknown patch kind \"" + source.kind + "\" (expected bspline, bezier or mesh)");
+    Fail(source.At(Field::Kind), where + ".kind: unknown patch kind \"" + source.kind +
+                                     "\" (expected bspline, bezier, mesh or pou_manifold)");
   }
   for (int f = 0; f < kNumFields; ++f) {
     if (source.Has(static_cast<Field>(f)) && !((required | optional) & (1u << f))) {
@@ -775,6 +806,10 @@ void GeometryHandler::ValidatePatch() {
   } else {
     check.paramDim = static_cast<std::size_t>(ParamDimOf(patch.cell));
     check.paramDimOffset = source.At(Field::Cell);
+    if (patch.kind == Patch::Kind::PouManifold) {
+      check.paramDim = 3;  // a surface of R^3 only
+      check.paramDimOffset = source.At(Field::Kind);
+    }
   }
   if (dimension_ != 0) {
     CheckDimension(check);
@@ -855,6 +890,31 @@ void GeometryHandler::ValidatePatch() {
       checkWeights();
       break;
     }
+    case Patch::Kind::PouManifold:
+      if (source.chartPoints.rows > 0 && source.chartPoints.firstLength != 3) {
+        Fail(source.chartPoints.firstOffset, where + ".chart_control_points[0]: " +
+                                                 std::to_string(source.chartPoints.firstLength) +
+                                                 " coordinates, expected 3");
+      }
+      if (source.chartPoints.oddRow != kNone) {
+        Fail(source.chartPoints.oddOffset, where + ".chart_control_points[" + std::to_string(source.chartPoints.oddRow) +
+                                               "]: " + std::to_string(source.chartPoints.oddLength) +
+                                               " coordinates, expected 3");
+      }
+      if (patch.degrees.size() != numPoints) {
+        Fail(source.At(Field::Degrees), where + ".degrees: " + std::to_string(patch.degrees.size()) +
+                                            " values, expected one per vertex (" + std::to_string(numPoints) + ")");
+      }
+      {
+        std::size_t expected = 0;
+        for (int d : patch.degrees) expected += static_cast<std::size_t>(d + 1) * (d + 1);
+        if (source.chartPoints.rows != expected) {
+          Fail(source.At(Field::ChartControlPoints), where + ".chart_control_points: " +
+                                                         std::to_string(source.chartPoints.rows) + " points, expected " +
+                                                         std::to_string(expected) + " ((degree + 1)^2 per vertex)");
+        }
+      }
+      [[fallthrough]];
     case Patch::Kind::Mesh: {
       const std::size_t perCell = VerticesOf(patch.cell);
       const RowShape& cells = source.cells;
@@ -889,7 +949,8 @@ void GeometryHandler::ValidatePatch() {
 void GeometryHandler::CheckDimension(const DimensionCheck& check) const {
   const std::string where = "patches[" + std::to_string(check.patch) + "]";
   const std::size_t dim = static_cast<std::size_t>(dimension_);
-  const char* pointsName = check.kind == Patch::Kind::Mesh ? "vertices" : "control_points";
+  const char* pointsName =
+      check.kind == Patch::Kind::Mesh || check.kind == Patch::Kind::PouManifold ? "vertices" : "control_points";
   const RowShape& points = check.points;
   if (points.rows > 0 && points.firstLength != dim) {
     Fail(points.firstOffset, where + "." + pointsName + "[0]: " + std::to_string(points.firstLength) +
@@ -901,6 +962,7 @@ void GeometryHandler::CheckDimension(const DimensionCheck& check) const {
                                std::to_string(dim) + " (the dimension)");
   }
   if (check.paramDim > dim) {
+    if (check.kind == Patch::Kind::PouManifold) Fail(check.paramDimOffset, where + ".kind: a pou_manifold needs dimension 3");
     if (check.kind == Patch::Kind::BSpline) {
       Fail(check.paramDimOffset,
            where + ".degrees: a " + std::to_string(check.paramDim) + "-parameter patch needs dimension 3");

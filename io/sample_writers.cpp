@@ -71,6 +71,18 @@ void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
         j["cells"] = std::move(cells);
         break;
       }
+      case Patch::Kind::PouManifold: {
+        j["kind"] = "pou_manifold";
+        j["vertices"] = PointList(patch.points, 3);
+        nlohmann::json cells = nlohmann::json::array();
+        for (std::size_t c = 0; c + 3 <= patch.cells.size(); c += 3) {
+          cells.push_back(std::vector<std::int64_t>(patch.cells.begin() + c, patch.cells.begin() + c + 3));
+        }
+        j["cells"] = std::move(cells);
+        j["degrees"] = patch.degrees;
+        j["chart_control_points"] = PointList(patch.chartControlPoints, 3);
+        break;
+      }
       case Patch::Kind::BezierCells:
         throw InputError(path, 0, "patch " + std::to_string(p) + " holds many Bezier cells, which the JSON format cannot express",
                          InputError::Kind::Output);

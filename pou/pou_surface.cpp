@@ -76,7 +76,13 @@ std::string PouSurface::Restore(const std::vector<double>& xyz, const std::vecto
     if (!std::isfinite(nets[i])) return "chart_control_points: a coordinate is not finite";
   }
   nets_ = nets;
+  ComputeBounds();
   return {};
+}
+
+void PouSurface::ComputeBounds() {
+  bounds_.resize(numCharts());
+  for (std::int64_t v = 0; v < numCharts(); ++v) bounds_[v] = BoundShape(net(v));
 }
 
 std::string PouSurface::FitCharts(const BaseSurface& base, int degree) {
@@ -141,6 +147,7 @@ std::string PouSurface::FitCharts(const BaseSurface& base, int degree) {
   for (const std::string& e : errors) {
     if (!e.empty()) return e;
   }
+  ComputeBounds();
   return {};
 }
 

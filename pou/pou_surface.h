@@ -55,6 +55,8 @@ class PouSurface {
   double radius(std::int64_t v) const { return radius_[v]; }
   int degree(std::int64_t v) const { return degree_[v]; }
   ShapeNet net(std::int64_t v) const { return {degree_[v], radius_[v], &nets_[netOffset_[v]]}; }
+  /// Bounds of chart v's shape function and its derivatives over its square.
+  const ShapeBounds& shapeBounds(std::int64_t v) const { return bounds_[v]; }
   const std::vector<int>& degrees() const { return degree_; }
   const std::vector<double>& nets() const { return nets_; }
 
@@ -71,12 +73,14 @@ class PouSurface {
 
  private:
   std::string FitCharts(const BaseSurface& base, int degree);
+  void ComputeBounds();
 
   ClosedMesh mesh_;
   std::vector<int> degree_;
   std::vector<double> radius_;
   std::vector<std::int64_t> netOffset_;
   std::vector<double> nets_;
+  std::vector<ShapeBounds> bounds_;
 };
 
 /// The bidegree the published implementation gives a chart of valence n.

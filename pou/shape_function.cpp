@@ -8,6 +8,9 @@ namespace invmap::pou {
 namespace {
 
 constexpr int kMaxBasis = 32;
+/// Weight of the smoothing rows of the fit against the sample rows (whose
+/// basis values add up to 1).
+constexpr double kSmoothingWeight = 1e-2;
 
 /// Bernstein polynomials of degree d at s, with their first and second
 /// derivatives in s.
@@ -137,6 +140,101 @@ ShapeBounds BoundShape(const ShapeNet& net) {
   return bounds;
 }
 
+namespace {
+
+/// Cuts one row of Bezier coefficients (degree d, stride `stride`) from
+/// [0, 1] to [s0, s1] (0 <= s0 <= s1 <= 1), in place.
+void CutRow(int d, double s0, double s1, double* c, int stride) {
+  double work[kMaxBasis];
+  for (int i = 0; i <= d; ++i) work[i] = c[i * stride];
+  // Left part at s1: [0, s1].
+  for (int level = 1; level <= d; ++level)
+    for (int i = d; i >= level; --i) work[i] = (1.0 - s1) * work[i - 1] + s1 * work[i];
+  // work[i] now holds the left part's coefficient i (the diagonal of the scheme).
+  // Right part of that at s0 / s1: [s0, s1].
+  const double t = s1 > 0.0 ? std::min(1.0, s0 / s1) : 0.0;
+  for (int level = 1; level <= d; ++level)
+    for (int i = 0; i + level <= d; ++i) work[i] = (1.0 - t) * work[i] + t * work[i + 1];
+  for (int i = 0; i <= d; ++i) c[i * stride] = work[i];
+}
+
+}  // namespace
+
+ShapeRanges RangeOverBox(const ShapeNet& net, const double lo[2], const double hi[2]) {
+  const int d = net.degree, n = d + 1;
+  const double scale = 1.0 / (2.0 * net.radius);
+  // Parameter ranges, rounded outward (the cut covers at least the box).
+  double s0[2], s1[2], width[2];
+  for (int i = 0; i < 2; ++i) {
+    s0[i] = std::max(0.0, std::nextafter((lo[i] + net.radius) * scale, -1.0) - 0x1p-52);
+    s1[i] = std::min(1.0, std::nextafter((hi[i] + net.radius) * scale, 2.0) + 0x1p-52);
+    width[i] = (s1[i] - s0[i]) / scale;  // in chart units
+  }
+  double largest = 0.0;
+  for (int i = 0; i < 3 * n * n; ++i) largest = std::max(largest, std::fabs(net.points[i]));
+  // Each cut is two de Casteljau runs of d levels of convex combinations.
+  const double rounding = 8.0 * (2.0 * d + 2.0) * 0x1p-53 * largest;
+  ShapeRanges r;
+  double third = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    double cut[kMaxBasis * kMaxBasis];
+    for (int i = 0; i < n * n; ++i) cut[i] = net.points[3 * i + c];
+    for (int k = 0; k < n; ++k) CutRow(d, s0[0], s1[0], cut + n * k, 1);
+    for (int j = 0; j < n; ++j) CutRow(d, s0[1], s1[1], cut + j, n);
+    const auto range = [&](auto coefficient, int nx, int ny, double factor, double error) {
+      double a = coefficient(0, 0), b = a;
+      for (int k = 0; k < ny; ++k)
+        for (int j = 0; j < nx; ++j) {
+          const double v = coefficient(j, k);
+          a = std::min(a, v);
+          b = std::max(b, v);
+        }
+      const double pad = factor * error;
+      return Interval(interval_detail::Down(factor * a - pad), interval_detail::Up(factor * b + pad));
+    };
+    const auto at = [&](int j, int k) { return cut[j + n * k]; };
+    r.value[c] = range(at, n, n, 1.0, rounding);
+    if (d >= 1) {
+      r.grad[c][0] = range([&](int j, int k) { return at(j + 1, k) - at(j, k); }, n - 1, n, d / width[0], 2 * rounding);
+      r.grad[c][1] = range([&](int j, int k) { return at(j, k + 1) - at(j, k); }, n, n - 1, d / width[1], 2 * rounding);
+    } else {
+      r.grad[c][0] = r.grad[c][1] = Interval(0.0);
+    }
+    if (d >= 2) {
+      r.hess[c][0] = range([&](int j, int k) { return at(j + 2, k) - 2 * at(j + 1, k) + at(j, k); }, n - 2, n,
+                           d * (d - 1) / (width[0] * width[0]), 4 * rounding);
+      r.hess[c][2] = range([&](int j, int k) { return at(j, k + 2) - 2 * at(j, k + 1) + at(j, k); }, n, n - 2,
+                           d * (d - 1) / (width[1] * width[1]), 4 * rounding);
+    } else {
+      r.hess[c][0] = r.hess[c][2] = Interval(0.0);
+    }
+    r.hess[c][1] = d >= 1 ? range([&](int j, int k) { return at(j + 1, k + 1) - at(j + 1, k) - at(j, k + 1) + at(j, k); },
+                                  n - 1, n - 1, d * d / (width[0] * width[1]), 4 * rounding)
+                          : Interval(0.0);
+    // Third partials: every mix of differences along x and y.
+    for (int ax = 0; ax <= 3; ++ax) {
+      const int ay = 3 - ax;
+      if (ax > d || ay > d) continue;
+      double factor = 1.0;
+      for (int i = 0; i < ax; ++i) factor *= (d - i) / width[0];
+      for (int i = 0; i < ay; ++i) factor *= (d - i) / width[1];
+      double diff[kMaxBasis * kMaxBasis];
+      std::copy(cut, cut + n * n, diff);
+      int nx = n, ny = n;
+      for (int i = 0; i < ax; ++i, --nx)
+        for (int k = 0; k < ny; ++k)
+          for (int j = 0; j + 1 < nx; ++j) diff[j + n * k] = diff[j + 1 + n * k] - diff[j + n * k];
+      for (int i = 0; i < ay; ++i, --ny)
+        for (int k = 0; k + 1 < ny; ++k)
+          for (int j = 0; j < nx; ++j) diff[j + n * k] = diff[j + n * (k + 1)] - diff[j + n * k];
+      for (int k = 0; k < ny; ++k)
+        for (int j = 0; j < nx; ++j) third = std::max(third, factor * (std::fabs(diff[j + n * k]) + 8 * rounding));
+    }
+  }
+  r.third = third * (1.0 + 1e-12);
+  return r;
+}
+
 std::string FitShape(int degree, double radius, const std::vector<double>& uv, const std::vector<double>& xyz,
                      std::vector<double>* out) {
   const int n = degree + 1, unknowns = n * n;
@@ -144,8 +242,14 @@ std::string FitShape(int degree, double radius, const std::vector<double>& uv, c
   if (count < unknowns) {
     return std::to_string(count) + " samples for " + std::to_string(unknowns) + " control points";
   }
-  Eigen::MatrixXd a(count, unknowns);
-  Eigen::MatrixXd rhs(count, 3);
+  // The samples cover the star of the vertex, not the corners of the square:
+  // a light penalty on the net's second differences keeps the control
+  // points there near a smooth continuation instead of wherever the
+  // samples leave them (up to 100 times the star's size without it), which
+  // would also make every derivative bound of the net useless.
+  const int penalties = degree >= 2 ? 2 * n * (n - 2) + (n - 1) * (n - 1) : 0;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(count + penalties, unknowns);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count + penalties, 3);
   const double scale = 1.0 / (2.0 * radius);
   double bx[kMaxBasis], by[kMaxBasis];
   for (int s = 0; s < count; ++s) {
@@ -154,6 +258,30 @@ std::string FitShape(int degree, double radius, const std::vector<double>& uv, c
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j) a(s, j + n * k) = bx[j] * by[k];
     for (int c = 0; c < 3; ++c) rhs(s, c) = xyz[3 * s + c];
+  }
+  const double weight = kSmoothingWeight;
+  int row = count;
+  for (int k = 0; k < n && degree >= 2; ++k) {
+    for (int j = 0; j + 2 < n; ++j, ++row) {
+      a(row, j + n * k) = weight;
+      a(row, j + 1 + n * k) = -2.0 * weight;
+      a(row, j + 2 + n * k) = weight;
+    }
+  }
+  for (int k = 0; k + 2 < n; ++k) {
+    for (int j = 0; j < n; ++j, ++row) {
+      a(row, j + n * k) = weight;
+      a(row, j + n * (k + 1)) = -2.0 * weight;
+      a(row, j + n * (k + 2)) = weight;
+    }
+  }
+  for (int k = 0; k + 1 < n && degree >= 2; ++k) {
+    for (int j = 0; j + 1 < n; ++j, ++row) {
+      a(row, j + n * k) = weight;
+      a(row, j + 1 + n * k) = -weight;
+      a(row, j + n * (k + 1)) = -weight;
+      a(row, j + 1 + n * (k + 1)) = weight;
+    }
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
   if (qr.rank() < unknowns) {

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "pou/interval.h"
+
 namespace invmap::pou {
 
 /// A view of one shape function's net.
@@ -37,8 +39,25 @@ struct ShapeBounds {
 };
 ShapeBounds BoundShape(const ShapeNet& net);
 
+/// Ranges over the box [lo, hi] of chart coordinates (inside the square) of
+/// every coordinate's value (value[k]), first partials (grad[k] = {x, y}),
+/// second partials (hess[k] = {xx, xy, yy}), and the largest magnitude of
+/// any third partial (third): the control net is cut to the box by de
+/// Casteljau's algorithm and its difference nets bound the derivatives
+/// (convex hull property), each coefficient widened by a bound of the
+/// rounding of the cut.
+struct ShapeRanges {
+  Interval value[3];
+  Interval grad[3][2];
+  Interval hess[3][3];
+  double third = 0.0;
+};
+ShapeRanges RangeOverBox(const ShapeNet& net, const double lo[2], const double hi[2]);
+
 /// Least-squares fit of a net of bidegree `degree` over [-radius, radius]^2
-/// to `count` samples: parameters `uv` (2 each) and points `xyz` (3 each).
+/// to `count` samples: parameters `uv` (2 each) and points `xyz` (3 each),
+/// with a light penalty (weight 1e-2) on the net's second differences that
+/// settles the control points the samples barely reach (the square's corners).
 /// Writes the (degree + 1)^2 control points to `out`. Returns an error
 /// message when the samples do not determine the net (fewer than unknowns,
 /// or rank deficient).

@@ -30,8 +30,13 @@ enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
 ///  - BezierCells: many Bezier cells of any types and degrees (a high-order
 ///    mesh after the change to Bernstein form, e.g. one gmsh physical group):
 ///    cellTypes, cellDegrees, cellOffsets, points, optional weights.
+///  - PouManifold: a partition-of-unity surface over a closed triangle mesh
+///    (include/invmap/pou.h, docs/manifold.md): points (the mesh's vertices),
+///    cells (its triangles, 3 indices each), degrees (one bidegree per
+///    vertex's chart), chartControlPoints. Its cells are the charts (one per
+///    vertex), their parameters the chart's local coordinates (u, v).
 struct Patch {
-  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells };
+  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells, PouManifold };
   Kind kind = Kind::Bezier;
   /// Bezier and Mesh: the cell type. BSpline: ignored (the parametric
   /// dimension is degrees.size(): line, quad or hex cells).
@@ -59,6 +64,9 @@ struct Patch {
   /// BezierCells: cellTypes.size() + 1 offsets; cell c's control points (and
   /// weights) are points [cellOffsets[c], cellOffsets[c + 1]) of `points`.
   std::vector<std::int64_t> cellOffsets;
+  /// PouManifold: the shape functions' control points, chart after chart:
+  /// (degrees[v] + 1)^2 points of 3 coordinates for vertex v, x fastest.
+  std::vector<double> chartControlPoints;
 };
 
 /// A geometry: its ambient dimension (2 or 3) and its patches.
