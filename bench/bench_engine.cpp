@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "cli/sample_geometries.h"
 #include "engine/cell_store.h"
 #include "invmap/invmap.h"
+#include "samples/sample_geometries.h"
 
 namespace {
 

@@ -15,8 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "implicit_io/csg_tree_file.h"
+#include "implicit_io/function_list.h"
+#include "implicit_io/initial_grid.h"
 #include "invmap/implicit.h"
-#include "io/implicit_files.h"
 
 namespace {
 

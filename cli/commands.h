@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace invmap::cli {
 
 /// Options shared by invert and trim.
@@ -63,7 +67,7 @@ struct GridCommandOptions {
 int RunGrid(const GridCommandOptions& options);
 
 /// `invmap manifold`: a partition-of-unity surface over a closed triangle
-/// mesh (FORMATS.md section 9 / docs/manifold.md).
+/// mesh (docs/manifold.md).
 struct ManifoldOptions {
   std::string mesh;
   std::string base = "loop";   ///< flat, pn or loop.
@@ -75,5 +79,21 @@ struct ManifoldOptions {
 };
 
 int RunManifold(const ManifoldOptions& options);
+
+/// `invmap probe`: node fields at the closest points (docs/fields.md).
+struct ProbeOptions {
+  std::string geometry;
+  std::string points;
+  std::string output;
+  std::vector<std::string> fields;  ///< --fields; empty: every field.
+  double maxDistance = std::numeric_limits<double>::infinity();
+  int threads = 0;
+  std::int64_t timeStep = 0;        ///< Exodus: 1-based time step; 0: the last.
+  bool quiet = false;
+};
+
+int RunProbe(const ProbeOptions& options);
+/// Adds the `probe` subcommand and its options to `app`.
+CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options);
 
 }  // namespace invmap::cli

@@ -6,10 +6,10 @@
 #include <stdexcept>
 
 #include "cli/commands.h"
-#include "cli/sample_geometries.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 #include "io/sample_writers.h"
+#include "samples/sample_geometries.h"
 
 namespace invmap::cli {
 namespace {

@@ -9,8 +9,12 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "implicit_io/csg_tree_file.h"
+#include "implicit_io/function_list.h"
+#include "implicit_io/grid_writers.h"
+#include "implicit_io/initial_grid.h"
+#include "implicit_io/zero_set_writers.h"
 #include "invmap/implicit.h"
-#include "io/implicit_files.h"
 #include "io/input_error.h"
 
 namespace invmap::cli {

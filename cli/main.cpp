@@ -8,6 +8,8 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "fem/register_readers.h"
+#include "invmap/invmap.h"
 #include "io/input_error.h"
 
 namespace {
@@ -38,9 +40,10 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 }  // namespace
 
 int main(int argc, char** argv) {
+  invmap::fem::RegisterFemReaders();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "invmap 0.1.0");
+  app.set_version_flag("--version", std::string("invmap ") + invmap::Version());
 
   invmap::cli::InvertOptions invert;
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
@@ -110,6 +113,9 @@ int main(int argc, char** argv) {
       ->needs(tessellate);
   manifoldCommand->add_flag("--quiet,-q", manifold.quiet, "no summary");
 
+  invmap::cli::ProbeOptions probe;
+  CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -124,6 +130,7 @@ int main(int argc, char** argv) {
       return invmap::cli::RunTrim(trim);
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
+    if (*probeCommand) return invmap::cli::RunProbe(probe);
     if (*generateCommand) {
       if (generate.what == "points" && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate points: --geometry is required\n");

@@ -8,11 +8,11 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "common/check.h"
+#include "common/parallel.h"
 #include "engine/bvh_build.h"
-#include "engine/check.h"
 #include "engine/cell_store.h"
 #include "engine/invert_batch.h"
-#include "engine/parallel.h"
 #include "engine/pou_patches.h"
 #include "engine/simplex_items.h"
 #include "engine/wide_bvh.h"
@@ -41,8 +41,8 @@ void SetMessage(std::string* message, const std::string& text) {
 template <typename T>
 void CopyCoordinates(const PointsView& view, int threads, double* soa) {
   const std::int64_t n = static_cast<std::int64_t>(view.count);
-  engine::ForEachBlock(
-      engine::ExecutionPolicy::Par, n, 1 << 16,
+  ForEachBlock(
+      ExecutionPolicy::Par, n, 1 << 16,
       [&](std::int64_t begin, std::int64_t end) {
         for (int k = 0; k < view.dim; ++k) {
           const T* src = static_cast<const T*>(view.coord[k]);
@@ -242,6 +242,6 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
   return Error::Ok;
 }
 
-const char* Version() { return "0.1.0"; }
+const char* Version() { return INVMAP_VERSION; }  // project(VERSION) of CMakeLists.txt
 
 }  // namespace invmap

@@ -23,7 +23,7 @@
 #include <string>
 #include <utility>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 
 namespace invmap::engine {
 namespace {

@@ -5,9 +5,9 @@
 #include <limits>
 #include <vector>
 
+#include "common/parallel.h"
 #include "engine/affine_regions.h"
 #include "engine/nearest_cells.h"
-#include "engine/parallel.h"
 #include "engine/spatial_sort.h"
 #include "engine/warm_start.h"
 #include "kernels/active_set.h"

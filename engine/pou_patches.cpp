@@ -6,7 +6,7 @@
 #include <map>
 #include <queue>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "engine/spatial_sort.h"
 #include "pou/chart_maps.h"
 

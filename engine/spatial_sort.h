@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 
 namespace invmap::engine {
 

@@ -4,7 +4,7 @@
 #include <array>
 #include <cstring>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 
 namespace invmap::engine {
 namespace {

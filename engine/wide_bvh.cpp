@@ -6,7 +6,7 @@
 #include <limits>
 #include <utility>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 
 namespace invmap::engine {
 namespace {

@@ -5,14 +5,12 @@
 #include <cmath>
 #include <sstream>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "implicit/radius_ratio.h"
 #include "implicit/refinement_criteria.h"
 
 namespace invmap::implicit {
 namespace {
-
-using engine::ExecutionPolicy;
 
 // Block sizes of the parallel loops: large enough that a block's scratch
 // allocation and task overhead are negligible.
@@ -40,7 +38,7 @@ std::string GridRefiner<N>::EvaluateVertices(std::size_t begin, std::size_t end)
   gradients_.resize(end * k * 3);
   gradientNorms_.resize(end * k);
   std::vector<std::uint8_t> blockFailed(end - begin, 0);
-  engine::ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(end - begin), kVertexGrain,
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(end - begin), kVertexGrain,
                        [&](std::int64_t blockBegin, std::int64_t blockEnd) {
                          const std::size_t first = begin + static_cast<std::size_t>(blockBegin);
                          const std::size_t count = static_cast<std::size_t>(blockEnd - blockBegin);
@@ -85,7 +83,7 @@ void GridRefiner<N>::TestAndQueue(const std::vector<std::uint32_t>& cells) {
   active_.resize(grid_.numCells(), 0);
   std::vector<std::uint8_t> refinable(cells.size(), 0);
   const std::size_t k = static_cast<std::size_t>(functionCount_);
-  engine::ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(cells.size()), kCellGrain,
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(cells.size()), kCellGrain,
                        [&](std::int64_t begin, std::int64_t end) {
                          CriteriaEvaluator<N> evaluator(options_.mode, options_.epsilon, functionCount_,
                                                         &options_.tree);
@@ -119,7 +117,7 @@ void GridRefiner<N>::TestAndQueue(const std::vector<std::uint32_t>& cells) {
 template <int N>
 std::string GridRefiner<N>::Run() {
   std::string error;
-  engine::RunWithThreads(options_.threads, [&] {
+  RunWithThreads(options_.threads, [&] {
     // The initial vertices are evaluated before the clock starts, as in the
     // reference implementation's timing.
     error = EvaluateVertices(0, grid_.numVertices());
@@ -175,7 +173,7 @@ void GridRefiner<N>::ComputeStats() {
     double all = 1, activeOnly = 1;
   };
   std::vector<Partial> partial(static_cast<std::size_t>(blocks));
-  engine::ForEachBlock(ExecutionPolicy::Par, blocks, 1, [&](std::int64_t begin, std::int64_t end) {
+  ForEachBlock(ExecutionPolicy::Par, blocks, 1, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t b = begin; b < end; ++b) {
       Partial& p = partial[b];
       for (std::int64_t c = b * kGrain; c < std::min(count, (b + 1) * kGrain); ++c) {

@@ -32,7 +32,7 @@
 //
 // Output order: primitives in cell order, then by label as produced; vertices
 // in order of first use. The cells run in fixed blocks through
-// engine/parallel.h and are merged in block order, so the output does not
+// common/parallel.h and are merged in block order, so the output does not
 // depend on the thread count. A curve segment or point that several cells
 // produce (it lies on a shared face) is kept once.
 #include <algorithm>
@@ -47,7 +47,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "implicit/csg_tree.h"
 #include "invmap/implicit.h"
 
@@ -821,8 +821,8 @@ ZeroSets ExtractZeroSets(const Grid& grid, const GridOptions& options) {
   for (std::int64_t roundStart = 0; roundStart < blockCount; roundStart += kBlocksPerRound) {
     const std::int64_t roundSize = std::min(kBlocksPerRound, blockCount - roundStart);
     blocks.assign(static_cast<std::size_t>(roundSize), BlockOutput());
-    engine::ForEachBlock(
-        engine::ExecutionPolicy::Par, roundSize, 1,
+    ForEachBlock(
+        ExecutionPolicy::Par, roundSize, 1,
         [&](std::int64_t first, std::int64_t end) {
           for (std::int64_t b = first; b < end; ++b) {
             const std::int64_t firstCell = (roundStart + b) * kCellsPerBlock;

@@ -32,6 +32,29 @@ constexpr std::int64_t kWritebackBlock = std::int64_t{64} << 20;
 /// Distinguishes temporary files of several outputs of one process.
 std::atomic<unsigned> tempCounter{0};
 
+/// Opens `path` for reading bytes as stored. Throws InputError when it does
+/// not exist, is a directory or cannot be opened. *size is the file's length,
+/// or -1 when it is not a regular file (a pipe, a device).
+std::unique_ptr<std::ifstream> OpenInputFile(const std::string& path, std::int64_t* size) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::not_found) throw InputError(path, 0, "cannot open: no such file");
+  if (ec) throw InputError(path, 0, "cannot open: " + ec.message());
+  // Opening a directory succeeds on Linux and only the first read fails, so
+  // say what is wrong before that.
+  if (std::filesystem::is_directory(status)) throw InputError(path, 0, "is a directory, not a file");
+  auto file = std::make_unique<std::ifstream>(path, std::ios::binary);
+  if (!file->is_open()) {
+    throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  }
+  *size = -1;
+  if (std::filesystem::is_regular_file(status)) {
+    *size = static_cast<std::int64_t>(std::filesystem::file_size(path, ec));
+    if (ec) *size = -1;
+  }
+  return file;
+}
+
 }  // namespace
 
 bool ParseDouble(std::string_view token, double* value) {
@@ -62,24 +85,34 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
-InputBuffer::InputBuffer(const std::string& path) : name_(path) {
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (status.type() == std::filesystem::file_type::not_found) throw InputError(path, 0, "cannot open: no such file");
-  if (ec) throw InputError(path, 0, "cannot open: " + ec.message());
-  // Opening a directory succeeds on Linux and only the first read fails, so
-  // say what is wrong before that.
-  if (std::filesystem::is_directory(status)) throw InputError(path, 0, "is a directory, not a file");
-  auto file = std::make_unique<std::ifstream>(path, std::ios::binary);
-  if (!file->is_open()) {
-    throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
-  }
-  if (std::filesystem::is_regular_file(status)) {
-    size_ = static_cast<std::int64_t>(std::filesystem::file_size(path, ec));
-    if (ec) size_ = -1;
-  }
-  stream_ = std::move(file);
+std::string ReadWholeFile(const std::string& path) {
+  std::int64_t size = -1;  // ReadWholeStream sizes the stream itself
+  const std::unique_ptr<std::ifstream> in = OpenInputFile(path, &size);
+  return ReadWholeStream(*in, path);
 }
+
+std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages) {
+  std::string bytes;
+  // Seekable streams (files) are sized once, which spares the copies of
+  // growing a 100 MB string.
+  const std::istream::pos_type start = in.tellg();
+  if (start != std::istream::pos_type(-1)) {
+    if (in.seekg(0, std::ios::end)) {
+      const std::istream::pos_type end = in.tellg();
+      if (end != std::istream::pos_type(-1) && end >= start) bytes.reserve(static_cast<std::size_t>(end - start));
+    }
+    in.clear();
+    in.seekg(start);
+  }
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
+  }
+  if (in.bad()) throw InputError(nameForMessages, 0, "read error after " + std::to_string(bytes.size()) + " bytes");
+  return bytes;
+}
+
+InputBuffer::InputBuffer(const std::string& path) : name_(path) { stream_ = OpenInputFile(path, &size_); }
 
 InputBuffer::InputBuffer(std::unique_ptr<std::istream> stream, std::string name)
     : name_(std::move(name)), stream_(std::move(stream)) {

@@ -1,6 +1,8 @@
-// Buffered sequential input and all-or-nothing output files, shared by the
-// point, PLY and result readers and writers. Reading never loads a whole
-// file: inputs may be larger than memory. Output goes to a temporary file
+// Buffered sequential input, whole-file reads and all-or-nothing output
+// files, shared by every reader and writer of io/. The point, PLY and result
+// readers stream through InputBuffer and never load a whole file (inputs may
+// be larger than memory); the formats parsed as one text (the JSON files,
+// OBJ, STL, OFF) read it with ReadWholeFile. Output goes to a temporary file
 // beside the target and is renamed onto it only when complete, so a target
 // is either the complete new file or untouched (FORMATS.md section 5).
 #pragma once
@@ -64,6 +66,15 @@ bool ParseInteger(std::string_view token, std::int64_t* value);
 /// Lower-cased extension of a path including the dot ("points.XYZ" ->
 /// ".xyz"); empty when the file name has none.
 std::string LowerExtension(const std::string& path);
+
+/// The whole content of the file at `path`, bytes as stored. Throws InputError
+/// when the path does not exist, is a directory or cannot be read; an empty
+/// file gives an empty string (each format decides what that means).
+std::string ReadWholeFile(const std::string& path);
+
+/// The rest of `in`, bytes as stored. Throws InputError naming
+/// `nameForMessages` when the stream fails before its end.
+std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages);
 
 /// Sequential reader of a file or stream through a buffer that grows only
 /// as far as a caller asks (one record or line), so memory stays bounded

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/geometry_file.h"
+#include "io/file_io.h"
 #include "io/input_error.h"
 #include "io/json_sax.h"
 #include "kernels/cell_shape.h"

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "io/file_io.h"
-#include "io/geometry_file.h"
 #include "io/input_error.h"
 
 namespace invmap::io {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <queue>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 
 namespace invmap::pou {
 namespace {
@@ -87,7 +87,7 @@ void PieceBounds(const PouSurface& s, std::int64_t v, const ChartBox& box, const
 std::vector<SurfacePiece> MakePieces(const PouSurface& surface) {
   const std::int64_t n = surface.numCharts();
   std::vector<SurfacePiece> pieces(n * kGrid * kGrid);
-  engine::ForEachBlock(engine::ExecutionPolicy::Par, n, 64, [&](std::int64_t begin, std::int64_t end) {
+  ForEachBlock(ExecutionPolicy::Par, n, 64, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t v = begin; v < end; ++v) {
       const ChartBox square = PieceSquare(surface, v);
       const double step = (square.hi[0] - square.lo[0]) / kGrid;

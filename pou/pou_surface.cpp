@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "pou/blend.h"
 #include "pou/bump.h"
 #include "pou/chart_maps.h"
@@ -98,7 +98,7 @@ std::string PouSurface::FitCharts(const BaseSurface& base, int degree) {
   }
   nets_.assign(netOffset_[nv], 0.0);
   std::vector<std::string> errors(nv);
-  engine::ForEachBlock(engine::ExecutionPolicy::Par, nv, 64, [&](std::int64_t begin, std::int64_t end) {
+  ForEachBlock(ExecutionPolicy::Par, nv, 64, [&](std::int64_t begin, std::int64_t end) {
     std::vector<double> uv, xyz, net;
     for (std::int64_t v = begin; v < end; ++v) {
       const int n = mesh_.valence(v), d = degree_[v];

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "bench/peers/harness.h"
-#include "cli/sample_geometries.h"
 #include "invmap/invmap.h"
+#include "samples/sample_geometries.h"
 
 namespace invmap::bench {
 namespace {

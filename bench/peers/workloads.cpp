@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "bench/peers/peer.h"
-#include "cli/sample_geometries.h"
 #include "io/gmsh_reader.h"
+#include "samples/sample_geometries.h"
 
 namespace invmap::bench {
 namespace {

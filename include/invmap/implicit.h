@@ -1,4 +1,5 @@
-// invmap::implicit: adaptive simplicial grids for implicit complexes.
+// invmap::implicit: adaptive simplicial grids for implicit complexes. A public
+// header, installed with invmap.h and part of libinvmap (invmap::invmap).
 //
 // Given k implicit functions with gradients, a triangle (2D) or tetrahedron
 // (3D) grid is refined by longest-refinable-edge bisection until every zero

@@ -1,5 +1,7 @@
 // invmap: closest points, cells and parameters of batches of query points on
-// geometries made of parametric cells. The only installed header.
+// geometries made of parametric cells. A public header: with implicit.h (the
+// implicit-complex grids) it is what include/invmap/ installs, and all a
+// program of libinvmap (CMake: invmap::invmap) includes.
 //
 //   invmap::Geometry geometry = ...;                 // patches in memory (FORMATS.md section 2)
 //   invmap::BuildResult built = invmap::Manifold::Build(geometry);

@@ -1,5 +1,5 @@
 // Morton keys and spatial sort (engine/spatial_sort.h), and the blocks and
-// sort of engine/parallel.h that they rely on for Seq/Par equality.
+// sort of common/parallel.h that they rely on for Seq/Par equality.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/parallel.h"
+#include "common/parallel.h"
 #include "engine/spatial_sort.h"
 
 namespace invmap::engine {

@@ -18,9 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "invmap/implicit.h"
 #include "implicit/radius_ratio.h"
-#include "io/implicit_files.h"
+#include "implicit_io/csg_tree_file.h"
+#include "implicit_io/function_list.h"
+#include "implicit_io/initial_grid.h"
+#include "invmap/implicit.h"
 
 namespace invmap::implicit {
 namespace {

@@ -18,7 +18,7 @@
 
 // The support library is built without the engine's include path; this is
 // the same public header that tests include as "invmap/invmap.h".
-#include "include/invmap/invmap.h"
+#include "invmap/invmap.h"
 #include "tests/support/reference_cell.h"
 
 namespace invmap::testing {

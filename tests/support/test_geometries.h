@@ -12,7 +12,7 @@
 
 // The support library is built without the engine's include path; this is
 // the same public header that tests include as "invmap/invmap.h".
-#include "include/invmap/invmap.h"
+#include "invmap/invmap.h"
 #include "tests/support/patch_reference.h"
 #include "tests/support/result_check.h"
 

@@ -1,4 +1,4 @@
-#include "cli/sample_geometries.h"
+#include "samples/sample_geometries.h"
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,9 @@
-// Data-parallel loops and sorts for the engine. This is the only file in
-// invmap that includes TBB (STYLE.md section 5): every other file states what
-// it wants to run in parallel through the functions below, so the threading
-// backend can change here without touching the algorithms.
+// Data-parallel loops and sorts for every layer (the engine, the implicit
+// grids). This is the only file in invmap that includes TBB: every other file
+// states what it wants to run in parallel through the functions below, so the
+// threading backend can change here without touching the algorithms. The
+// names live in namespace invmap, so the layers' own namespaces
+// (invmap::engine, invmap::implicit) find them unqualified.
 //
 // Results never depend on the thread count: ForEachBlock hands the same
 // blocks to `fn` under both policies and for any number of threads, and Sort
@@ -12,8 +14,8 @@
 #include <cstdint>
 #include <thread>
 
-// INVMAP_PAR=0 builds the engine without TBB; ExecutionPolicy::Par then runs
-// the sequential code. The default is TBB on, because the engine links it.
+// INVMAP_PAR=0 builds without TBB; ExecutionPolicy::Par then runs the
+// sequential code. The default is TBB on: the invmap_common target links it.
 #ifndef INVMAP_PAR
 #define INVMAP_PAR 1
 #endif
@@ -27,7 +29,7 @@
 #include <tbb/task_arena.h>
 #endif
 
-namespace invmap::engine {
+namespace invmap {
 
 /// Whether a loop or sort may use several threads. Seq and Par produce
 /// bit-identical results; Par is only faster.
@@ -143,4 +145,4 @@ void Sort(ExecutionPolicy policy, RandomIt first, RandomIt last, Less less, int 
   std::sort(first, last, less);
 }
 
-}  // namespace invmap::engine
+}  // namespace invmap

@@ -1,4 +1,4 @@
-// Two kinds of checks (STYLE.md section 4).
+// Two kinds of checks.
 //  INVMAP_VERIFY(cond, msg): validates user input once per batch; always on;
 //    throws std::invalid_argument, which the API boundary turns into an error.
 //  INVMAP_ASSERT(cond, msg): internal invariants and index ranges; compiled
