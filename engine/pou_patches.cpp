@@ -8,14 +8,12 @@
 
 #include "common/parallel.h"
 #include "engine/spatial_sort.h"
+#include "kernels/tolerances.h"
 #include "pou/chart_maps.h"
+#include "pou/piece_search.h"
 
 namespace invmap::engine {
 namespace {
-
-/// Distances the search does not try to improve on, as a share of the
-/// surface's bounding box diagonal (docs/manifold.md).
-constexpr double kRelativeTolerance = 1e-10;
 
 double BoxDistance2(const double* lo, const double* hi, const double* x) {
   double d2 = 0.0;
@@ -49,15 +47,17 @@ std::string PouPatches::Build(const Geometry& geometry, int maxThreads) {
     std::vector<BvhBox> boxes(s->pieces.size());
     for (std::size_t i = 0; i < boxes.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
-        boxes[i].lo[k] = s->pieces[i].lo[k];
-        boxes[i].hi[k] = s->pieces[i].hi[k];
+        boxes[i].lo[k] = s->pieces[i].boxLo[k];
+        boxes[i].hi[k] = s->pieces[i].boxHi[k];
       }
     }
     BvhBuildOptions options;
     options.maxThreads = maxThreads;
     s->bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
     const BvhBox& root = s->bvh.RootBounds();
-    s->tolerance = kRelativeTolerance * std::hypot(root.hi[0] - root.lo[0], root.hi[1] - root.lo[1],
+    // Distances the search does not try to improve on: the core's tolerance
+    // of a cell's size, for the surface's bounding box (docs/manifold.md).
+    s->tolerance = kernels::kDistanceTolerance * std::hypot(root.hi[0] - root.lo[0], root.hi[1] - root.lo[1],
                                                    root.hi[2] - root.lo[2]);
     surfaces_.push_back(std::move(s));
   }
@@ -111,7 +111,7 @@ void PouPatches::AddInfo(ManifoldInfo* info) const {
 std::size_t PouPatches::MemoryBytes() const {
   std::size_t bytes = 0;
   for (const auto& s : surfaces_) {
-    bytes += sizeof(Surface) + s->pieces.capacity() * sizeof(pou::SurfacePiece) + s->bvh.MemoryBytes() +
+    bytes += sizeof(Surface) + s->pieces.capacity() * sizeof(pou::Piece) + s->bvh.MemoryBytes() +
              s->surface.nets().capacity() * sizeof(double) + s->surface.mesh().positions().capacity() * sizeof(double) +
              s->surface.mesh().triangles().capacity() * sizeof(std::int64_t) * 3;
   }
@@ -148,11 +148,10 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
           if (results->status[i] == Status::Invalid) continue;
           for (std::size_t k = 0; k < surfaces_.size(); ++k) {
             const Surface& surface = *surfaces_[k];
-            pou::PointSearch search;
-            search.surface = &surface.surface;
-            for (int c = 0; c < 3; ++c) search.x[c] = points.coord[c][i];
-            search.tolerance = surface.tolerance;
-            search.distance = results->status[i] == Status::Found ? results->distance[i] : options.maxDistance;
+            const double cutoff =
+                results->status[i] == Status::Found ? results->distance[i] : options.maxDistance;
+            const double x[3] = {points.coord[0][i], points.coord[1][i], points.coord[2][i]};
+            pou::PointSearch search(surface.surface, x, surface.tolerance, cutoff);
             const bool hadAnswer = results->status[i] == Status::Found;
             if (previous[k].chart >= 0) search.Seed(previous[k].chart, previous[k].u, previous[k].v);
             // Best-first over the BVH: nodes by the distance to their box.
@@ -161,7 +160,7 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
             std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
             if (!bvh.Nodes().empty()) {
               const BvhBox root = bvh.NodeBounds(0);
-              queue.push({BoxDistance2(root.lo, root.hi, search.x), 0});
+              queue.push({BoxDistance2(root.lo, root.hi, x), 0});
             }
             while (!queue.empty()) {
               const auto [bound, node] = queue.top();
@@ -171,29 +170,29 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
               if (b.count == 0) {
                 for (int c = 0; c < 2; ++c) {
                   const BvhBox child = bvh.NodeBounds(b.first + c);
-                  queue.push({BoxDistance2(child.lo, child.hi, search.x), b.first + c});
+                  queue.push({BoxDistance2(child.lo, child.hi, x), b.first + c});
                 }
                 continue;
               }
               for (int item = b.first; item < b.first + b.count; ++item) {
                 const BvhBox& box = bvh.ItemBoxes()[item];
-                if (BoxDistance2(box.lo, box.hi, search.x) >= search.Cutoff2()) continue;
+                if (BoxDistance2(box.lo, box.hi, x) >= search.Cutoff2()) continue;
                 search.SearchPiece(surface.pieces[bvh.Items()[item]]);
               }
             }
-            if (!search.found) continue;
-            previous[k] = {search.chart, search.u, search.v};
-            if (hadAnswer && !(search.distance < results->distance[i])) continue;
-            const pou::ChartPoint owner = surface.surface.Owner(search.chart, search.u, search.v);
+            if (!search.found()) continue;
+            previous[k] = {search.chart(), search.u(), search.v()};
+            if (hadAnswer && !(search.distance() < results->distance[i])) continue;
+            const pou::ChartPoint owner = surface.surface.Owner(search.chart(), search.u(), search.v());
             results->status[i] = Status::Found;
             results->patch[i] = static_cast<std::int32_t>(surface.patch);
             results->cell[i] = owner.chart;
             results->params[3 * i] = owner.u;
             results->params[3 * i + 1] = owner.v;
             results->params[3 * i + 2] = kNaN;
-            for (int c = 0; c < 3; ++c) results->closest[3 * i + c] = search.point[c];
-            results->distance[i] = search.distance;
-            results->iterations[i] = search.boxes;
+            for (int c = 0; c < 3; ++c) results->closest[3 * i + c] = search.point()[c];
+            results->distance[i] = search.distance();
+            results->iterations[i] = search.boxes();
           }
         }
       },

@@ -1,9 +1,9 @@
 // The partition-of-unity surfaces of a geometry (patches of kind
 // PouManifold, include/invmap/pou.h): built next to the Bezier cells of the
 // CellStore, which holds none of theirs, and searched after them. Each
-// surface's pieces (pou/closest_point.h) get a BVH from the engine's builder;
-// a query's best answer over the other patches is the cut-off its pieces
-// must beat.
+// surface's pieces (pou/pieces.h) get a BVH from the engine's builder; a
+// query visits them nearest box first and searches each (pou/piece_search.h);
+// its best answer over the other patches is the cut-off they must beat.
 #pragma once
 
 #include <cstdint>
@@ -14,7 +14,7 @@
 #include "engine/bvh_build.h"
 #include "engine/invert_batch.h"
 #include "invmap/invmap.h"
-#include "pou/closest_point.h"
+#include "pou/pieces.h"
 #include "pou/pou_surface.h"
 
 namespace invmap::engine {
@@ -36,14 +36,14 @@ class PouPatches {
   void AddInfo(ManifoldInfo* info) const;
   std::size_t MemoryBytes() const;
   /// Replaces each point's result by a closer point of the surfaces, if any
-  /// (by more than the surfaces' tolerance), certified as in pou/closest_point.h.
+  /// (by more than the surfaces' tolerance), certified as in pou/piece_search.h.
   void Invert(const QueryPoints& points, const InversionOptions& options, Results* results) const;
 
  private:
   struct Surface {
     std::size_t patch = 0;
     pou::PouSurface surface;
-    std::vector<pou::SurfacePiece> pieces;
+    std::vector<pou::Piece> pieces;
     Bvh bvh;
     double tolerance = 0.0;
   };

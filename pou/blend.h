@@ -3,7 +3,6 @@
 // the contributions.
 #pragma once
 
-#include <vector>
 
 #include "pou/chart_maps.h"
 #include "pou/jet.h"
@@ -54,13 +53,14 @@ struct Contribution {
 /// ranges of the weights multiply the (small) differences of the shape
 /// functions rather than the coordinates.
 template <typename S>
-void Blend(const Jet<S>& ownWeight, const Jet<S> own[3], const std::vector<Contribution<S>>& others, Jet<S> out[3]) {
+void Blend(const Jet<S>& ownWeight, const Jet<S> own[3], const Contribution<S>* others, int count, Jet<S> out[3]) {
   for (int c = 0; c < 3; ++c) out[c] = own[c];
-  if (others.empty()) return;
+  if (count == 0) return;
   Jet<S> total = ownWeight;
-  for (const Contribution<S>& z : others) total = total + z.weight;
+  for (int i = 0; i < count; ++i) total = total + others[i].weight;
   const Jet<S> inverse = JetReciprocal(total);
-  for (const Contribution<S>& z : others) {
+  for (int i = 0; i < count; ++i) {
+    const Contribution<S>& z = others[i];
     const Jet<S> w = z.weight * inverse;
     for (int c = 0; c < 3; ++c) out[c] = out[c] + w * (z.point[c] - own[c]);
   }

@@ -37,12 +37,6 @@ constexpr double kPi = 3.141592653589793;
 /// sqrt(3) / 2: the p-domain radius in the canonical frame.
 constexpr double kFrameRadius = 0.8660254037844386;
 
-/// A point of a chart as two jets.
-template <typename S>
-struct JetPoint {
-  Jet<S> x, y;
-};
-
 /// Constants of the maps as scalars of type S: exact enough for double, and
 /// enclosures of the exact values (the angles and cos(pi/n) are rounded
 /// before the library functions see them, hence the absolute widening).

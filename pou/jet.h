@@ -27,6 +27,12 @@ struct Jet {
   }
 };
 
+/// A point of a chart as two jets.
+template <typename S>
+struct JetPoint {
+  Jet<S> x, y;
+};
+
 template <typename S>
 Jet<S> operator+(const Jet<S>& a, const Jet<S>& b) {
   return {a.v + b.v, a.du + b.du, a.dv + b.dv, a.duu + b.duu, a.duv + b.duv, a.dvv + b.dvv};

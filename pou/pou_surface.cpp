@@ -11,11 +11,6 @@
 namespace invmap::pou {
 namespace {
 
-/// Below this fraction of the p-domain radius no neighbour's gluing domain
-/// reaches: canonical distance 1 - sqrt(3)/2 from the vertex, that is
-/// 2 / sqrt(3) - 1 = 0.1547 of R.
-constexpr double kOwnOnly = 0.1547;
-
 ShapeDerivatives<double> ShapeAt(const ShapeNet& net, double x, double y) {
   const ShapeJet s = EvaluateShape(net, x, y);
   ShapeDerivatives<double> d;
@@ -82,7 +77,7 @@ std::string PouSurface::Restore(const std::vector<double>& xyz, const std::vecto
 
 void PouSurface::ComputeBounds() {
   bounds_.resize(numCharts());
-  for (std::int64_t v = 0; v < numCharts(); ++v) bounds_[v] = BoundShape(net(v));
+  for (std::int64_t v = 0; v < numCharts(); ++v) bounds_[v] = BoundShape(net(v), kShapeBoundExtension);
 }
 
 std::string PouSurface::FitCharts(const BaseSurface& base, int degree) {
@@ -151,6 +146,48 @@ std::string PouSurface::FitCharts(const BaseSurface& base, int degree) {
   return {};
 }
 
+void PouSurface::EvaluateParts(std::int64_t chart, double u, double v, BlendParts* parts) const {
+  const int n = mesh_.valence(chart);
+  const double r = radius_[chart];
+  const JetPoint<double> p{Jet<double>::Variable(u, 0), Jet<double>::Variable(v, 1)};
+  ComposeShape(ShapeAt(net(chart), u, v), p, parts->own);
+  const bool centre = u == 0.0 && v == 0.0;
+  // gamma_v = xi(|p| / R) is 1 inside R / 4 (and |p| has no derivative at 0).
+  parts->ownWeight = std::hypot(u, v) < kBumpInner * r ? Jet<double>::Constant(1.0)
+                                                       : JetBump((1.0 / r) * JetSqrt(p.x * p.x + p.y * p.y));
+  const std::size_t count = parts->edges.size();
+  parts->defined.assign(count, 0);
+  parts->weights.assign(count, Jet<double>());
+  parts->shapes.resize(3 * count);
+  for (std::size_t i = 0; i < count && !centre; ++i) {
+    const int edge = parts->edges[i];
+    Jet<double> angle, distance;
+    const JetPoint<double> frame = ToFrame(n, ToEdgeDirection(n, edge, p), &angle, &distance);
+    const JetPoint<double> other = HalfTurn(frame);
+    if (!(std::fabs(angle.v) < kPi) || !(other.x.v > 0.0)) continue;
+    parts->defined[i] = 1;
+    const Jet<double> otherDistance = JetSqrt(other.x * other.x + other.y * other.y);
+    if (otherDistance.v < kFrameRadius) parts->weights[i] = JetBump((1.0 / kFrameRadius) * otherDistance);
+    const std::int64_t z = mesh_.neighbor(chart, edge);
+    const JetPoint<double> q = FromFrame(mesh_.valence(z), mesh_.mate(chart, edge), other);
+    ComposeShape(ShapeAt(net(z), q.x.v, q.y.v), q, &parts->shapes[3 * i]);
+  }
+}
+
+ThetaJet BlendParts::Theta() const {
+  std::vector<Contribution<double>> others;
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    if (!(weights[i].v > 0.0)) continue;
+    Contribution<double> c;
+    c.weight = weights[i];
+    for (int k = 0; k < 3; ++k) c.point[k] = shapes[3 * i + k];
+    others.push_back(c);
+  }
+  ThetaJet out;
+  Blend(ownWeight, own, others.data(), static_cast<int>(others.size()), out.x);
+  return out;
+}
+
 ThetaJet PouSurface::Evaluate(std::int64_t chart, double u, double v) const {
   const int n = mesh_.valence(chart);
   const double r = radius_[chart];
@@ -163,7 +200,8 @@ ThetaJet PouSurface::Evaluate(std::int64_t chart, double u, double v) const {
     return out;
   }
   const Jet<double> ownWeight = JetBump((1.0 / r) * JetSqrt(p.x * p.x + p.y * p.y));
-  std::vector<Contribution<double>> others;
+  Contribution<double> others[2];
+  int count = 0;
   const int sector = SectorOf(n, u, v);
   for (int edge : {sector, (sector + 1) % n}) {
     Jet<double> angle, distance;
@@ -174,13 +212,13 @@ ThetaJet PouSurface::Evaluate(std::int64_t chart, double u, double v) const {
     if (!(otherDistance.v < kFrameRadius)) continue;
     const std::int64_t z = mesh_.neighbor(chart, edge);
     const JetPoint<double> q = FromFrame(mesh_.valence(z), mesh_.mate(chart, edge), other);
-    Contribution<double> c;
+    Contribution<double>& c = others[count];
     c.weight = JetBump((1.0 / kFrameRadius) * otherDistance);
     if (c.weight.v == 0.0) continue;
     ComposeShape(ShapeAt(net(z), q.x.v, q.y.v), q, c.point);
-    others.push_back(c);
+    ++count;
   }
-  Blend(ownWeight, own, others, out.x);
+  Blend(ownWeight, own, others, count, out.x);
   return out;
 }
 

@@ -26,6 +26,24 @@ struct ThetaJet {
   Jet<double> x[3];
 };
 
+/// The parts of theta_v at a point of chart v (pou/piece_bounds.h bounds
+/// them): psi_v and the bump gamma_v, and for each neighbour asked for its
+/// bump beta_z (zero outside its support) and psi_z o phi_zv, by the
+/// formula of the transition map wherever that is defined (the point not the
+/// centre, less than a half turn from the edge), inside the gluing domain or
+/// not. All as jets in the chart's (u, v).
+struct BlendParts {
+  Jet<double> own[3];
+  Jet<double> ownWeight;
+  std::vector<int> edges;          ///< The neighbours asked for, by edge.
+  std::vector<char> defined;       ///< Per edge: psi_z o phi_zv's formula is defined.
+  std::vector<Jet<double>> weights;  ///< Per edge: beta_z.
+  std::vector<Jet<double>> shapes;   ///< Per edge, 3 coordinates: psi_z o phi_zv.
+  /// theta_v itself (the edges must include every neighbour whose bump is
+  /// positive at the point).
+  ThetaJet Theta() const;
+};
+
 /// Where a point of a chart is reported: the chart whose bump is largest
 /// there (the vertex nearest in the canonical frames) and the point's
 /// coordinates in it.
@@ -55,14 +73,18 @@ class PouSurface {
   double radius(std::int64_t v) const { return radius_[v]; }
   int degree(std::int64_t v) const { return degree_[v]; }
   ShapeNet net(std::int64_t v) const { return {degree_[v], radius_[v], &nets_[netOffset_[v]]}; }
-  /// Bounds of chart v's shape function and its derivatives over its square.
+  /// Bounds of chart v's shape function and its derivatives over its square
+  /// enlarged by kShapeBoundExtension.
   const ShapeBounds& shapeBounds(std::int64_t v) const { return bounds_[v]; }
   const std::vector<int>& degrees() const { return degree_; }
   const std::vector<double>& nets() const { return nets_; }
 
   /// theta_v at (u, v) with derivatives; (u, v) must lie in the p-domain
-  /// (|p| < R). 
+  /// (|p| < R).
   ThetaJet Evaluate(std::int64_t chart, double u, double v) const;
+  /// The parts theta_v blends at (u, v), for the caller's list of
+  /// neighbours (parts->edges): see BlendParts.
+  void EvaluateParts(std::int64_t chart, double u, double v, BlendParts* parts) const;
   /// The point only.
   void EvaluatePoint(std::int64_t chart, double u, double v, double out[3]) const;
   /// The chart with the largest bump at (u, v) of `chart`, and the point there.
@@ -82,6 +104,11 @@ class PouSurface {
   std::vector<double> nets_;
   std::vector<ShapeBounds> bounds_;
 };
+
+/// Inside this share of the p-domain's radius no neighbour's gluing domain
+/// reaches (canonical distance 1 - sqrt(3)/2 from the vertex, that is
+/// 2 / sqrt(3) - 1 = 0.15470 of R), so theta_v = psi_v there.
+constexpr double kOwnOnly = 0.1547;
 
 /// The bidegree the published implementation gives a chart of valence n.
 inline int AutomaticDegree(int valence) { return valence > 6 ? 7 : valence + 1; }

@@ -46,6 +46,34 @@ Basis1 BernsteinWithDerivatives(int degree, double s) {
   return r;
 }
 
+/// Cuts one row of Bezier coefficients (degree d, stride `stride`) from
+/// [0, 1] to [s0, s1] (s0 < s1, both within [-0.075, 1.075]), in place:
+/// de Casteljau's steps, which beyond [0, 1] extend the polynomial. The
+/// end inside [0, 1] is cut second, so that its step's parameter stays in
+/// [0, 1] too and every step's weights add up to at most 1.15 in size.
+void CutRow(int d, double s0, double s1, double* c, int stride) {
+  double work[kMaxBasis];
+  for (int i = 0; i <= d; ++i) work[i] = c[i * stride];
+  // The left part of [0, 1] at s: [0, s] (work[i] ends as its coefficient i).
+  const auto left = [&](double s) {
+    for (int level = 1; level <= d; ++level)
+      for (int i = d; i >= level; --i) work[i] = (1.0 - s) * work[i - 1] + s * work[i];
+  };
+  // The right part at s: [s, 1].
+  const auto right = [&](double s) {
+    for (int level = 1; level <= d; ++level)
+      for (int i = 0; i + level <= d; ++i) work[i] = (1.0 - s) * work[i] + s * work[i + 1];
+  };
+  if (s0 < 0.0 && s1 <= 1.0) {
+    right(s0);
+    left((s1 - s0) / (1.0 - s0));
+  } else {
+    left(s1);
+    right(s0 / s1);
+  }
+  for (int i = 0; i <= d; ++i) c[i * stride] = work[i];
+}
+
 }  // namespace
 
 ShapeJet EvaluateShape(const ShapeNet& net, double x, double y) {
@@ -99,13 +127,25 @@ void EvaluateShapePoint(const ShapeNet& net, double x, double y, double out[3]) 
   }
 }
 
-ShapeBounds BoundShape(const ShapeNet& net) {
+ShapeBounds BoundShape(const ShapeNet& net, double extension) {
   const int d = net.degree, n = d + 1;
   ShapeBounds bounds;
   for (int i = 0; i < 3 * n * n; ++i) bounds.value = std::max(bounds.value, std::fabs(net.points[i]));
-  const double scale = 1.0 / (2.0 * net.radius);
+  // The net over the extended square: each row and column re-parametrized
+  // from [0, 1] to [(1 - e) / 2, (1 + e) / 2] (de Casteljau beyond the ends).
+  const double s0 = 0.5 * (1.0 - extension), s1 = 0.5 * (1.0 + extension);
+  std::vector<double> extended(3 * n * n);
+  double largest = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    double* net3 = extended.data() + c * n * n;
+    for (int i = 0; i < n * n; ++i) net3[i] = net.points[3 * i + c];
+    for (int k = 0; k < n; ++k) CutRow(d, s0, s1, net3 + n * k, 1);
+    for (int j = 0; j < n; ++j) CutRow(d, s0, s1, net3 + j, n);
+    for (int i = 0; i < n * n; ++i) largest = std::max(largest, std::fabs(net3[i]));
+  }
+  const double scale = 1.0 / (2.0 * extension * net.radius);
   for (int order = 1; order <= 3; ++order) {
-    double largest = 0.0;
+    double partial = 0.0;
     for (int a = 0; a <= order; ++a) {
       const int b = order - a;
       if (a > d || b > d) continue;
@@ -115,8 +155,7 @@ ShapeBounds BoundShape(const ShapeNet& net) {
       for (int i = 0; i < a; ++i) factor *= d - i;
       for (int i = 0; i < b; ++i) factor *= d - i;
       for (int c = 0; c < 3; ++c) {
-        std::vector<double> diff(n * n);
-        for (int i = 0; i < n * n; ++i) diff[i] = net.points[3 * i + c];
+        std::vector<double> diff(extended.begin() + c * n * n, extended.begin() + (c + 1) * n * n);
         int nx = n, ny = n;
         for (int i = 0; i < a; ++i, --nx) {
           for (int k = 0; k < ny; ++k)
@@ -127,53 +166,38 @@ ShapeBounds BoundShape(const ShapeNet& net) {
             for (int j = 0; j < nx; ++j) diff[j + n * k] = diff[j + n * (k + 1)] - diff[j + n * k];
         }
         for (int k = 0; k < ny; ++k)
-          for (int j = 0; j < nx; ++j) largest = std::max(largest, factor * std::fabs(diff[j + n * k]));
+          for (int j = 0; j < nx; ++j) partial = std::max(partial, factor * std::fabs(diff[j + n * k]));
       }
     }
-    // Rounding of the differences: each of the `order` levels adds at most
-    // an ulp of values up to 2^order times the largest coordinate.
+    // Rounding of the extension (2 d levels of combinations with weights up
+    // to e in size) and of the differences (an ulp of values up to 2^order
+    // times the largest coefficient per level), far below this allowance.
     double factorMax = 1.0;
     for (int i = 0; i < order; ++i) factorMax *= d;
-    const double rounding = factorMax * std::ldexp(bounds.value, order) * order * 0x1p-51;
-    bounds.derivative[order] = (largest + rounding) * std::pow(scale, order) * (1.0 + 1e-12);
+    const double rounding = factorMax * std::ldexp(largest, order) * 1e-12;
+    bounds.norm[order] = std::sqrt(3.0 * (1 << order)) * (partial + rounding) * std::pow(scale, order) * (1.0 + 1e-12);
   }
   return bounds;
 }
 
-namespace {
-
-/// Cuts one row of Bezier coefficients (degree d, stride `stride`) from
-/// [0, 1] to [s0, s1] (0 <= s0 <= s1 <= 1), in place.
-void CutRow(int d, double s0, double s1, double* c, int stride) {
-  double work[kMaxBasis];
-  for (int i = 0; i <= d; ++i) work[i] = c[i * stride];
-  // Left part at s1: [0, s1].
-  for (int level = 1; level <= d; ++level)
-    for (int i = d; i >= level; --i) work[i] = (1.0 - s1) * work[i - 1] + s1 * work[i];
-  // work[i] now holds the left part's coefficient i (the diagonal of the scheme).
-  // Right part of that at s0 / s1: [s0, s1].
-  const double t = s1 > 0.0 ? std::min(1.0, s0 / s1) : 0.0;
-  for (int level = 1; level <= d; ++level)
-    for (int i = 0; i + level <= d; ++i) work[i] = (1.0 - t) * work[i] + t * work[i + 1];
-  for (int i = 0; i <= d; ++i) c[i * stride] = work[i];
-}
-
-}  // namespace
 
 ShapeRanges RangeOverBox(const ShapeNet& net, const double lo[2], const double hi[2]) {
   const int d = net.degree, n = d + 1;
   const double scale = 1.0 / (2.0 * net.radius);
-  // Parameter ranges, rounded outward (the cut covers at least the box).
+  // Parameter ranges, rounded outward (the cut covers at least the box),
+  // within the square enlarged by kShapeBoundExtension.
+  const double reach = 0.5 * kShapeBoundExtension;
   double s0[2], s1[2], width[2];
   for (int i = 0; i < 2; ++i) {
-    s0[i] = std::max(0.0, std::nextafter((lo[i] + net.radius) * scale, -1.0) - 0x1p-52);
-    s1[i] = std::min(1.0, std::nextafter((hi[i] + net.radius) * scale, 2.0) + 0x1p-52);
+    s0[i] = std::max(0.5 - reach, std::nextafter((lo[i] + net.radius) * scale, -1.0) - 0x1p-52);
+    s1[i] = std::min(0.5 + reach, std::nextafter((hi[i] + net.radius) * scale, 2.0) + 0x1p-52);
     width[i] = (s1[i] - s0[i]) / scale;  // in chart units
   }
   double largest = 0.0;
   for (int i = 0; i < 3 * n * n; ++i) largest = std::max(largest, std::fabs(net.points[i]));
-  // Each cut is two de Casteljau runs of d levels of convex combinations.
-  const double rounding = 8.0 * (2.0 * d + 2.0) * 0x1p-53 * largest;
+  // Each cut is two de Casteljau runs of d levels of combinations whose
+  // weights add up to at most 1.15 in size (CutRow).
+  const double rounding = 8.0 * (2.0 * d + 2.0) * 0x1p-53 * largest * std::pow(1.15, 2 * d);
   ShapeRanges r;
   double third = 0.0;
   for (int c = 0; c < 3; ++c) {

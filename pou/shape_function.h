@@ -28,16 +28,18 @@ ShapeJet EvaluateShape(const ShapeNet& net, double x, double y);
 /// The value only (cheaper).
 void EvaluateShapePoint(const ShapeNet& net, double x, double y, double out[3]);
 
-/// Bounds that hold over the whole square: the largest control point
-/// coordinate magnitude, and for each order k = 1, 2, 3 the largest magnitude
-/// any k-th partial derivative of any coordinate reaches there (from the
-/// difference nets, whose coefficients bound the derivative by the convex
-/// hull property, widened for their rounding).
+/// Bounds of a shape function: the largest control point coordinate
+/// magnitude, and for k = 1, 2, 3 the norm of its k-th derivative (a k-linear
+/// map from R^2 to R^3, Euclidean norms) over the square [-e R, e R]^2, e the
+/// extension (1 for the shape function's own square): sqrt(3 2^k) times the
+/// largest k-th partial of any coordinate, which the difference nets of the
+/// net extended to that square bound (convex hull property), widened for
+/// their rounding.
 struct ShapeBounds {
   double value = 0.0;
-  double derivative[4] = {0, 0, 0, 0};  ///< [1], [2], [3] used.
+  double norm[4] = {0, 0, 0, 0};  ///< [1], [2], [3] used.
 };
-ShapeBounds BoundShape(const ShapeNet& net);
+ShapeBounds BoundShape(const ShapeNet& net, double extension);
 
 /// Ranges over the box [lo, hi] of chart coordinates (inside the square) of
 /// every coordinate's value (value[k]), first partials (grad[k] = {x, y}),
@@ -53,6 +55,12 @@ struct ShapeRanges {
   double third = 0.0;
 };
 ShapeRanges RangeOverBox(const ShapeNet& net, const double lo[2], const double hi[2]);
+
+/// How far beyond its square [-R, R]^2 a shape function's bounds may be
+/// asked for (BoundShape, RangeOverBox): the square enlarged by this factor.
+/// The pieces' sampling cells reach slightly past the gluing domains
+/// (pou/piece_bounds.h).
+constexpr double kShapeBoundExtension = 1.15;
 
 /// Least-squares fit of a net of bidegree `degree` over [-radius, radius]^2
 /// to `count` samples: parameters `uv` (2 each) and points `xyz` (3 each),

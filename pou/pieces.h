@@ -1,0 +1,45 @@
+// The pieces that cover a partition-of-unity surface for the closest-point
+// search (docs/manifold.md, "Inversion").
+//
+// Chart v answers for the part of each of its triangles where v's
+// barycentric coordinate is the largest (in the canonical frames of the
+// transition maps: the kite between v, the midpoints of its two edges and
+// the centroid). Those parts cover the surface: a point of the surface is
+// theta_u(p) for some chart u and p, p has barycentric coordinates in one of
+// u's triangles, and the corner v with the largest of them holds the same
+// point of the surface, theta_u(p) = theta_v(phi_vu(p)), in its kite. In
+// v's p-domain the kites lie within 2R/3 of the centre (R its radius).
+//
+// Each chart's pieces are the squares of a 4 x 4 grid over [-c, c]^2, c =
+// 0.68 R, which holds that disk. A piece carries the majorants of the shape
+// functions over it (pou/piece_bounds.h) and a box of R^3 that holds the
+// image of its part of the disk: the union, over a grid of cells (split
+// further where the third derivative's bound is infinite or large), of the
+// Taylor expansion at the cell's centre with the remainder M rho^3 / 6 (M
+// the cell's bound of the third derivative, rho its radius) and the
+// evaluation's rounding allowance.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "pou/piece_bounds.h"
+#include "pou/pou_surface.h"
+
+namespace invmap::pou {
+
+/// The disk of a chart its pieces must cover, as a share of R (the kites
+/// reach 2R/3).
+constexpr double kCoveredRadius = 0.68;
+
+struct Piece {
+  std::int64_t chart = 0;
+  ChartBox box{};
+  ShapeMajorants shapes;
+  double boxLo[3] = {0, 0, 0}, boxHi[3] = {0, 0, 0};  ///< Holds theta_v of the box's part of the kites.
+};
+
+/// Every chart's pieces, in chart order.
+std::vector<Piece> MakePieces(const PouSurface& surface);
+
+}  // namespace invmap::pou
