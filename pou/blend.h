@@ -1,8 +1,6 @@
-// Pieces of theta_v shared by point evaluation (double) and enclosures
-// (Interval): a shape function composed with a chart map, and the blend of
-// the contributions.
+// Pieces of theta_v: a shape function composed with a chart map, and the
+// blend of the contributions.
 #pragma once
-
 
 #include "pou/chart_maps.h"
 #include "pou/jet.h"
@@ -11,7 +9,7 @@
 namespace invmap::pou {
 
 /// A shape function's value, gradient and Hessian (per coordinate: xx, xy,
-/// yy) at a point, or their ranges over a box.
+/// yy) at a point.
 template <typename S>
 struct ShapeDerivatives {
   S value[3];
@@ -50,7 +48,7 @@ struct Contribution {
 
 /// psi_v + sum_z w_z (psi_z - psi_v) with w_z = gamma_z / (gamma_v + sum gamma):
 /// the blend written around the chart's own shape function, so that the
-/// ranges of the weights multiply the (small) differences of the shape
+/// weights' rounding multiplies the (small) differences of the shape
 /// functions rather than the coordinates.
 template <typename S>
 void Blend(const Jet<S>& ownWeight, const Jet<S> own[3], const Contribution<S>* others, int count, Jet<S> out[3]) {

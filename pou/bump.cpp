@@ -6,31 +6,6 @@ namespace invmap::pou {
 namespace {
 
 constexpr double kSpan = kBumpOuter - kBumpInner;
-/// t where xi' is least (H = 1/2).
-constexpr double kSteepest = kBumpInner + 0.5 * kSpan;
-
-/// A point value of the closed forms, widened for their rounding: exp of a
-/// sum of terms up to about 700 in size loses up to about 1e-13 relative.
-Interval Widen(double x) { return {x - 1e-11 * std::fabs(x) - 1e-300, x + 1e-11 * std::fabs(x) + 1e-300}; }
-
-/// The t in (1/4, 5/8) where xi'' is least (golden-section search; xi'' is
-/// flat there, so an error of the location changes the value only to second
-/// order, far below the widening of Widen).
-double LeastSecondDerivativeAt() {
-  double a = kBumpInner, b = kSteepest;
-  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-  double c = b - ratio * (b - a), d = a + ratio * (b - a);
-  for (int i = 0; i < 200 && b - a > 1e-15; ++i) {
-    if (Bump(c).f2 < Bump(d).f2) {
-      b = d;
-    } else {
-      a = c;
-    }
-    c = b - ratio * (b - a);
-    d = a + ratio * (b - a);
-  }
-  return 0.5 * (a + b);
-}
 
 }  // namespace
 
@@ -53,22 +28,6 @@ BumpValues Bump(double t) {
   b.f1 = dxi / kSpan;
   b.f2 = ddxi / (kSpan * kSpan);
   return b;
-}
-
-BumpRanges Bump(const Interval& t) {
-  static const double leastSecond = LeastSecondDerivativeAt();
-  static const double greatestSecond = 2.0 * kSteepest - leastSecond;  // by symmetry
-  const BumpValues lo = Bump(t.lo), hi = Bump(t.hi);
-  BumpRanges r;
-  r.f = Hull(Widen(lo.f), Widen(hi.f));
-  r.f = {std::max(0.0, r.f.lo), std::min(1.0, r.f.hi)};
-  r.f1 = Hull(Widen(lo.f1), Widen(hi.f1));
-  if (t.contains(kSteepest)) r.f1 = Hull(r.f1, Widen(Bump(kSteepest).f1));
-  r.f1.hi = std::min(r.f1.hi, 0.0);
-  r.f2 = Hull(Widen(lo.f2), Widen(hi.f2));
-  if (t.contains(leastSecond)) r.f2 = Hull(r.f2, Widen(Bump(leastSecond).f2 * (1.0 + 1e-9)));
-  if (t.contains(greatestSecond)) r.f2 = Hull(r.f2, Widen(Bump(greatestSecond).f2 * (1.0 + 1e-9)));
-  return r;
 }
 
 }  // namespace invmap::pou

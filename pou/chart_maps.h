@@ -21,13 +21,11 @@
 // Velho ("A new construction of smooth surfaces from triangle meshes using
 // parametric pseudo-manifolds", Computers & Graphics 33, 2009).
 //
-// Every function is templated on the scalar of the jets: double for points,
-// Interval for enclosures over boxes.
+// Every function is templated on the scalar of the jets.
 #pragma once
 
 #include <cmath>
 
-#include "pou/interval.h"
 #include "pou/jet.h"
 #include "pou/jet_functions.h"
 
@@ -37,26 +35,12 @@ constexpr double kPi = 3.141592653589793;
 /// sqrt(3) / 2: the p-domain radius in the canonical frame.
 constexpr double kFrameRadius = 0.8660254037844386;
 
-/// Constants of the maps as scalars of type S: exact enough for double, and
-/// enclosures of the exact values (the angles and cos(pi/n) are rounded
-/// before the library functions see them, hence the absolute widening).
+/// Constants of the maps as scalars of type S.
 inline double AngleCos(int k, int n, double) { return std::cos(2.0 * kPi * k / n); }
 inline double AngleSin(int k, int n, double) { return std::sin(2.0 * kPi * k / n); }
-inline Interval AngleCos(int k, int n, Interval) {
-  const double c = std::cos(2.0 * kPi * k / n);
-  return {c - 1e-15, c + 1e-15};
-}
-inline Interval AngleSin(int k, int n, Interval) {
-  const double s = std::sin(2.0 * kPi * k / n);
-  return {s - 1e-15, s + 1e-15};
-}
 /// The p-domain radius cos(pi / n).
 inline double DomainRadius(int n) { return std::cos(kPi / n); }
 inline double Constant(double x, double) { return x; }
-/// x as an interval widened by a relative 1e-15 (it was computed, not given).
-inline Interval Constant(double x, Interval) {
-  return {x - 1e-15 * std::fabs(x) - 1e-300, x + 1e-15 * std::fabs(x) + 1e-300};
-}
 
 /// p (in a chart of valence n) rotated so that edge `edge` points along +x.
 template <typename S>

@@ -1,8 +1,6 @@
 // Second-order jets in two variables (u, v): a value with its first and
 // second partial derivatives, propagated through arithmetic by the chain
-// rule. The scalar S is double for point evaluations and pou::Interval for
-// enclosures over boxes (pou/interval.h): the same formulas then give
-// rigorous ranges of the value and every derivative.
+// rule.
 #pragma once
 
 namespace invmap::pou {
@@ -66,8 +64,7 @@ Jet<S> operator*(const Jet<S>& a, const Jet<S>& b) {
           a.dvv * b.v + S(2.0) * (a.dv * b.dv) + a.v * b.dvv};
 }
 
-/// f(a) given f, f' and f'' at a's value (for S = Interval: their ranges over
-/// a's value range).
+/// f(a) given f, f' and f'' at a's value.
 template <typename S>
 Jet<S> Compose(const Jet<S>& a, const S& f, const S& f1, const S& f2) {
   return {f,

@@ -1,35 +1,17 @@
-// Elementary functions of jets (pou/jet.h) for both scalars: double (point
-// evaluation) and Interval (enclosures over a box, pou/interval.h).
+// Elementary functions of jets (pou/jet.h).
 #pragma once
 
 #include <cmath>
 
-#include "pou/interval.h"
 #include "pou/jet.h"
 
 namespace invmap::pou {
 
-// The scalar functions under both names, so templates call one spelling.
+// The scalar functions under one spelling for the templates.
 inline double Sqrt(double x) { return std::sqrt(x); }
 inline double Sin(double x) { return std::sin(x); }
 inline double Cos(double x) { return std::cos(x); }
 inline double Atan2(double y, double x) { return std::atan2(y, x); }
-
-/// atan2 over a box of (y, x): the corner values when the box avoids the
-/// origin and does not cross the negative x axis (the angle then has its
-/// extremes at corners), otherwise [-pi, pi].
-inline Interval Atan2(const Interval& y, const Interval& x) {
-  constexpr double kPi = 3.141592653589793;
-  const Interval whole(-interval_detail::Up(kPi), interval_detail::Up(kPi));
-  const bool holdsOrigin = x.contains(0.0) && y.contains(0.0);
-  const bool crossesCut = x.lo < 0.0 && y.lo <= 0.0 && y.hi >= 0.0;
-  if (holdsOrigin || crossesCut) return whole;
-  Interval r = LibraryValue(std::atan2(y.lo, x.lo));
-  r = Hull(r, LibraryValue(std::atan2(y.lo, x.hi)));
-  r = Hull(r, LibraryValue(std::atan2(y.hi, x.lo)));
-  r = Hull(r, LibraryValue(std::atan2(y.hi, x.hi)));
-  return r;
-}
 
 template <typename S>
 Jet<S> JetSqrt(const Jet<S>& a) {

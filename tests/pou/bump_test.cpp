@@ -1,14 +1,14 @@
 // The bump xi: its derivatives against differences of an independent long
-// double evaluation, the shape the interval ranges rely on (xi decreasing,
-// xi' with one minimum at 5/8, xi'' with one minimum on (1/4, 5/8) and one
-// maximum on (5/8, 1)), and ranges over intervals that hold sampled values.
+// double evaluation; the bounds of its derivatives over intervals
+// (pou/bump_bounds.h) hold sampled values and are close to the largest.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
-#include <vector>
 
 #include "pou/bump.h"
+#include "pou/bump_bounds.h"
 
 namespace invmap::pou {
 namespace {
@@ -32,43 +32,52 @@ TEST(BumpTest, DerivativesMatchDifferences) {
   }
 }
 
-TEST(BumpTest, ShapeTheRangesRelyOn) {
-  // Signs of xi' and of the changes of xi' and xi'' on a fine grid.
-  const int n = 20000;
-  std::vector<double> f1(n + 1), f2(n + 1);
-  for (int i = 0; i <= n; ++i) {
-    const double t = 0.25 + 0.75 * i / n;
-    f1[i] = Bump(t).f1;
-    f2[i] = Bump(t).f2;
-    EXPECT_LE(f1[i], 0.0);
-  }
-  int f1Turns = 0, f2Turns = 0;
-  for (int i = 2; i <= n; ++i) {
-    const double a = f1[i - 1] - f1[i - 2], b = f1[i] - f1[i - 1];
-    if ((a < 0) != (b < 0) && std::fabs(b) > 1e-12 && std::fabs(a) > 1e-12) ++f1Turns;
-    const double c = f2[i - 1] - f2[i - 2], d = f2[i] - f2[i - 1];
-    if ((c < 0) != (d < 0) && std::fabs(d) > 1e-12 && std::fabs(c) > 1e-12) ++f2Turns;
-  }
-  EXPECT_EQ(f1Turns, 1);  // the minimum of xi'
-  EXPECT_EQ(f2Turns, 2);  // the minimum and the maximum of xi''
-  double least = 0;
-  int at = 0;
-  for (int i = 0; i <= n; ++i)
-    if (f1[i] < least) least = f1[i], at = i;
-  EXPECT_NEAR(0.25 + 0.75 * at / n, 0.625, 1e-4);
+// The third derivative by central differences of the closed form's second
+// (h = 1e-6: the truncation, h^2 |xi^(5)| / 6, stays far below 1e-4 of it).
+double Third(double t) {
+  const double h = 1e-6;
+  return (Bump(t + h).f2 - Bump(t - h).f2) / (2 * h);
 }
 
-TEST(BumpTest, RangesHoldSampledValues) {
+TEST(BumpBoundsTest, HoldSampledDerivatives) {
   std::mt19937_64 random(2);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int k = 0; k < 2000; ++k) {
     const double a = 0.2 + 0.85 * unit(random), w = 0.3 * unit(random) * unit(random);
-    const BumpRanges r = Bump(Interval(a, a + w));
+    const BumpDerivativeBounds bound = BoundBump(a, a + w);
     for (int s = 0; s <= 20; ++s) {
-      const BumpValues b = Bump(a + w * s / 20.0);
-      ASSERT_TRUE(r.f.contains(b.f) && r.f1.contains(b.f1) && r.f2.contains(b.f2)) << a << " " << w;
+      const double t = a + w * s / 20.0;
+      const BumpValues b = Bump(t);
+      ASSERT_LE(std::fabs(b.f), bound.d[0]) << t;
+      ASSERT_LE(std::fabs(b.f1), bound.d[1]) << t;
+      ASSERT_LE(std::fabs(b.f2), bound.d[2]) << t;
+      if (t > 0.2501 && t < 0.9999) {
+        ASSERT_LE(std::fabs(Third(t)), bound.d[3] * (1 + 1e-4) + 1e-9) << t;
+      }
     }
   }
+}
+
+TEST(BumpBoundsTest, CloseToTheLargestValues) {
+  double most[4] = {0, 0, 0, 0};
+  for (int i = 1; i < 200000; ++i) {
+    const double t = 0.25 + 0.75 * i / 200000;
+    const BumpValues b = Bump(t);
+    most[1] = std::max(most[1], std::fabs(b.f1));
+    most[2] = std::max(most[2], std::fabs(b.f2));
+    most[3] = std::max(most[3], std::fabs(Third(t)));
+  }
+  const BumpDerivativeBounds bound = BoundBump(0.25, 1.0);
+  EXPECT_EQ(bound.d[0], 1.0);
+  for (int k = 1; k <= 3; ++k) {
+    EXPECT_GE(bound.d[k], most[k]) << k;
+    EXPECT_LE(bound.d[k], 1.5 * most[k]) << k;
+  }
+  // xi is constant outside (1/4, 1).
+  const BumpDerivativeBounds inside = BoundBump(0.0, 0.25), outside = BoundBump(1.0, 2.0);
+  EXPECT_EQ(inside.d[0], 1.0);
+  EXPECT_EQ(outside.d[0], 0.0);
+  for (int k = 1; k <= 3; ++k) EXPECT_EQ(inside.d[k] + outside.d[k], 0.0);
 }
 
 }  // namespace
