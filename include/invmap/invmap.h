@@ -156,6 +156,7 @@ struct ManifoldInfo {
 };
 
 class Manifold;
+struct ManifoldAccess;
 
 /// Result of Manifold::Build: a manifold, or an error message naming the
 /// patch and field that is wrong.
@@ -197,6 +198,7 @@ class Manifold {
                std::string* message = nullptr) const;
 
  private:
+  friend struct ManifoldAccess;  // the engine's own systems (distance queries) read the built parts
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
