@@ -103,7 +103,15 @@ int RunInvertAllMinima(const InvertOptions& options) {
     return 2;
   }
   const auto start = std::chrono::steady_clock::now();
-  BuildResult built = Manifold::Build(io::ReadGeometryFile(options.geometry));
+  const Geometry geometry = io::ReadGeometryFile(options.geometry);
+  for (const Patch& patch : geometry.patches) {
+    if (patch.kind == Patch::Kind::PouManifold) {
+      throw io::InputError(options.geometry, 0,
+                           "--all-minima: partition-of-unity surfaces (pou_manifold patches) have no search for "
+                           "every local minimum yet");
+    }
+  }
+  BuildResult built = Manifold::Build(geometry);
   if (!built.error.empty()) throw io::InputError(options.geometry, 0, built.error);
   const Manifold manifold = std::move(built.manifold);
   const int dim = manifold.Info().dimension;

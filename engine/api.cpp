@@ -245,6 +245,7 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
 
 const engine::CellStore& ManifoldAccess::Store(const Manifold& m) { return m.impl_->store; }
 const engine::Bvh& ManifoldAccess::Tree(const Manifold& m) { return m.impl_->bvh; }
+bool ManifoldAccess::HasPouSurfaces(const Manifold& m) { return !m.impl_->pou.empty(); }
 
 const char* Version() { return INVMAP_VERSION; }  // project(VERSION) of CMakeLists.txt
 

@@ -142,6 +142,8 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
   try {
     INVMAP_VERIFY(manifold.valid(), "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
+    INVMAP_VERIFY(!ManifoldAccess::HasPouSurfaces(manifold),
+                  "partition-of-unity surfaces (pou_manifold patches) have no search for every local minimum yet");
     const engine::CellStore& store = ManifoldAccess::Store(manifold);
     const engine::Bvh& bvh = ManifoldAccess::Tree(manifold);
     const int dim = store.dimension();
