@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <queue>
 
 #include "common/parallel.h"
 #include "engine/spatial_sort.h"
@@ -54,6 +53,12 @@ std::string PouPatches::Build(const Geometry& geometry, int maxThreads) {
     BvhBuildOptions options;
     options.maxThreads = maxThreads;
     s->bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
+    const std::vector<pou::Piece>& pieces = s->pieces;
+    s->wide = WideBvh(s->bvh, 3, [&pieces](int box, std::vector<double>* xyz) {
+      double corners[24];
+      pieces[box].OrientedCorners(corners);
+      xyz->insert(xyz->end(), corners, corners + 24);
+    });
     const BvhBox& root = s->bvh.RootBounds();
     // Distances the search does not try to improve on: the core's tolerance
     // of a cell's size, for the surface's bounding box (docs/manifold.md).
@@ -111,7 +116,7 @@ void PouPatches::AddInfo(ManifoldInfo* info) const {
 std::size_t PouPatches::MemoryBytes() const {
   std::size_t bytes = 0;
   for (const auto& s : surfaces_) {
-    bytes += sizeof(Surface) + s->pieces.capacity() * sizeof(pou::Piece) + s->bvh.MemoryBytes() +
+    bytes += sizeof(Surface) + s->pieces.capacity() * sizeof(pou::Piece) + s->bvh.MemoryBytes() + s->wide.MemoryBytes() +
              s->surface.nets().capacity() * sizeof(double) + s->surface.mesh().positions().capacity() * sizeof(double) +
              s->surface.mesh().triangles().capacity() * sizeof(std::int64_t) * 3;
   }
@@ -143,6 +148,13 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
       [&](std::int64_t begin, std::int64_t end) {
         // The previous point's answer per surface: where the next search starts.
         std::vector<pou::ChartPoint> previous(surfaces_.size(), pou::ChartPoint{-1, 0, 0});
+        // A wide tree entry: a node (count 0) or a leaf's items, and the
+        // lower bound of the squared distance it was pushed with.
+        struct Entry {
+          double bound2;
+          int first, count;
+        };
+        std::vector<Entry> pending;
         for (std::int64_t s = begin; s < end; ++s) {
           const std::int64_t i = order[s];
           if (results->status[i] == Status::Invalid) continue;
@@ -154,31 +166,39 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
             pou::PointSearch search(surface.surface, x, surface.tolerance, cutoff);
             const bool hadAnswer = results->status[i] == Status::Found;
             if (previous[k].chart >= 0) search.Seed(previous[k].chart, previous[k].u, previous[k].v);
-            // Best-first over the BVH: nodes by the distance to their box.
+            // Depth first over the wide tree, nearest child first; an entry
+            // is skipped when its bound (recorded when it was pushed) no
+            // longer beats the cut-off.
+            const WideBvh& wide = surface.wide;
             const Bvh& bvh = surface.bvh;
-            using Entry = std::pair<double, int>;
-            std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-            if (!bvh.Nodes().empty()) {
-              const BvhBox root = bvh.NodeBounds(0);
-              queue.push({BoxDistance2(root.lo, root.hi, x), 0});
-            }
-            while (!queue.empty()) {
-              const auto [bound, node] = queue.top();
-              queue.pop();
-              if (bound >= search.Cutoff2()) break;
-              const BvhNode& b = bvh.Nodes()[node];
-              if (b.count == 0) {
-                for (int c = 0; c < 2; ++c) {
-                  const BvhBox child = bvh.NodeBounds(b.first + c);
-                  queue.push({BoxDistance2(child.lo, child.hi, x), b.first + c});
+            const WidePoint point = wide.Prepare(x);
+            pending.clear();
+            if (!wide.Nodes().empty()) pending.push_back({0.0, 0, 0});
+            while (!pending.empty()) {
+              const Entry entry = pending.back();
+              pending.pop_back();
+              if (entry.bound2 >= search.Cutoff2()) continue;
+              if (entry.count > 0) {
+                for (int item = entry.first; item < entry.first + entry.count; ++item) {
+                  if (BoxDistance2(bvh.ItemBoxes()[item].lo, bvh.ItemBoxes()[item].hi, x) >= search.Cutoff2()) continue;
+                  if (WideBvh::OrientedDistance2(wide.ItemOrientedBox(item), point) >= search.Cutoff2()) continue;
+                  search.SearchPiece(surface.pieces[bvh.Items()[item]]);
                 }
                 continue;
               }
-              for (int item = b.first; item < b.first + b.count; ++item) {
-                const BvhBox& box = bvh.ItemBoxes()[item];
-                if (BoxDistance2(box.lo, box.hi, x) >= search.Cutoff2()) continue;
-                search.SearchPiece(surface.pieces[bvh.Items()[item]]);
+              const WideNode& node = wide.Nodes()[entry.first];
+              double box2[4], bound2[4];
+              WideBvh::ChildDistances2(node, point, box2, bound2);
+              // The children within the cut-off, pushed farthest first.
+              Entry near[4];
+              int count = 0;
+              for (int c = 0; c < 4; ++c) {
+                if (node.count[c] < 0 || !(bound2[c] < search.Cutoff2())) continue;
+                int at = count++;
+                for (; at > 0 && near[at - 1].bound2 < bound2[c]; --at) near[at] = near[at - 1];
+                near[at] = {bound2[c], node.first[c], node.count[c]};
               }
+              for (int c = 0; c < count; ++c) pending.push_back(near[c]);
             }
             if (!search.found()) continue;
             previous[k] = {search.chart(), search.u(), search.v()};

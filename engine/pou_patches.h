@@ -1,9 +1,10 @@
 // The partition-of-unity surfaces of a geometry (patches of kind
 // PouManifold, include/invmap/pou.h): built next to the Bezier cells of the
 // CellStore, which holds none of theirs, and searched after them. Each
-// surface's pieces (pou/pieces.h) get a BVH from the engine's builder; a
-// query visits them nearest box first and searches each (pou/piece_search.h);
-// its best answer over the other patches is the cut-off they must beat.
+// surface's pieces (pou/pieces.h) get a BVH from the engine's builder,
+// collapsed to the wide tree with the pieces' oriented boxes; a query
+// visits them nearest first and searches each (pou/piece_search.h); its best
+// answer over the other patches is the cut-off they must beat.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "engine/bvh_build.h"
+#include "engine/wide_bvh.h"
 #include "engine/invert_batch.h"
 #include "invmap/invmap.h"
 #include "pou/pieces.h"
@@ -45,6 +47,7 @@ class PouPatches {
     pou::PouSurface surface;
     std::vector<pou::Piece> pieces;
     Bvh bvh;
+    WideBvh wide;  ///< With each piece's oriented box (pou/pieces.h).
     double tolerance = 0.0;
   };
   const Surface* Find(std::size_t patch) const;

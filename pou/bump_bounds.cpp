@@ -73,23 +73,36 @@ std::array<double, 4> CellBounds(double h0, double h1) {
   return d;
 }
 
+constexpr int kBlock = 32;  // cells per block of the table's block maxima
+
 struct Table {
-  std::vector<std::array<double, 4>> cells;
-  Table() : cells(kCells) {
+  std::vector<std::array<double, 4>> cells, blocks;
+  Table() : cells(kCells), blocks(kCells / kBlock) {
     for (int i = 0; i < kCells; ++i) {
       std::array<double, 4>& c = cells[i];
       if (i == 0 || i == kCells - 1) {
         // xi within 6e-7 of an end of H: every derivative is below e^-2000.
         c = {i == 0 ? 1.0 : DBL_MIN, DBL_MIN, DBL_MIN, DBL_MIN};
-        continue;
+      } else {
+        c = CellBounds(Boundary(i), Boundary(i + 1));
+        double scale = 1.0;
+        for (int k = 0; k < 4; ++k, scale /= kSpan) {
+          // Rounding of the closed forms (pow, exp, log within a few ulps).
+          c[k] = std::max(DBL_MIN, c[k] * scale * (1.0 + 1e-10));
+        }
       }
-      c = CellBounds(Boundary(i), Boundary(i + 1));
-      double scale = 1.0;
-      for (int k = 0; k < 4; ++k, scale /= kSpan) {
-        // Rounding of the closed forms (pow, exp, log within a few ulps).
-        c[k] = std::max(DBL_MIN, c[k] * scale * (1.0 + 1e-10));
-      }
+      for (int k = 0; k < 4; ++k) blocks[i / kBlock][k] = std::max(blocks[i / kBlock][k], c[k]);
     }
+  }
+  /// The largest bounds over cells first .. last.
+  void Max(int first, int last, double out[4]) const {
+    const auto add = [&](const std::array<double, 4>& c) {
+      for (int k = 0; k < 4; ++k) out[k] = std::max(out[k], c[k]);
+    };
+    int i = first;
+    for (; i <= last && i % kBlock != 0; ++i) add(cells[i]);
+    for (; i + kBlock - 1 <= last; i += kBlock) add(blocks[i / kBlock]);
+    for (; i <= last; ++i) add(cells[i]);
   }
 };
 
@@ -112,9 +125,7 @@ BumpDerivativeBounds BoundBump(double t0, double t1) {
   const double h0 = std::max(0.0, (t0 - kInner) / kSpan), h1 = std::min(1.0, (t1 - kInner) / kSpan);
   // One cell of margin either way for the rounding of the lookup.
   const int first = std::max(0, CellOf(h0) - 1), last = std::min(kCells - 1, CellOf(h1) + 1);
-  for (int i = first; i <= last; ++i) {
-    for (int k = 0; k < 4; ++k) b.d[k] = std::max(b.d[k], table.cells[i][k]);
-  }
+  table.Max(first, last, b.d);
   if (t0 <= kInner) b.d[0] = 1.0;
   return b;
 }

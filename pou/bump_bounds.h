@@ -12,8 +12,9 @@
 // derivative over the cell (the chain rule with each factor at its largest
 // there: g increases, and g', g'', g''', g'''' are sums or differences of
 // powers of H and 1 - H). An interval of t takes the largest over the cells
-// it meets. The two end cells (H within 6e-7 of 0 or 1) hold derivatives
-// below e^-2000, which underflow: they get the smallest normal double.
+// it meets (blocks of 32 cells keep their largest, for long intervals). The
+// two end cells (H within 6e-7 of 0 or 1) hold derivatives below e^-2000,
+// which underflow: they get the smallest normal double.
 #pragma once
 
 namespace invmap::pou {

@@ -38,6 +38,9 @@ constexpr double kFrameRadius = 0.8660254037844386;
 /// Constants of the maps as scalars of type S.
 inline double AngleCos(int k, int n, double) { return std::cos(2.0 * kPi * k / n); }
 inline double AngleSin(int k, int n, double) { return std::sin(2.0 * kPi * k / n); }
+/// |(x, y)| for chart-sized values (no overflow to guard against, unlike
+/// std::hypot, which is several times slower).
+inline double Length(double x, double y) { return std::sqrt(x * x + y * y); }
 /// The p-domain radius cos(pi / n).
 inline double DomainRadius(int n) { return std::cos(kPi / n); }
 inline double Constant(double x, double) { return x; }

@@ -94,9 +94,9 @@ struct PolarExtent {
 PolarExtent ExtentOf(const ChartBox& box) {
   PolarExtent e;
   const double nx = std::clamp(0.0, box.lo[0], box.hi[0]), ny = std::clamp(0.0, box.lo[1], box.hi[1]);
-  e.rMin = std::hypot(nx, ny) * (1.0 - 1e-15);
+  e.rMin = Length(nx, ny) * (1.0 - 1e-15);
   for (double x : {box.lo[0], box.hi[0]})
-    for (double y : {box.lo[1], box.hi[1]}) e.rMax = std::max(e.rMax, std::hypot(x, y));
+    for (double y : {box.lo[1], box.hi[1]}) e.rMax = std::max(e.rMax, Length(x, y));
   e.rMax *= 1.0 + 1e-15;
   if (e.rMin > 0.0) {
     e.centreAngle = std::atan2(0.5 * (box.lo[1] + box.hi[1]), 0.5 * (box.lo[0] + box.hi[0]));
@@ -190,7 +190,7 @@ namespace {
 /// Norms of a scalar jet's value, gradient and Hessian, with an allowance.
 void ScalarNorms(const Jet<double>& j, double allowance, double out[3]) {
   out[0] = std::fabs(j.v) + allowance;
-  out[1] = std::hypot(j.du, j.dv) + allowance;
+  out[1] = Length(j.du, j.dv) + allowance;
   out[2] = std::sqrt(j.duu * j.duu + 2.0 * j.duv * j.duv + j.dvv * j.dvv) + allowance;
 }
 
@@ -212,8 +212,8 @@ double CanonicalDistance(const PouSurface& s, std::int64_t chart, int edge, doub
   const int n = s.valence(chart);
   double rel = std::atan2(v, u) - 2.0 * kPi * edge / n;
   rel -= 2.0 * kPi * std::round(rel / (2.0 * kPi));
-  const double rho = kFrameRadius / s.radius(chart) * std::hypot(u, v), phi = n / 6.0 * rel;
-  return std::hypot(1.0 - rho * std::cos(phi), rho * std::sin(phi));
+  const double rho = kFrameRadius / s.radius(chart) * Length(u, v), phi = n / 6.0 * rel;
+  return Length(1.0 - rho * std::cos(phi), rho * std::sin(phi));
 }
 
 }  // namespace
@@ -230,12 +230,13 @@ void SampleBox(const PouSurface& surface, std::int64_t chart, const ChartBox& bo
   ScalarNorms(sum, kUnit, out->sum);
   out->sum[0] = sum.v;
   const double u = 0.5 * (box.lo[0] + box.hi[0]), v = 0.5 * (box.lo[1] + box.hi[1]);
-  const double radius = 0.5 * std::hypot(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]) * (1.0 + 1e-15);
+  const double radius = 0.5 * Length(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]) * (1.0 + 1e-15);
   out->defined.assign(parts.defined.begin(), parts.defined.end());
   out->weight.resize(count);
   out->mismatch.resize(count);
   out->reach.assign(count, radius);
   for (std::size_t i = 0; i < count; ++i) {
+    if (!parts.active.empty() && !parts.active[i]) continue;
     ScalarNorms(parts.weights[i] * inverse, kUnit, out->weight[i].data());
     out->mismatch[i] = MismatchNorms(parts, i, slack);
     if (!parts.defined[i] || parts.weights[i].v > 0.0) continue;
@@ -254,12 +255,13 @@ void SampleBox(const PouSurface& surface, std::int64_t chart, const ChartBox& bo
       }
     if (!(best < kFrameRadius)) continue;
     scratch->edges.assign(1, parts.edges[i]);
+    scratch->active.clear();
     surface.EvaluateParts(chart, bu, bv, scratch);
     if (!scratch->defined[0]) continue;
     out->mismatch[i] = MismatchNorms(*scratch, 0, slack);
     double farthest = 0.0;
     for (double cu : {box.lo[0], box.hi[0]})
-      for (double cv : {box.lo[1], box.hi[1]}) farthest = std::max(farthest, std::hypot(cu - bu, cv - bv));
+      for (double cv : {box.lo[1], box.hi[1]}) farthest = std::max(farthest, Length(cu - bu, cv - bv));
     out->reach[i] = farthest * (1.0 + 1e-15);
   }
 }
@@ -311,6 +313,17 @@ ShapeMajorants BoundShapes(const PouSurface& surface, std::int64_t chart, const 
   return shapes;
 }
 
+void ReachingEdges(const PouSurface& surface, std::int64_t chart, const ChartBox& box, const ShapeMajorants& shapes,
+                   std::vector<char>* reaches) {
+  const PolarExtent extent = ExtentOf(box);
+  reaches->assign(shapes.edges.size(), 1);
+  if (!(extent.rMin > 0.0)) return;
+  for (std::size_t i = 0; i < shapes.edges.size(); ++i) {
+    CanonicalSector c;
+    (*reaches)[i] = SectorOfEdge(surface, chart, shapes.edges[i], extent, &c) && SectorMin(c) < kFrameRadius;
+  }
+}
+
 double ThirdDerivativeBound(const PouSurface& surface, std::int64_t chart, const ChartBox& box,
                             const ShapeMajorants& shapes, const BoxSample& sample) {
   const int n = surface.valence(chart);
@@ -319,7 +332,7 @@ double ThirdDerivativeBound(const PouSurface& surface, std::int64_t chart, const
   double bound = shapes.own.d[3];
   if (extent.rMax < kOwnOnly * radius) return bound * kRoundingAllowance;  // theta_v = psi_v
   if (!(extent.rMin > 0.0)) return HUGE_VAL;
-  const double boxRadius = 0.5 * std::hypot(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]) * (1.0 + 1e-15);
+  const double boxRadius = 0.5 * Length(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]) * (1.0 + 1e-15);
   // From the centre's values along segments of the box: order k at most its
   // value at the centre plus order k + 1's bound times the radius.
   const auto chain = [](const double* at, double distance, Majorant* m) {

@@ -92,6 +92,11 @@ struct BoxSample {
 void SampleBox(const PouSurface& surface, std::int64_t chart, const ChartBox& box, const BlendParts& parts,
                const EvaluationSlack& slack, BlendParts* scratch, BoxSample* out);
 
+/// Which entries of shapes.edges have a bump that may be positive on `box`
+/// (the others need not be evaluated there).
+void ReachingEdges(const PouSurface& surface, std::int64_t chart, const ChartBox& box, const ShapeMajorants& shapes,
+                   std::vector<char>* reaches);
+
 /// Bound of the norm of theta_v's third derivative over `box` (which lies in
 /// the piece `shapes` were bound over), given its sample;
 /// +infinity when the box reaches a bump's support too close to the chart's

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "pou/chart_maps.h"
 #include "pou/interval.h"
 
 namespace invmap::pou {
@@ -106,7 +107,7 @@ struct FunctionEnclosure {
 
 FunctionEnclosure Enclose(const CentreJet& c, const double x[3], const double h[2], double third,
                           const EvaluationSlack& slack) {
-  const double rho = std::hypot(h[0], h[1]);
+  const double rho = Length(h[0], h[1]);
   const double firstReach = 0.5 * third * rho * rho + slack.first;
   const double secondReach = third * rho + slack.second;
   FunctionEnclosure e;
@@ -132,6 +133,42 @@ FunctionEnclosure Enclose(const CentreJet& c, const double x[3], const double h[
     e.hess[2] = e.hess[2] + two * (Square(j1) + r * Around(c.h[k][2], secondReach));
   }
   return e;
+}
+
+/// The least value over |d_i| <= h_i of g . d + (a d0^2 - 2 b |d0 d1| + e d1^2) / 2,
+/// which bounds g . d + d^T M d / 2 from below for every matrix M of the
+/// enclosure (a, e the least diagonal entries, b the largest |M01|). In each
+/// quadrant it is a quadratic: its least point over the quadrant's part of
+/// the box is its stationary point when that is a minimum inside, else on
+/// the part's sides, where it is a parabola.
+double QuadraticModelMinimum(const double g[2], double a, double b, double e, const double h[2]) {
+  double least = 0.0;  // d = 0
+  for (int s0 = -1; s0 <= 1; s0 += 2) {
+    for (int s1 = -1; s1 <= 1; s1 += 2) {
+      const double m01 = -s0 * s1 * b;  // the quadrant's off-diagonal entry
+      const double lo[2] = {s0 < 0 ? -h[0] : 0.0, s1 < 0 ? -h[1] : 0.0};
+      const double hi[2] = {s0 < 0 ? 0.0 : h[0], s1 < 0 ? 0.0 : h[1]};
+      const auto value = [&](double d0, double d1) {
+        return g[0] * d0 + g[1] * d1 + 0.5 * (a * d0 * d0 + 2.0 * m01 * d0 * d1 + e * d1 * d1);
+      };
+      const double det = a * e - m01 * m01;
+      if (a > 0.0 && det > 0.0) {
+        const double d0 = -(e * g[0] - m01 * g[1]) / det, d1 = -(a * g[1] - m01 * g[0]) / det;
+        if (lo[0] <= d0 && d0 <= hi[0] && lo[1] <= d1 && d1 <= hi[1]) least = std::min(least, value(d0, d1));
+      }
+      // Sides d0 = const: a parabola in d1 with leading coefficient e / 2.
+      for (double d0 : {lo[0], hi[0]}) {
+        const double slope = g[1] + m01 * d0;
+        for (double d1 : {lo[1], hi[1]}) least = std::min(least, value(d0, d1));
+        if (e > 0.0) least = std::min(least, value(d0, Clamp(-slope / e, lo[1], hi[1])));
+      }
+      for (double d1 : {lo[1], hi[1]}) {
+        const double slope = g[0] + m01 * d1;
+        if (a > 0.0) least = std::min(least, value(Clamp(-slope / a, lo[0], hi[0]), d1));
+      }
+    }
+  }
+  return least;
 }
 
 }  // namespace
@@ -222,7 +259,7 @@ PointSearch::LocalAnswer PointSearch::Solve(std::int64_t chart, const ChartBox& 
       }
     }
     if (!moved) break;
-    const double change = std::hypot(next[0] - at[0], next[1] - at[1]);
+    const double change = Length(next[0] - at[0], next[1] - at[1]);
     at[0] = next[0];
     at[1] = next[1];
     if (change <= 1e-15 * scale) iteration = kMaxIterations - 1;  // one last evaluation
@@ -281,7 +318,8 @@ void PointSearch::SearchPiece(const Piece& piece) {
     const ChartBox& box = node.box;
     const double centre[2] = {0.5 * (box.lo[0] + box.hi[0]), 0.5 * (box.lo[1] + box.hi[1])};
     const double h[2] = {0.5 * (box.hi[0] - box.lo[0]), 0.5 * (box.hi[1] - box.lo[1])};
-    const double rho = std::hypot(h[0], h[1]);
+    const double rho = Length(h[0], h[1]);
+    ReachingEdges(surface_, chart, box, piece.shapes, &parts_.active);
     surface_.EvaluateParts(chart, centre[0], centre[1], &parts_);
     const CentreJet c = Unpack(parts_.Theta());
     double e[3], fCentre = 0.0;
@@ -309,6 +347,24 @@ void PointSearch::SearchPiece(const Piece& piece) {
       bound = std::max(bound, lower * lower * (1.0 - 4.0 * kEpsilon));
       if (bound >= Cutoff2()) continue;
       const FunctionEnclosure f = Enclose(c, x_, h, third, slack);
+      // Second-order lower bound: f(c) + grad f(c) . d + d^T Hf(xi) d / 2
+      // (Taylor, xi in the box) with Hf in its enclosure, less the rounding
+      // of f(c) and its gradient.
+      double gradient[2] = {0.0, 0.0};
+      for (int k = 0; k < 3; ++k) {
+        gradient[0] -= 2.0 * e[k] * c.j0[k];
+        gradient[1] -= 2.0 * e[k] * c.j1[k];
+      }
+      const double residual = std::sqrt(fCentre);
+      const double jacobian = std::sqrt(Dot(c.j0, c.j0) + Dot(c.j1, c.j1));
+      const double second = fCentre + QuadraticModelMinimum(gradient, f.hess[0].lo, f.hess[1].mag(), f.hess[2].lo, h) -
+                            (2.0 * residual * slack.value + slack.value * slack.value +
+                             2.0 * (jacobian * slack.value + residual * slack.first) * (h[0] + h[1]) +
+                             16.0 * kEpsilon * (fCentre + (residual + jacobian * (h[0] + h[1])) *
+                                                              (std::fabs(c.value[0]) + std::fabs(c.value[1]) +
+                                                               std::fabs(c.value[2]) + residual)));
+      bound = std::max(bound, second);
+      if (bound >= Cutoff2()) continue;
       // Where f is convex on the box, its least point there; where it falls
       // toward one side all over the box (the box's least point lies on that
       // side) and is convex along the side, its least point on the side; at a
@@ -330,8 +386,8 @@ void PointSearch::SearchPiece(const Piece& piece) {
         }
         closable = (fixed[0] && fixed[1]) || (fixed[0] && f.hess[2].lo > 0.0) || (fixed[1] && f.hess[0].lo > 0.0);
       }
-      const double jacobian = std::sqrt(Dot(c.j0, c.j0) + Dot(c.j1, c.j1)) + 2.0 * QuadraticReach(c, h) / rho;
-      if (closable && CloseByTangent(chart, box, face, start, jacobian, slack)) continue;
+      const double boxJacobian = jacobian + 2.0 * QuadraticReach(c, h) / rho;
+      if (closable && CloseByTangent(chart, box, face, start, boxJacobian, slack)) continue;
     }
     if (root) {
       // A first local solve over the whole piece lowers the cut-off early.

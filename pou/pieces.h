@@ -10,14 +10,16 @@
 // point of the surface, theta_u(p) = theta_v(phi_vu(p)), in its kite. In
 // v's p-domain the kites lie within 2R/3 of the centre (R its radius).
 //
-// Each chart's pieces are the squares of a 4 x 4 grid over [-c, c]^2, c =
-// 0.68 R, which holds that disk. A piece carries the majorants of the shape
-// functions over it (pou/piece_bounds.h) and a box of R^3 that holds the
-// image of its part of the disk: the union, over a grid of cells (split
-// further where the third derivative's bound is infinite or large), of the
-// Taylor expansion at the cell's centre with the remainder M rho^3 / 6 (M
-// the cell's bound of the third derivative, rho its radius) and the
-// evaluation's rounding allowance.
+// Each chart's pieces are the squares of a 9 x 9 grid over [-c, c]^2, c =
+// 0.68 R, which holds that disk, those that meet the kites (the middle one,
+// about the centre, lies where theta_v = psi_v). A piece carries the
+// majorants of the shape functions over it (pou/piece_bounds.h) and boxes
+// of R^3 that hold the image of its part of the kites, axis-aligned and
+// oriented: the union, over a grid of cells (split further where the third
+// derivative's bound is infinite or large), of the Taylor expansion at the
+// cell's centre (its linear and quadratic terms' reach along each axis)
+// with the remainder M rho^3 / 6 (M the cell's bound of the third
+// derivative, rho its radius) and the evaluation's rounding allowance.
 #pragma once
 
 #include <cstdint>
@@ -36,7 +38,15 @@ struct Piece {
   std::int64_t chart = 0;
   ChartBox box{};
   ShapeMajorants shapes;
-  double boxLo[3] = {0, 0, 0}, boxHi[3] = {0, 0, 0};  ///< Holds theta_v of the box's part of the kites.
+  /// Two boxes of R^3 that hold theta_v of the box's part of the kites: one
+  /// along the coordinate axes, one oriented (lo_j <= axis_j . x <= hi_j),
+  /// its orthonormal axes along the tangent plane and the normal at the
+  /// box's centre, as thin across the surface as the piece bulges.
+  double boxLo[3] = {0, 0, 0}, boxHi[3] = {0, 0, 0};
+  double axis[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  double orientedLo[3] = {0, 0, 0}, orientedHi[3] = {0, 0, 0};
+  /// The oriented box's corners (whose convex hull it is), 8 x 3 coordinates.
+  void OrientedCorners(double out[24]) const;
 };
 
 /// Every chart's pieces, in chart order.

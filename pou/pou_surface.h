@@ -36,6 +36,9 @@ struct BlendParts {
   Jet<double> own[3];
   Jet<double> ownWeight;
   std::vector<int> edges;          ///< The neighbours asked for, by edge.
+  /// Per edge, set by the caller (empty: all): evaluate it, or leave it
+  /// undefined with a zero bump (for an edge whose bump cannot reach).
+  std::vector<char> active;
   std::vector<char> defined;       ///< Per edge: psi_z o phi_zv's formula is defined.
   std::vector<Jet<double>> weights;  ///< Per edge: beta_z.
   std::vector<Jet<double>> shapes;   ///< Per edge, 3 coordinates: psi_z o phi_zv.

@@ -1,6 +1,5 @@
 #include "pou/shape_function.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 
@@ -28,12 +27,28 @@ void Bernstein(int degree, double s, double* out) {
   }
 }
 
+/// From the polynomials of degree d - 1 at s, those of degree d (one step
+/// of the recurrence).
+void RaiseDegree(int d, double s, const double* lower, double* out) {
+  out[0] = (1.0 - s) * lower[0];
+  for (int j = 1; j < d; ++j) out[j] = (1.0 - s) * lower[j] + s * lower[j - 1];
+  out[d] = s * lower[d - 1];
+}
+
 Basis1 BernsteinWithDerivatives(int degree, double s) {
   Basis1 r;
   double lower1[kMaxBasis] = {}, lower2[kMaxBasis] = {};
-  Bernstein(degree, s, r.b);
-  if (degree >= 1) Bernstein(degree - 1, s, lower1);
-  if (degree >= 2) Bernstein(degree - 2, s, lower2);
+  // Degree d - 2 once, then d - 1 and d by one step each.
+  if (degree >= 2) {
+    Bernstein(degree - 2, s, lower2);
+    RaiseDegree(degree - 1, s, lower2, lower1);
+    RaiseDegree(degree, s, lower1, r.b);
+  } else if (degree == 1) {
+    lower1[0] = 1.0;
+    RaiseDegree(1, s, lower1, r.b);
+  } else {
+    r.b[0] = 1.0;
+  }
   for (int j = 0; j <= degree; ++j) {
     const double a = j >= 1 ? lower1[j - 1] : 0.0;
     const double b = j <= degree - 1 ? lower1[j] : 0.0;
@@ -259,10 +274,11 @@ ShapeRanges RangeOverBox(const ShapeNet& net, const double lo[2], const double h
   return r;
 }
 
-std::string FitShape(int degree, double radius, const std::vector<double>& uv, const std::vector<double>& xyz,
-                     std::vector<double>* out) {
+std::string ShapeFitter::Factor(int degree, double radius, const std::vector<double>& uv) {
   const int n = degree + 1, unknowns = n * n;
   const int count = static_cast<int>(uv.size() / 2);
+  degree_ = degree;
+  count_ = count;
   if (count < unknowns) {
     return std::to_string(count) + " samples for " + std::to_string(unknowns) + " control points";
   }
@@ -272,8 +288,8 @@ std::string FitShape(int degree, double radius, const std::vector<double>& uv, c
   // samples leave them (up to 100 times the star's size without it), which
   // would also make every derivative bound of the net useless.
   const int penalties = degree >= 2 ? 2 * n * (n - 2) + (n - 1) * (n - 1) : 0;
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(count + penalties, unknowns);
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count + penalties, 3);
+  rows_ = count + penalties;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows_, unknowns);
   const double scale = 1.0 / (2.0 * radius);
   double bx[kMaxBasis], by[kMaxBasis];
   for (int s = 0; s < count; ++s) {
@@ -281,7 +297,6 @@ std::string FitShape(int degree, double radius, const std::vector<double>& uv, c
     Bernstein(degree, (uv[2 * s + 1] + radius) * scale, by);
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j) a(s, j + n * k) = bx[j] * by[k];
-    for (int c = 0; c < 3; ++c) rhs(s, c) = xyz[3 * s + c];
   }
   const double weight = kSmoothingWeight;
   int row = count;
@@ -307,16 +322,23 @@ std::string FitShape(int degree, double radius, const std::vector<double>& uv, c
       a(row, j + 1 + n * (k + 1)) = weight;
     }
   }
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
-  if (qr.rank() < unknowns) {
-    return "the samples determine only " + std::to_string(qr.rank()) + " of " + std::to_string(unknowns) +
+  qr_.compute(a);
+  if (qr_.rank() < unknowns) {
+    return "the samples determine only " + std::to_string(qr_.rank()) + " of " + std::to_string(unknowns) +
            " control points";
   }
-  const Eigen::MatrixXd solution = qr.solve(rhs);
+  return {};
+}
+
+void ShapeFitter::Solve(const std::vector<double>& xyz, std::vector<double>* out) const {
+  const int unknowns = (degree_ + 1) * (degree_ + 1);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(rows_, 3);
+  for (int s = 0; s < count_; ++s)
+    for (int c = 0; c < 3; ++c) rhs(s, c) = xyz[3 * s + c];
+  const Eigen::MatrixXd solution = qr_.solve(rhs);
   out->resize(3 * unknowns);
   for (int i = 0; i < unknowns; ++i)
     for (int c = 0; c < 3; ++c) (*out)[3 * i + c] = solution(i, c);
-  return {};
 }
 
 }  // namespace invmap::pou

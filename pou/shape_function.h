@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "pou/interval.h"
 
 namespace invmap::pou {
@@ -62,14 +64,25 @@ ShapeRanges RangeOverBox(const ShapeNet& net, const double lo[2], const double h
 /// (pou/piece_bounds.h).
 constexpr double kShapeBoundExtension = 1.15;
 
-/// Least-squares fit of a net of bidegree `degree` over [-radius, radius]^2
-/// to `count` samples: parameters `uv` (2 each) and points `xyz` (3 each),
-/// with a light penalty (weight 1e-2) on the net's second differences that
-/// settles the control points the samples barely reach (the square's corners).
-/// Writes the (degree + 1)^2 control points to `out`. Returns an error
-/// message when the samples do not determine the net (fewer than unknowns,
-/// or rank deficient).
-std::string FitShape(int degree, double radius, const std::vector<double>& uv, const std::vector<double>& xyz,
-                     std::vector<double>* out);
+/// Least-squares fit of nets of bidegree `degree` over [-radius, radius]^2
+/// to samples at given parameters, with a light penalty (weight 1e-2) on the
+/// net's second differences that settles the control points the samples
+/// barely reach (the square's corners). Every chart of one valence and
+/// degree samples the same parameters, so the factorization is made once
+/// and solved for each chart's sample points.
+class ShapeFitter {
+ public:
+  /// Factors the fit to the parameters `uv` (2 each). Returns an error
+  /// message when they do not determine the net (fewer than unknowns, or
+  /// rank deficient).
+  std::string Factor(int degree, double radius, const std::vector<double>& uv);
+  /// The (degree + 1)^2 control points fitted to `xyz`, the points (3 each)
+  /// at the parameters given to Factor.
+  void Solve(const std::vector<double>& xyz, std::vector<double>* out) const;
+
+ private:
+  int degree_ = 0, count_ = 0, rows_ = 0;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_;
+};
 
 }  // namespace invmap::pou
