@@ -42,21 +42,22 @@ std::string PouPatches::Build(const Geometry& geometry, int maxThreads) {
         !e.empty()) {
       return where + e;
     }
-    RunWithThreads(maxThreads, [&] { s->pieces = pou::MakePieces(s->surface); });
-    std::vector<BvhBox> boxes(s->pieces.size());
+    std::vector<pou::PieceBounds> bounds;
+    RunWithThreads(maxThreads, [&] { s->pieces.Build(s->surface, &bounds); });
+    std::vector<BvhBox> boxes(bounds.size());
     for (std::size_t i = 0; i < boxes.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
-        boxes[i].lo[k] = s->pieces[i].boxLo[k];
-        boxes[i].hi[k] = s->pieces[i].boxHi[k];
+        boxes[i].lo[k] = bounds[i].boxLo[k];
+        boxes[i].hi[k] = bounds[i].boxHi[k];
       }
     }
     BvhBuildOptions options;
     options.maxThreads = maxThreads;
+    options.maxLeafSize = 8;
     s->bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
-    const std::vector<pou::Piece>& pieces = s->pieces;
-    s->wide = WideBvh(s->bvh, 3, [&pieces](int box, std::vector<double>* xyz) {
+    s->wide = WideBvh(s->bvh, 3, [&bounds](int box, std::vector<double>* xyz) {
       double corners[24];
-      pieces[box].OrientedCorners(corners);
+      bounds[box].OrientedCorners(corners);
       xyz->insert(xyz->end(), corners, corners + 24);
     });
     const BvhBox& root = s->bvh.RootBounds();
@@ -116,7 +117,7 @@ void PouPatches::AddInfo(ManifoldInfo* info) const {
 std::size_t PouPatches::MemoryBytes() const {
   std::size_t bytes = 0;
   for (const auto& s : surfaces_) {
-    bytes += sizeof(Surface) + s->pieces.capacity() * sizeof(pou::Piece) + s->bvh.MemoryBytes() + s->wide.MemoryBytes() +
+    bytes += sizeof(Surface) + s->pieces.MemoryBytes() + s->bvh.MemoryBytes() + s->wide.MemoryBytes() +
              s->surface.nets().capacity() * sizeof(double) + s->surface.mesh().positions().capacity() * sizeof(double) +
              s->surface.mesh().triangles().capacity() * sizeof(std::int64_t) * 3;
   }
@@ -182,7 +183,8 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
                 for (int item = entry.first; item < entry.first + entry.count; ++item) {
                   if (BoxDistance2(bvh.ItemBoxes()[item].lo, bvh.ItemBoxes()[item].hi, x) >= search.Cutoff2()) continue;
                   if (WideBvh::OrientedDistance2(wide.ItemOrientedBox(item), point) >= search.Cutoff2()) continue;
-                  search.SearchPiece(surface.pieces[bvh.Items()[item]]);
+                  const pou::Piece& piece = surface.pieces.pieces()[bvh.Items()[item]];
+                  search.SearchPiece(piece.chart, pou::PieceBox(surface.surface, piece), surface.pieces.Shapes(piece));
                 }
                 continue;
               }

@@ -45,7 +45,7 @@ class PouPatches {
   struct Surface {
     std::size_t patch = 0;
     pou::PouSurface surface;
-    std::vector<pou::Piece> pieces;
+    pou::PieceSet pieces;
     Bvh bvh;
     WideBvh wide;  ///< With each piece's oriented box (pou/pieces.h).
     double tolerance = 0.0;

@@ -45,6 +45,13 @@ Majorant PolarPower(double alpha, double scale, double least) {
 
 Majorant FromBump(const BumpDerivativeBounds& b) { return {{b.d[0], b.d[1], b.d[2], b.d[3]}}; }
 
+/// x as a float no smaller than x.
+float RoundUp(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) < x) f = std::nextafter(f, HUGE_VALF);
+  return f;
+}
+
 /// Majorant of a shape function over a box of its chart: the partials'
 /// ranges there, as norms (Frobenius for orders 1 and 2, sqrt(3 2^3) times
 /// the largest third partial for order 3).
@@ -278,20 +285,21 @@ bool OutsideKites(const PouSurface& surface, std::int64_t chart, const ChartBox&
   return false;
 }
 
-ShapeMajorants BoundShapes(const PouSurface& surface, std::int64_t chart, const ChartBox& box) {
-  ShapeMajorants shapes;
-  shapes.own = ShapeOverBox(surface, chart, box.lo, box.hi);
+void BoundShapes(const PouSurface& surface, std::int64_t chart, const ChartBox& box, float own[3],
+                 std::vector<ReachingShape>* reach) {
+  const Majorant ownMajorant = ShapeOverBox(surface, chart, box.lo, box.hi);
+  for (int k = 0; k < 3; ++k) own[k] = RoundUp(ownMajorant.d[k + 1]);
   const int n = surface.valence(chart);
   const PolarExtent extent = ExtentOf(box);
   const double k = kFrameRadius / surface.radius(chart);
-  const double reach = kFrameRadius * kShapeBoundExtension;
+  const double farthest = kFrameRadius * kShapeBoundExtension;
   for (int edge = 0; edge < n; ++edge) {
     // W's range: a sector, or for a box about the centre the disk |W| <= rho1.
     CanonicalSector c{0.0, k * extent.rMax, -kPi, kPi};
     if (extent.rMin > 0.0 && !SectorOfEdge(surface, chart, edge, extent, &c)) continue;
     const double wMin = extent.rMin > 0.0 ? SectorMin(c) : std::max(0.0, 1.0 - c.rho1);
     if (!(wMin < kFrameRadius)) continue;
-    const double wMax = std::min(reach, extent.rMin > 0.0 ? SectorMax(c) : reach);
+    const double wMax = std::min(farthest, extent.rMin > 0.0 ? SectorMax(c) : farthest);
     double argLo, argHi;
     if (extent.rMin > 0.0) {
       ArgumentRange(c, &argLo, &argHi);
@@ -299,7 +307,7 @@ ShapeMajorants BoundShapes(const PouSurface& surface, std::int64_t chart, const 
       argHi = c.rho1 < 1.0 ? std::asin(c.rho1) + 1e-12 : kPi / 2;
       argLo = -argHi;
     }
-    // Where psi_z is evaluated: phi_zv of the box's points with |w| <= reach,
+    // Where psi_z is evaluated: phi_zv of the box's points with |w| <= farthest,
     // a sector of z's chart about the direction of v (z's neighbour `mate`).
     const std::int64_t z = surface.mesh().neighbor(chart, edge);
     const int m = surface.valence(z);
@@ -307,20 +315,25 @@ ShapeMajorants BoundShapes(const PouSurface& surface, std::int64_t chart, const 
     const double toward = 2.0 * kPi * surface.mesh().mate(chart, edge) / m;
     double lo[2], hi[2];
     SectorBox(toOther * wMin, toOther * wMax, toward + 6.0 / m * argLo, toward + 6.0 / m * argHi, lo, hi);
-    shapes.edges.push_back(edge);
-    shapes.others.push_back(ShapeOverBox(surface, z, lo, hi));
+    const Majorant other = ShapeOverBox(surface, z, lo, hi);
+    ReachingShape shape;
+    shape.edge = edge;
+    for (int o = 0; o < 3; ++o) shape.norm[o] = RoundUp(other.d[o + 1]);
+    reach->push_back(shape);
   }
-  return shapes;
 }
 
 void ReachingEdges(const PouSurface& surface, std::int64_t chart, const ChartBox& box, const ShapeMajorants& shapes,
-                   std::vector<char>* reaches) {
+                   BlendParts* parts) {
   const PolarExtent extent = ExtentOf(box);
-  reaches->assign(shapes.edges.size(), 1);
-  if (!(extent.rMin > 0.0)) return;
-  for (std::size_t i = 0; i < shapes.edges.size(); ++i) {
+  parts->edges.resize(shapes.count);
+  parts->active.assign(shapes.count, 1);
+  for (int i = 0; i < shapes.count; ++i) {
+    parts->edges[i] = shapes.reach[i].edge;
     CanonicalSector c;
-    (*reaches)[i] = SectorOfEdge(surface, chart, shapes.edges[i], extent, &c) && SectorMin(c) < kFrameRadius;
+    if (extent.rMin > 0.0) {
+      parts->active[i] = SectorOfEdge(surface, chart, shapes.reach[i].edge, extent, &c) && SectorMin(c) < kFrameRadius;
+    }
   }
 }
 
@@ -329,7 +342,8 @@ double ThirdDerivativeBound(const PouSurface& surface, std::int64_t chart, const
   const int n = surface.valence(chart);
   const double radius = surface.radius(chart);
   const PolarExtent extent = ExtentOf(box);
-  double bound = shapes.own.d[3];
+  const Majorant own{{0.0, shapes.own[0], shapes.own[1], shapes.own[2]}};
+  double bound = own.d[3];
   if (extent.rMax < kOwnOnly * radius) return bound * kRoundingAllowance;  // theta_v = psi_v
   if (!(extent.rMin > 0.0)) return HUGE_VAL;
   const double boxRadius = 0.5 * Length(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]) * (1.0 + 1e-15);
@@ -349,19 +363,20 @@ double ThirdDerivativeBound(const PouSurface& surface, std::int64_t chart, const
     sum = Compose(FromBump(BoundBump(from / radius, extent.rMax / radius)), PolarPower(0.0, 1.0 / radius, from));
   }
   double least = Bump(extent.rMax / radius).f;
-  std::vector<std::size_t> active;
+  std::vector<int> active;
   std::vector<Majorant> bumps, mismatches;
-  for (std::size_t i = 0; i < shapes.edges.size(); ++i) {
+  for (int i = 0; i < shapes.count; ++i) {
     CanonicalSector c;
-    if (!SectorOfEdge(surface, chart, shapes.edges[i], extent, &c)) continue;
+    if (!SectorOfEdge(surface, chart, shapes.reach[i].edge, extent, &c)) continue;
     const double wMin = SectorMin(c), wMax = SectorMax(c);
     if (!(wMin < kFrameRadius)) continue;
     if (wMax > kFrameRadius * kShapeBoundExtension || !sample.defined[i]) return HUGE_VAL;
-    const std::int64_t z = surface.mesh().neighbor(chart, shapes.edges[i]);
+    const std::int64_t z = surface.mesh().neighbor(chart, shapes.reach[i].edge);
     // g_z: order 3 from the majorants of its two terms.
     const Majorant w = PolarPower(alpha, k, extent.rMin);
     const Majorant phi = Compose(PolarPower(6.0 / surface.valence(z), surface.radius(z) / kFrameRadius, wMin), w);
-    Majorant g = Compose(shapes.others[i], phi) + shapes.own;
+    const Majorant shape{{0.0, shapes.reach[i].norm[0], shapes.reach[i].norm[1], shapes.reach[i].norm[2]}};
+    Majorant g = Compose(shape, phi) + own;
     g.d[0] = HUGE_VAL;
     chain(sample.mismatch[i].data(), sample.reach[i], &g);
     mismatches.push_back(g);

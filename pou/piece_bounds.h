@@ -10,7 +10,7 @@
 // factor gets a majorant (pou/majorant.h):
 //  - psi_v and psi_z: the ranges of their partial derivatives over a box of
 //    their own chart that holds the piece's image (RangeOverBox), computed
-//    once per piece (ShapeMajorants);
+//    once per piece (BoundShapes);
 //  - W_z(p) = k p^a conj(p)^b (p turned to the edge, a = (1 + alpha)/2,
 //    b = (1 - alpha)/2, alpha = n_v / 6, k = (sqrt(3)/2) / R_v): its j-th
 //    derivative has norm at most k |p|^(1-j) times the sum over i + l = j of
@@ -53,15 +53,27 @@ struct ChartBox {
 /// beyond 1/2, in the two triangles along that edge.
 bool OutsideKites(const PouSurface& surface, std::int64_t chart, const ChartBox& box);
 
-/// The majorants of the shape functions over a piece: psi_v over the box,
-/// and psi_z over the image of the box in z's chart for each neighbour z
-/// whose bump reaches it.
-struct ShapeMajorants {
-  Majorant own;
-  std::vector<int> edges;
-  std::vector<Majorant> others;
+/// A neighbour whose bump reaches a piece, and the majorant of its shape
+/// function over the piece's image in its chart (orders 1 to 3, as floats
+/// rounded up).
+struct ReachingShape {
+  std::int32_t edge = 0;
+  float norm[3] = {0, 0, 0};
 };
-ShapeMajorants BoundShapes(const PouSurface& surface, std::int64_t chart, const ChartBox& box);
+
+/// The majorants of the shape functions over a piece: psi_v over its box
+/// (orders 1 to 3, floats rounded up), and the neighbours' whose bump
+/// reaches it.
+struct ShapeMajorants {
+  float own[3] = {0, 0, 0};
+  const ReachingShape* reach = nullptr;
+  int count = 0;
+};
+
+/// psi_v's majorant over `box` into `own`; appends each neighbour whose bump
+/// reaches the box, with psi_z's majorant over its image, to `reach`.
+void BoundShapes(const PouSurface& surface, std::int64_t chart, const ChartBox& box, float own[3],
+                 std::vector<ReachingShape>* reach);
 
 /// Allowances for the rounding of a point evaluation of theta_v's parts in
 /// chart `chart` (PouSurface::EvaluateParts): of values, first and second
@@ -76,7 +88,7 @@ EvaluationSlack SlackOf(const PouSurface& surface, std::int64_t chart);
 
 /// What the bound takes from the blend at points of a box: the norms of the
 /// value, first and second derivatives of the sum of the bumps S and, per
-/// entry of ShapeMajorants::edges, of the weight beta_z / S, at the box's
+/// entry of ShapeMajorants::reach, of the weight beta_z / S, at the box's
 /// centre; and of the mismatch g_z = psi_z o phi_zv - psi_v at the centre,
 /// or, when z's bump vanishes there, at the point of the box's rim nearest
 /// its support (so that the sample does not extrapolate psi_z), with the
@@ -88,14 +100,15 @@ struct BoxSample {
   std::vector<double> reach;  ///< Per edge: how far the mismatch's sample is from the box's points.
 };
 /// From `parts`, evaluated at the box's centre for the edges of
-/// ShapeMajorants::edges, and further evaluations where needed (`scratch`).
+/// ShapeMajorants::reach, and further evaluations where needed (`scratch`).
 void SampleBox(const PouSurface& surface, std::int64_t chart, const ChartBox& box, const BlendParts& parts,
                const EvaluationSlack& slack, BlendParts* scratch, BoxSample* out);
 
-/// Which entries of shapes.edges have a bump that may be positive on `box`
-/// (the others need not be evaluated there).
+/// Which entries of shapes.reach have a bump that may be positive on `box`
+/// (the others need not be evaluated there); and their edges, for
+/// PouSurface::EvaluateParts.
 void ReachingEdges(const PouSurface& surface, std::int64_t chart, const ChartBox& box, const ShapeMajorants& shapes,
-                   std::vector<char>* reaches);
+                   BlendParts* parts);
 
 /// Bound of the norm of theta_v's third derivative over `box` (which lies in
 /// the piece `shapes` were bound over), given its sample;

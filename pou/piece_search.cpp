@@ -296,14 +296,12 @@ void PointSearch::Seed(std::int64_t chart, double u, double v) {
   Offer(chart, answer.u, answer.v, answer.point, answer.f);
 }
 
-void PointSearch::SearchPiece(const Piece& piece) {
-  const std::int64_t chart = piece.chart;
+void PointSearch::SearchPiece(std::int64_t chart, const ChartBox& pieceBox, const ShapeMajorants& shapes) {
   const EvaluationSlack slack = SlackOf(surface_, chart);
   const double narrowest = kNarrowest * surface_.radius(chart);
   const auto later = [](const Node& a, const Node& b) { return a.bound > b.bound; };
-  parts_.edges = piece.shapes.edges;
   heap_.clear();
-  heap_.push_back({piece.box, 0.0});
+  heap_.push_back({pieceBox, 0.0});
   bool root = true;
   while (!heap_.empty()) {
     std::pop_heap(heap_.begin(), heap_.end(), later);
@@ -319,7 +317,7 @@ void PointSearch::SearchPiece(const Piece& piece) {
     const double centre[2] = {0.5 * (box.lo[0] + box.hi[0]), 0.5 * (box.lo[1] + box.hi[1])};
     const double h[2] = {0.5 * (box.hi[0] - box.lo[0]), 0.5 * (box.hi[1] - box.lo[1])};
     const double rho = Length(h[0], h[1]);
-    ReachingEdges(surface_, chart, box, piece.shapes, &parts_.active);
+    ReachingEdges(surface_, chart, box, shapes, &parts_);
     surface_.EvaluateParts(chart, centre[0], centre[1], &parts_);
     const CentreJet c = Unpack(parts_.Theta());
     double e[3], fCentre = 0.0;
@@ -333,7 +331,7 @@ void PointSearch::SearchPiece(const Piece& piece) {
     const double start[2] = {Clamp(centre[0] + step[0], box.lo[0], box.hi[0]),
                              Clamp(centre[1] + step[1], box.lo[1], box.hi[1])};
     SampleBox(surface_, chart, box, parts_, slack, &scratch_, &sample_);
-    const double third = ThirdDerivativeBound(surface_, chart, box, piece.shapes, sample_);
+    const double third = ThirdDerivativeBound(surface_, chart, box, shapes, sample_);
     double bound = node.bound;
     if (third < HUGE_VAL) {
       // Lower bound: the parallelogram of the linear part, less the rest.

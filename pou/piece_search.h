@@ -48,8 +48,9 @@ class PointSearch {
   /// A local solve in `chart` from (u, v), over the square of side 4R/3
   /// about its centre; a closer answer replaces the best.
   void Seed(std::int64_t chart, double u, double v);
-  /// The branch and bound over one piece.
-  void SearchPiece(const Piece& piece);
+  /// The branch and bound over one piece (the square `box` of `chart`, with
+  /// its shape majorants).
+  void SearchPiece(std::int64_t chart, const ChartBox& box, const ShapeMajorants& shapes);
 
   /// The squared distance below which a piece or box must be searched.
   double Cutoff2() const {

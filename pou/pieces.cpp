@@ -10,7 +10,6 @@
 namespace invmap::pou {
 namespace {
 
-constexpr int kGrid = 9;         // pieces per side of a chart's square (odd: one about the centre)
 constexpr int kCells = 2;        // cells per side of a piece, for its image box
 constexpr int kDeeperCells = 3;  // further halvings of a cell whose bound is poor
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
@@ -66,20 +65,20 @@ void Extent(const ThetaJet& jet, const double h[2], double third, const Evaluati
 
 /// Grows the piece's image boxes by the Taylor enclosure of a cell with
 /// centre jet `jet` and half-widths h.
-void AddCell(const ThetaJet& jet, const double h[2], double third, const EvaluationSlack& slack, Piece* piece) {
+void AddCell(const ThetaJet& jet, const double h[2], double third, const EvaluationSlack& slack,
+             PieceBounds* bounds) {
   for (int c = 0; c < 3; ++c) {
     const double a[3] = {c == 0 ? 1.0 : 0.0, c == 1 ? 1.0 : 0.0, c == 2 ? 1.0 : 0.0};
-    Extent(jet, h, third, slack, a, &piece->boxLo[c], &piece->boxHi[c]);
-    Extent(jet, h, third, slack, piece->axis[c], &piece->orientedLo[c], &piece->orientedHi[c]);
+    Extent(jet, h, third, slack, a, &bounds->boxLo[c], &bounds->boxHi[c]);
+    Extent(jet, h, third, slack, bounds->axis[c], &bounds->orientedLo[c], &bounds->orientedHi[c]);
   }
 }
 
 /// The piece's oriented axes: the tangent plane and the normal of theta_v at
 /// the centre of its box (Gram-Schmidt); the coordinate axes where the
 /// derivatives are degenerate.
-void ChooseAxes(const PouSurface& s, Piece* piece) {
-  const ThetaJet jet = s.Evaluate(piece->chart, 0.5 * (piece->box.lo[0] + piece->box.hi[0]),
-                                  0.5 * (piece->box.lo[1] + piece->box.hi[1]));
+void ChooseAxes(const PouSurface& s, std::int64_t chart, const ChartBox& box, PieceBounds* bounds) {
+  const ThetaJet jet = s.Evaluate(chart, 0.5 * (box.lo[0] + box.hi[0]), 0.5 * (box.lo[1] + box.hi[1]));
   double t0[3], t1[3];
   for (int c = 0; c < 3; ++c) {
     t0[c] = jet.x[c].du;
@@ -95,28 +94,28 @@ void ChooseAxes(const PouSurface& s, Piece* piece) {
   for (double& x : t1) x /= n1;
   const double n[3] = {t0[1] * t1[2] - t0[2] * t1[1], t0[2] * t1[0] - t0[0] * t1[2], t0[0] * t1[1] - t0[1] * t1[0]};
   for (int c = 0; c < 3; ++c) {
-    piece->axis[0][c] = t0[c];
-    piece->axis[1][c] = t1[c];
-    piece->axis[2][c] = n[c];
+    bounds->axis[0][c] = t0[c];
+    bounds->axis[1][c] = t1[c];
+    bounds->axis[2][c] = n[c];
   }
 }
 
 /// Adds the image of `cell` (within the covered disk) to the piece's box,
 /// halving the cell while its third-derivative bound is infinite or its
 /// Taylor remainder outweighs the linear part.
-void AddImage(const PouSurface& s, const ChartBox& cell, int depth, const EvaluationSlack& slack, Piece* piece) {
-  if (OutsideKites(s, piece->chart, cell)) return;
+void AddImage(const PouSurface& s, std::int64_t chart, const ShapeMajorants& shapes, const ChartBox& cell, int depth,
+              const EvaluationSlack& slack, PieceBounds* bounds) {
+  if (OutsideKites(s, chart, cell)) return;
   const double u = 0.5 * (cell.lo[0] + cell.hi[0]), v = 0.5 * (cell.lo[1] + cell.hi[1]);
   const double h[2] = {0.5 * (cell.hi[0] - cell.lo[0]), 0.5 * (cell.hi[1] - cell.lo[1])};
   BlendParts parts;
-  parts.edges = piece->shapes.edges;
-  ReachingEdges(s, piece->chart, cell, piece->shapes, &parts.active);
-  s.EvaluateParts(piece->chart, u, v, &parts);
+  ReachingEdges(s, chart, cell, shapes, &parts);
+  s.EvaluateParts(chart, u, v, &parts);
   const ThetaJet jet = parts.Theta();
   BlendParts scratch;
   BoxSample sample;
-  SampleBox(s, piece->chart, cell, parts, slack, &scratch, &sample);
-  const double third = ThirdDerivativeBound(s, piece->chart, cell, piece->shapes, sample);
+  SampleBox(s, chart, cell, parts, slack, &scratch, &sample);
+  const double third = ThirdDerivativeBound(s, chart, cell, shapes, sample);
   double linear = 0.0;
   for (int c = 0; c < 3; ++c) linear += std::fabs(jet.x[c].du) * h[0] + std::fabs(jet.x[c].dv) * h[1];
   const double rho = Length(h[0], h[1]);
@@ -125,7 +124,7 @@ void AddImage(const PouSurface& s, const ChartBox& cell, int depth, const Evalua
       for (int i = 0; i < 2; ++i) {
         const ChartBox half{{i == 0 ? cell.lo[0] : u, j == 0 ? cell.lo[1] : v},
                             {i == 0 ? u : cell.hi[0], j == 0 ? v : cell.hi[1]}};
-        AddImage(s, half, depth + 1, slack, piece);
+        AddImage(s, chart, shapes, half, depth + 1, slack, bounds);
       }
     return;
   }
@@ -133,29 +132,29 @@ void AddImage(const PouSurface& s, const ChartBox& cell, int depth, const Evalua
     // Still unbounded: the box of the control points theta_v blends, and its
     // corners' extents along the oriented axes.
     double lo[3], hi[3];
-    ChartHull(s, piece->chart, lo, hi);
+    ChartHull(s, chart, lo, hi);
     for (int c = 0; c < 3; ++c) {
-      piece->boxLo[c] = std::min(piece->boxLo[c], lo[c]);
-      piece->boxHi[c] = std::max(piece->boxHi[c], hi[c]);
+      bounds->boxLo[c] = std::min(bounds->boxLo[c], lo[c]);
+      bounds->boxHi[c] = std::max(bounds->boxHi[c], hi[c]);
     }
     for (int corner = 0; corner < 8; ++corner) {
       const double p[3] = {corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1], corner & 4 ? hi[2] : lo[2]};
       for (int j = 0; j < 3; ++j) {
-        const double* a = piece->axis[j];
+        const double* a = bounds->axis[j];
         const double x = a[0] * p[0] + a[1] * p[1] + a[2] * p[2];
         const double pad = 8.0 * kEpsilon * (std::fabs(a[0] * p[0]) + std::fabs(a[1] * p[1]) + std::fabs(a[2] * p[2]));
-        piece->orientedLo[j] = std::min(piece->orientedLo[j], x - pad);
-        piece->orientedHi[j] = std::max(piece->orientedHi[j], x + pad);
+        bounds->orientedLo[j] = std::min(bounds->orientedLo[j], x - pad);
+        bounds->orientedHi[j] = std::max(bounds->orientedHi[j], x + pad);
       }
     }
     return;
   }
-  AddCell(jet, h, third, slack, piece);
+  AddCell(jet, h, third, slack, bounds);
 }
 
 }  // namespace
 
-void Piece::OrientedCorners(double out[24]) const {
+void PieceBounds::OrientedCorners(double out[24]) const {
   // The axes are orthonormal up to rounding: a point's coordinates along
   // them rebuild it to within a few ulps of its size, which the pad covers.
   double size = 0.0;
@@ -171,41 +170,76 @@ void Piece::OrientedCorners(double out[24]) const {
   }
 }
 
-std::vector<Piece> MakePieces(const PouSurface& surface) {
+ChartBox PieceBox(const PouSurface& surface, const Piece& piece) {
+  const double side = 2.0 * kCoveredRadius * surface.radius(piece.chart) / kPieceGrid;
+  const double origin = -kCoveredRadius * surface.radius(piece.chart);
+  return {{origin + piece.column * side, origin + piece.row * side},
+          {origin + (piece.column + 1) * side, origin + (piece.row + 1) * side}};
+}
+
+void PieceSet::Build(const PouSurface& surface, std::vector<PieceBounds>* bounds) {
   const std::int64_t charts = surface.numCharts();
-  std::vector<Piece> pieces(charts * kGrid * kGrid);
+  // Per chart, then gathered in chart order (the pool's offsets shifted).
+  struct ChartPieces {
+    std::vector<Piece> pieces;
+    std::vector<PieceBounds> bounds;
+    std::vector<ReachingShape> reach;
+  };
+  std::vector<ChartPieces> perChart(charts);
   ForEachBlock(ExecutionPolicy::Par, charts, 16, [&](std::int64_t begin, std::int64_t end) {
     for (std::int64_t v = begin; v < end; ++v) {
-      const double side = 2.0 * kCoveredRadius * surface.radius(v) / kGrid;
-      const double origin = -kCoveredRadius * surface.radius(v);
+      ChartPieces& out = perChart[v];
       const EvaluationSlack slack = SlackOf(surface, v);
-      for (int j = 0; j < kGrid; ++j) {
-        for (int i = 0; i < kGrid; ++i) {
-          Piece& piece = pieces[(v * kGrid + j) * kGrid + i];
-          piece.chart = v;
-          piece.box = {{origin + i * side, origin + j * side}, {origin + (i + 1) * side, origin + (j + 1) * side}};
+      for (int row = 0; row < kPieceGrid; ++row) {
+        for (int column = 0; column < kPieceGrid; ++column) {
+          Piece piece;
+          piece.chart = static_cast<std::int32_t>(v);
+          piece.column = static_cast<std::uint8_t>(column);
+          piece.row = static_cast<std::uint8_t>(row);
+          const ChartBox box = PieceBox(surface, piece);
+          if (OutsideKites(surface, v, box)) continue;
+          piece.firstReach = static_cast<std::uint32_t>(out.reach.size());
+          BoundShapes(surface, v, box, piece.own, &out.reach);
+          piece.reachCount = static_cast<std::uint16_t>(out.reach.size() - piece.firstReach);
+          const ShapeMajorants shapes{{piece.own[0], piece.own[1], piece.own[2]},
+                                      out.reach.data() + piece.firstReach, piece.reachCount};
+          PieceBounds b;
           for (int c = 0; c < 3; ++c) {
-            piece.boxLo[c] = piece.orientedLo[c] = HUGE_VAL;
-            piece.boxHi[c] = piece.orientedHi[c] = -HUGE_VAL;
+            b.boxLo[c] = b.orientedLo[c] = HUGE_VAL;
+            b.boxHi[c] = b.orientedHi[c] = -HUGE_VAL;
           }
-          if (OutsideKites(surface, v, piece.box)) continue;
-          piece.shapes = BoundShapes(surface, v, piece.box);
-          ChooseAxes(surface, &piece);
-          const double cell = side / kCells;
-          for (int b = 0; b < kCells; ++b)
-            for (int a = 0; a < kCells; ++a) {
-              const ChartBox box{{piece.box.lo[0] + a * cell, piece.box.lo[1] + b * cell},
-                                 {piece.box.lo[0] + (a + 1) * cell, piece.box.lo[1] + (b + 1) * cell}};
-              AddImage(surface, box, 0, slack, &piece);
+          ChooseAxes(surface, v, box, &b);
+          const double cell = (box.hi[0] - box.lo[0]) / kCells;
+          for (int j = 0; j < kCells; ++j)
+            for (int i = 0; i < kCells; ++i) {
+              const ChartBox part{{box.lo[0] + i * cell, box.lo[1] + j * cell},
+                                  {box.lo[0] + (i + 1) * cell, box.lo[1] + (j + 1) * cell}};
+              AddImage(surface, v, shapes, part, 0, slack, &b);
             }
+          // Squares of the grid whose cells all lie outside the kites hold
+          // nothing to search.
+          if (!(b.boxLo[0] <= b.boxHi[0])) {
+            out.reach.resize(piece.firstReach);
+            continue;
+          }
+          out.pieces.push_back(piece);
+          out.bounds.push_back(b);
         }
       }
     }
   });
-  // Squares of the grid outside the kites hold nothing to search.
-  pieces.erase(std::remove_if(pieces.begin(), pieces.end(), [](const Piece& p) { return !(p.boxLo[0] <= p.boxHi[0]); }),
-               pieces.end());
-  return pieces;
+  pieces_.clear();
+  reach_.clear();
+  bounds->clear();
+  for (ChartPieces& chart : perChart) {
+    for (Piece piece : chart.pieces) {
+      piece.firstReach += static_cast<std::uint32_t>(reach_.size());
+      pieces_.push_back(piece);
+    }
+    reach_.insert(reach_.end(), chart.reach.begin(), chart.reach.end());
+    bounds->insert(bounds->end(), chart.bounds.begin(), chart.bounds.end());
+    chart = ChartPieces();
+  }
 }
 
 }  // namespace invmap::pou

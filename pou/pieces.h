@@ -34,14 +34,25 @@ namespace invmap::pou {
 /// reach 2R/3).
 constexpr double kCoveredRadius = 0.68;
 
+/// Squares per side of a chart's grid (odd: the middle one lies about the
+/// centre, inside the disk where theta_v = psi_v).
+constexpr int kPieceGrid = 7;
+
+/// One piece, as the search keeps it (24 bytes: large meshes have millions).
 struct Piece {
-  std::int64_t chart = 0;
-  ChartBox box{};
-  ShapeMajorants shapes;
-  /// Two boxes of R^3 that hold theta_v of the box's part of the kites: one
-  /// along the coordinate axes, one oriented (lo_j <= axis_j . x <= hi_j),
-  /// its orthonormal axes along the tangent plane and the normal at the
-  /// box's centre, as thin across the surface as the piece bulges.
+  std::int32_t chart = 0;
+  std::uint8_t column = 0, row = 0;  ///< Its square of the chart's grid.
+  std::uint16_t reachCount = 0;      ///< Its neighbours in PieceSet's pool.
+  std::uint32_t firstReach = 0;
+  float own[3] = {0, 0, 0};          ///< psi_v's majorant over the square (ShapeMajorants::own).
+};
+
+/// Two boxes of R^3 that hold theta_v of a piece's part of the kites: one
+/// along the coordinate axes, one oriented (lo_j <= axis_j . x <= hi_j), its
+/// orthonormal axes along the tangent plane and the normal at the square's
+/// centre, as thin across the surface as the piece bulges. For the search
+/// tree's build only.
+struct PieceBounds {
   double boxLo[3] = {0, 0, 0}, boxHi[3] = {0, 0, 0};
   double axis[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   double orientedLo[3] = {0, 0, 0}, orientedHi[3] = {0, 0, 0};
@@ -49,7 +60,27 @@ struct Piece {
   void OrientedCorners(double out[24]) const;
 };
 
-/// Every chart's pieces, in chart order.
-std::vector<Piece> MakePieces(const PouSurface& surface);
+/// Every chart's pieces, in chart order, and the neighbours' majorants they
+/// point into.
+class PieceSet {
+ public:
+  /// Builds the pieces of every chart; `bounds` receives each piece's boxes.
+  void Build(const PouSurface& surface, std::vector<PieceBounds>* bounds);
+
+  const std::vector<Piece>& pieces() const { return pieces_; }
+  ShapeMajorants Shapes(const Piece& piece) const {
+    return {{piece.own[0], piece.own[1], piece.own[2]}, reach_.data() + piece.firstReach, piece.reachCount};
+  }
+  std::size_t MemoryBytes() const {
+    return pieces_.capacity() * sizeof(Piece) + reach_.capacity() * sizeof(ReachingShape);
+  }
+
+ private:
+  std::vector<Piece> pieces_;
+  std::vector<ReachingShape> reach_;
+};
+
+/// The square of chart coordinates a piece covers.
+ChartBox PieceBox(const PouSurface& surface, const Piece& piece);
 
 }  // namespace invmap::pou
