@@ -32,6 +32,7 @@
 #include "python/numpy_points.h"
 #include "python/distance_binding.h"
 #include "python/point_files_binding.h"
+#include "python/pou_binding.h"
 #include "python/py_manifold.h"
 
 namespace py = pybind11;
@@ -90,26 +91,6 @@ PyManifold FromState(const py::bytes& state) {
   return PyManifold(std::move(model), "pickled manifold");
 }
 
-/// `values` as a C-ordered float64 array (converted when needed), or
-/// InputError naming `field`.
-py::array_t<double, py::array::c_style | py::array::forcecast> RealArray(const py::handle& values, const char* field) {
-  const py::array array = py::array::ensure(values);
-  if (!array || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' && array.dtype().kind() != 'u')) {
-    throw InputError(std::string(field) + ": expected an array of real numbers");
-  }
-  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
-}
-
-/// The elements of a C-ordered array. memcpy, because numpy arrays need not
-/// be aligned.
-template <typename T, int Flags>
-std::vector<T> CopyElements(const py::array_t<T, Flags>& array) {
-  static_assert((Flags & py::array::c_style) != 0);
-  std::vector<T> values(static_cast<std::size_t>(array.size()));
-  if (!values.empty()) std::memcpy(values.data(), array.data(), values.size() * sizeof(T));
-  return values;
-}
-
 /// Cell type names of FORMATS.md section 1, with their linear vertex counts.
 struct CellName {
   const char* name;
@@ -134,16 +115,11 @@ PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const s
   if (vertexArray.ndim() != 2 || (vertexArray.shape(1) != 2 && vertexArray.shape(1) != 3)) {
     throw InputError("vertices: shape " + ShapeText(vertexArray) + ", expected (V, 2) or (V, 3)");
   }
-  const py::array cellInput = py::array::ensure(cells);
-  // Float indices would be truncated silently by a cast.
-  if (!cellInput || (cellInput.dtype().kind() != 'i' && cellInput.dtype().kind() != 'u')) {
-    throw InputError("cells: expected an array of integer vertex indices");
-  }
-  if (cellInput.ndim() != 2 || cellInput.shape(1) != cell.vertices) {
-    throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
+  const auto cellArray = IndexArray(cells, "cells");
+  if (cellArray.ndim() != 2 || cellArray.shape(1) != cell.vertices) {
+    throw InputError("cells: shape " + ShapeText(cellArray) + ", a " + cellName + " cell has " +
                      std::to_string(cell.vertices) + " vertices");
   }
-  const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
   Geometry geometry;
   geometry.dimension = static_cast<int>(vertexArray.shape(1));
   Patch& patch = geometry.patches.emplace_back();
@@ -415,4 +391,5 @@ Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
   RegisterGrid(m);
   RegisterDistance(m);
   RegisterPointFiles(m);
+  RegisterPou(m);
 }
