@@ -309,7 +309,14 @@ void PointSearch::SearchPiece(std::int64_t chart, const ChartBox& pieceBox, cons
     heap_.pop_back();
     if (node.bound >= Cutoff2() || OutsideKites(surface_, chart, node.box)) continue;
     if (boxes_ >= kBudget) {
+      // Out of budget (a query near a continuum of equally near points, such
+      // as the centre of a sphere-like surface): the rest of the piece gets
+      // one local solve from its least box's centre, so that a piece never
+      // goes unexamined, and the answer is not certified.
       certified_ = false;
+      const double u = 0.5 * (node.box.lo[0] + node.box.hi[0]), v = 0.5 * (node.box.lo[1] + node.box.hi[1]);
+      const LocalAnswer answer = Solve(chart, pieceBox, u, v);
+      Offer(chart, answer.u, answer.v, answer.point, answer.f);
       return;
     }
     ++boxes_;
