@@ -1,4 +1,4 @@
-// The subcommands of `invmap` (FORMATS.md section 5). Each returns the
+// The subcommands of `invmap` (docs/cli.md). Each returns the
 // process exit code; input and output errors are thrown as io::InputError
 // and mapped to exit codes 3 and 4 by main.
 #pragma once
@@ -7,6 +7,8 @@
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "invmap/invmap.h"
 
 namespace CLI {
 class App;
@@ -26,9 +28,24 @@ struct InvertOptions {
   bool color = false;
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
+  /// Each point's answer a function of the point and the geometry only
+  /// (InversionOptions::pointwise).
+  bool pointwise = false;
   /// invert: every local minimum of each point's distance (RunInvertAllMinima).
   bool allMinima = false;
 };
+
+/// The geometry file at `path`, read and built. A malformed file, whether the
+/// reader or Manifold::Build finds the problem, throws io::InputError naming
+/// the file and the line it came from (for the formats that record lines;
+/// exit code 3); a lack of memory throws std::bad_alloc, a bug
+/// std::runtime_error (both exit code 1). `refuse`, when given, sees the
+/// geometry before it is built and throws io::InputError for what the
+/// command cannot take.
+Manifold LoadManifold(const std::string& path, void (*refuse)(const Geometry&, const std::string& path) = nullptr);
+
+/// `geometry`, read from `path`, built (errors as LoadManifold's).
+Manifold BuildManifold(const Geometry& geometry, const std::string& path);
 
 int RunInvert(const InvertOptions& options);
 /// invert --all-minima: every local minimum of each point's distance, one
@@ -54,7 +71,7 @@ struct GenerateOptions {
 int RunGenerate(const GenerateOptions& options);
 
 /// `invmap grid`: an adaptive simplicial grid for an implicit complex
-/// (FORMATS.md section 6).
+/// (docs/grids.md).
 struct GridCommandOptions {
   std::string functions;
   std::string mode = "arrangement";  ///< arrangement, material or csg.

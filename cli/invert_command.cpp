@@ -2,9 +2,13 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <new>
+#include <stdexcept>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "cli/run_summary.h"
+#include "io/file_io.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 #include "io/point_reader.h"
@@ -17,13 +21,6 @@ namespace {
 /// Points per chunk: bounds memory for inputs of any size and sets how often
 /// the progress bar moves.
 constexpr std::size_t kChunkPoints = 1 << 20;
-
-Manifold LoadManifold(const std::string& path) {
-  const Geometry geometry = io::ReadGeometryFile(path);
-  BuildResult built = Manifold::Build(geometry);
-  if (!built.error.empty()) throw io::InputError(path, 0, built.error);
-  return std::move(built.manifold);
-}
 
 /// Invert one chunk; a batch-level error is an internal failure here (the
 /// inputs were validated), reported as such.
@@ -40,6 +37,7 @@ void InvertChunk(const Manifold& manifold, const io::PointChunk& chunk, int dim,
 template <typename Sink>
 void Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& sink) {
   const auto start = std::chrono::steady_clock::now();
+  CheckInversionPaths(options.geometry, options.points, options.output, keepRaw);
   const Manifold manifold = LoadManifold(options.geometry);
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;
@@ -49,6 +47,7 @@ void Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&&
   InversionOptions inversion;
   inversion.maxDistance = options.maxDistance;
   inversion.threads = options.threads;
+  inversion.pointwise = options.pointwise;
 
   sink.Open(*reader, dim);
   Progress progress(options.quiet, reader->totalCountHint());
@@ -112,6 +111,39 @@ struct TrimSink {
 };
 
 }  // namespace
+
+namespace {
+
+/// The manifold `built` holds, or its failure thrown as LoadManifold
+/// promises; an invalid geometry's error names the line `source` recorded
+/// for it when there is one.
+Manifold TakeManifold(BuildResult built, const std::string& path, const io::GeometrySource* source) {
+  switch (built.code) {
+    case Error::Ok:
+      return std::move(built.manifold);
+    case Error::InvalidArgument:
+      if (source != nullptr) source->Check(built.problem);
+      throw io::InputError(path, 0, built.error);
+    case Error::OutOfMemory:
+      throw std::bad_alloc();
+    case Error::Internal:
+      break;
+  }
+  throw std::runtime_error(built.error);
+}
+
+}  // namespace
+
+Manifold LoadManifold(const std::string& path, void (*refuse)(const Geometry&, const std::string& path)) {
+  io::GeometrySource source;
+  const Geometry geometry = io::ReadGeometryFile(path, &source);
+  if (refuse) refuse(geometry, path);
+  return TakeManifold(Manifold::Build(geometry), path, &source);
+}
+
+Manifold BuildManifold(const Geometry& geometry, const std::string& path) {
+  return TakeManifold(Manifold::Build(geometry), path, nullptr);
+}
 
 int RunInvert(const InvertOptions& options) {
   if (options.allMinima) return RunInvertAllMinima(options);

@@ -1,4 +1,4 @@
-// invmap: the command line (FORMATS.md section 5).
+// invmap: the command line (docs/cli.md).
 //   exit codes: 0 success, 2 usage error, 3 unreadable or invalid input,
 //   4 output not writable, 1 internal error.
 #include <CLI/CLI.hpp>
@@ -8,8 +8,10 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "fem/register_readers.h"
 #include "invmap/invmap.h"
+#include "io/file_io.h"
 #include "io/input_error.h"
 
 namespace {
@@ -35,11 +37,15 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
   if (distanceRequired) distance->required();
   command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(kNonNegative);
   command->add_flag("--quiet,-q", options->quiet, "no progress bar and no summary");
+  command->add_flag("--pointwise", options->pointwise,
+                    "answers bit for bit independent of the other points (slower; see docs/limitations.md)");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // An interrupted run leaves no temporary output behind.
+  invmap::io::RemoveTemporaryFilesOnSignals();
   invmap::fem::RegisterFemReaders();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
@@ -118,6 +124,20 @@ int main(int argc, char** argv) {
   CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
   CLI::App* distanceCommand = invmap::cli::AddDistanceCommand(&app);
 
+  // CLI11 says only "A subcommand is required" for a misspelt one.
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* command : app.get_subcommands({})) {
+      known = known || command->check_name(argv[1]);
+      names += (names.empty() ? "" : ", ") + command->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "invmap: unknown command '%s' (commands: %s)\nRun with --help for more information.\n",
+                   argv[1], names.c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -167,6 +187,9 @@ int main(int argc, char** argv) {
       }
       return invmap::cli::RunGrid(grid);
     }
+  } catch (const invmap::cli::UsageError& e) {
+    std::fprintf(stderr, "invmap: %s\n", e.what());
+    return 2;
   } catch (const invmap::io::InputError& e) {
     std::fprintf(stderr, "invmap: %s\n", e.what());
     return e.kind() == invmap::io::InputError::Kind::Output ? 4 : 3;

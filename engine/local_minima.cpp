@@ -18,6 +18,7 @@
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
 #include "kernels/cell_minima.h"
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 
 namespace invmap {

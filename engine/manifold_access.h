@@ -5,11 +5,14 @@
 
 #include "engine/bvh_build.h"
 #include "engine/cell_store.h"
+#include "engine/search_index.h"
 #include "invmap/invmap.h"
 
 namespace invmap {
 
 struct ManifoldAccess {
+  /// Everything the searches read. Precondition: the manifold is built.
+  static const engine::SearchIndex& Index(const Manifold& manifold);
   /// The cells. Precondition: the manifold is built (valid()).
   static const engine::CellStore& Store(const Manifold& manifold);
   /// The BVH over the store's subdivisions.

@@ -14,7 +14,7 @@
 
 #include "engine/bvh_build.h"
 #include "engine/wide_bvh.h"
-#include "engine/invert_batch.h"
+#include "engine/query_points.h"
 #include "invmap/invmap.h"
 #include "pou/pieces.h"
 #include "pou/pou_surface.h"

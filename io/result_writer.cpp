@@ -263,7 +263,7 @@ class PlyResultWriter : public ResultWriter {
   /// Patches the count and, when colouring, the range comment and (in
   /// the two-pass case) the colours.
   void Complete() override {
-    out_.WriteAt(countOffset_, PlyPatchableCount(rows_).data(), static_cast<std::size_t>(kPlyPatchableCountDigits));
+    out_.WriteAt(countOffset_, PlyPatchableCount(rows_).data(), static_cast<std::size_t>(kPlyPatchableCountBytes));
     if (!options_.colorByDistance) return;
     double lo = options_.colorMin;
     double hi = options_.colorMax;
@@ -389,6 +389,11 @@ void ResultWriter::Finish() {
   Complete();
   out_.Commit();
   finished_ = true;
+}
+
+bool IsResultFileName(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  return ext == ".csv" || ext == ".ply" || ext == ".npy";
 }
 
 std::unique_ptr<ResultWriter> OpenResultWriter(const std::string& path, int dim, const ResultWriteOptions& options) {

@@ -102,6 +102,10 @@ class ResultWriter {
   bool finished_ = false;  ///< Set by a successful Finish.
 };
 
+/// True when OpenResultWriter writes files named like `path` (.csv, .ply,
+/// .npy, case-insensitive).
+bool IsResultFileName(const std::string& path);
+
 /// Opens a result file for points of dimension `dim` (2 or 3), choosing the
 /// format by extension (.csv, .ply, .npy). Throws InputError of kind Output
 /// for another extension or when the file cannot be created.

@@ -4,11 +4,6 @@
 
 namespace invmap::kernels {
 
-/// sin^2 of a triangle's angle at its first vertex above which its plane
-/// projection alone is trusted when it falls inside the triangle; thinner
-/// triangles compare their edges too (see TriangleParameters).
-inline constexpr double kWellShapedSin2 = 1e-8;
-
 /// Closest point to `p` on the simplex with vertices v[0..dim] (`ambientDim`
 /// coordinates each): writes its reference coordinates (the barycentric
 /// coordinates of vertices 1..dim, FORMATS.md section 1) to `ref` and the

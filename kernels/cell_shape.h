@@ -4,11 +4,12 @@
 #include <array>
 #include <cstdint>
 
+#include "invmap/cell_type.h"
+
 namespace invmap::kernels {
 
-/// Reference cell types. Every type is a tensor product of one to three
-/// simplex factors (line = 1-simplex, tri = 2-simplex, tet = 3-simplex).
-enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
+/// The public cell type (invmap/cell_type.h), named here as kernel code names it.
+using invmap::CellType;
 
 /// Largest number of simplex factors in a cell (hex = line x line x line).
 constexpr int kMaxFactors = 3;
@@ -91,8 +92,5 @@ class CellShape {
   int numControlPoints_ = 0;
   std::array<SimplexFactor, kMaxFactors> factors_{};
 };
-
-/// Name of a cell type as written in geometry files ("line", "tri", ...).
-const char* CellTypeName(CellType type);
 
 }  // namespace invmap::kernels

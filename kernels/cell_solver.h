@@ -218,9 +218,6 @@ class CellSolver {
   /// Tetrahedra: how far (in corner barycentric coordinates) the control
   /// points, and so the cell, reach beyond the straight corner tetrahedron.
   double cornerHullMargin_ = std::numeric_limits<double>::infinity();
-  /// Barycentric slack of the hull test, far above rounding and the distance
-  /// tolerance relative to the cell's size.
-  static constexpr double kHullSlack = 1e-9;
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
   /// Rational cells whose WW coefficients span more than kUnbalancedWeights.

@@ -20,9 +20,6 @@ using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1>;
 constexpr double kActiveSlack = 1e-14;
 /// A QP step shorter than this (reference coordinates) is no step.
 constexpr double kNoStep = 1e-15;
-/// Longest unchecked final Newton step (reference coordinates): in the
-/// quadratic region it leaves an error of about its square.
-constexpr double kFinalStep = 1e-6;
 
 /// The Jacobian (ambient x n) of a jet.
 Matrix JacobianOf(const PairJet& jet, int ad, int n) {

@@ -10,7 +10,7 @@
 // point of the surface, theta_u(p) = theta_v(phi_vu(p)), in its kite. In
 // v's p-domain the kites lie within 2R/3 of the centre (R its radius).
 //
-// Each chart's pieces are the squares of a 9 x 9 grid over [-c, c]^2, c =
+// Each chart's pieces are the squares of a 7 x 7 grid over [-c, c]^2, c =
 // 0.68 R, which holds that disk, those that meet the kites (the middle one,
 // about the centre, lies where theta_v = psi_v). A piece carries the
 // majorants of the shape functions over it (pou/piece_bounds.h) and boxes

@@ -59,8 +59,9 @@ std::string PouSurface::Restore(const std::vector<double>& xyz, const std::vecto
   netOffset_.resize(nv + 1);
   netOffset_[0] = 0;
   for (std::int64_t v = 0; v < nv; ++v) {
-    if (degrees[v] < 1 || degrees[v] > 8) {
-      return "degrees[" + std::to_string(v) + "]: " + std::to_string(degrees[v]) + ", expected 1 to 8";
+    if (degrees[v] < 1 || degrees[v] > kMaxChartDegree) {
+      return "degrees[" + std::to_string(v) + "]: " + std::to_string(degrees[v]) + ", expected 1 to " +
+             std::to_string(kMaxChartDegree);
     }
     radius_[v] = DomainRadius(mesh_.valence(v));
     netOffset_[v + 1] = netOffset_[v] + 3 * (degrees[v] + 1) * (degrees[v] + 1);

@@ -12,6 +12,9 @@
 
 namespace invmap::pou {
 
+/// The largest bidegree of a chart's shape function.
+constexpr int kMaxChartDegree = 8;
+
 /// A view of one shape function's net.
 struct ShapeNet {
   int degree = 0;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <memory>
 #include <new>
@@ -24,6 +25,7 @@
 #include "io/field_geometry_file.h"
 #include "io/geometry_file.h"
 #include "io/geometry_json.h"
+#include "io/geometry_source.h"
 #include "io/input_error.h"
 #include "python/errors.h"
 #include "python/fields_binding.h"
@@ -51,13 +53,14 @@ bool IsReadableFile(const std::string& path) {
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
   FieldGeometry model;
+  io::GeometrySource source;
   try {
-    model = io::ReadGeometryWithFields(path);
+    model = io::ReadGeometryWithFields(path, {}, &source);
   } catch (const io::InputError& e) {
     if (!IsReadableFile(path)) throw FileError(e.what());
     throw InputError(e.what());
   }
-  return PyManifold(std::move(model), path);
+  return PyManifold(std::move(model), path, &source);
 }
 
 /// invmap.load of JSON text (or a dict, dumped to text by __init__.py).
@@ -65,12 +68,13 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
   py::gil_scoped_release noGil;
   std::istringstream in(text);
   Geometry geometry;
+  io::GeometrySource source;
   try {
-    geometry = io::ReadGeometryJson(in, nameForMessages);
+    geometry = io::ReadGeometryJson(in, nameForMessages, &source);
   } catch (const io::InputError& e) {
     throw InputError(e.what());
   }
-  return PyManifold(geometry, nameForMessages);
+  return PyManifold(geometry, nameForMessages, &source);
 }
 
 /// Unpickling: rebuilds from PyManifold::state().
@@ -91,40 +95,48 @@ PyManifold FromState(const py::bytes& state) {
   return PyManifold(std::move(model), "pickled manifold");
 }
 
-/// Cell type names of FORMATS.md section 1, with their linear vertex counts.
-struct CellName {
-  const char* name;
-  CellType type;
-  int vertices;
-};
-constexpr CellName kCellNames[] = {{"line", CellType::Line, 2}, {"tri", CellType::Tri, 3},
-                                   {"quad", CellType::Quad, 4}, {"tet", CellType::Tet, 4},
-                                   {"hex", CellType::Hex, 8},   {"wedge", CellType::Wedge, 6}};
-
-const CellName& ParseCell(const std::string& name) {
-  for (const CellName& cell : kCellNames) {
-    if (name == cell.name) return cell;
-  }
-  throw InputError("cell: '" + name + "', expected line, tri, quad, tet, hex or wedge");
+/// The cell type called `name` (invmap/cell_type.h).
+CellType ParseCell(const std::string& name) {
+  CellType type = CellType::Line;
+  if (!ParseCellType(name, &type)) throw InputError("cell: '" + name + "', expected " + kCellTypeNames);
+  return type;
 }
 
 /// invmap.from_mesh: one mesh patch from numpy vertices and cells.
 PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const std::string& cellName) {
-  const CellName& cell = ParseCell(cellName);
+  const CellType cell = ParseCell(cellName);
+  const int cellVertices = TraitsOf(cell).vertices;
   const auto vertexArray = RealArray(vertices, "vertices");
   if (vertexArray.ndim() != 2 || (vertexArray.shape(1) != 2 && vertexArray.shape(1) != 3)) {
     throw InputError("vertices: shape " + ShapeText(vertexArray) + ", expected (V, 2) or (V, 3)");
   }
-  const auto cellArray = IndexArray(cells, "cells");
-  if (cellArray.ndim() != 2 || cellArray.shape(1) != cell.vertices) {
-    throw InputError("cells: shape " + ShapeText(cellArray) + ", a " + cellName + " cell has " +
-                     std::to_string(cell.vertices) + " vertices");
+  const py::array cellInput = py::array::ensure(cells);
+  // Float indices would be truncated silently by a cast.
+  if (!cellInput || (cellInput.dtype().kind() != 'i' && cellInput.dtype().kind() != 'u')) {
+    throw InputError("cells: expected an array of integer vertex indices");
   }
+  if (cellInput.ndim() != 2 || cellInput.shape(1) != cellVertices) {
+    throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
+                     std::to_string(cellVertices) + " vertices");
+  }
+  // An unsigned index beyond the int64 range would wrap to a negative one in
+  // the cast below and be reported as such: name it as given.
+  if (cellInput.dtype().kind() == 'u') {
+    const auto unsignedCells = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
+    for (py::ssize_t i = 0; i < unsignedCells.size(); ++i) {
+      const std::uint64_t index = unsignedCells.data()[i];
+      if (index > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+        throw InputError("from_mesh: patch 0: cells[" + std::to_string(i / cellVertices) + "]: vertex index " +
+                         std::to_string(index) + " out of range [0, " + std::to_string(vertexArray.shape(0)) + ")");
+      }
+    }
+  }
+  const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
   Geometry geometry;
   geometry.dimension = static_cast<int>(vertexArray.shape(1));
   Patch& patch = geometry.patches.emplace_back();
   patch.kind = Patch::Kind::Mesh;
-  patch.cell = cell.type;
+  patch.cell = cell;
   patch.points = CopyElements(vertexArray);
   patch.cells = CopyElements(cellArray);
   py::gil_scoped_release noGil;
@@ -178,8 +190,9 @@ py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape, const p
 }
 
 /// The options of invert and trim, validated (None means the default).
-InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads) {
+InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads, bool pointwise) {
   InversionOptions options;
+  options.pointwise = pointwise;
   if (maxDistance) {
     if (std::isnan(*maxDistance) || *maxDistance < 0.0) {
       std::ostringstream message;
@@ -236,14 +249,14 @@ py::dict ResultsDict(Results&& results, int dim) {
 
 /// Manifold.invert: the Results as numpy arrays.
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads) {
-  return ResultsDict(InvertPoints(self, points, MakeOptions(maxDistance, threads)), self.dimension());
+                std::optional<int> threads, bool pointwise) {
+  return ResultsDict(InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise)), self.dimension());
 }
 
 /// Manifold.probe: Manifold.invert's dict with "fields" added.
 py::dict Probe(const PyManifold& self, const py::handle& points, const std::optional<std::vector<std::string>>& names,
                std::optional<double> maxDistance, std::optional<int> threads) {
-  const InversionOptions options = MakeOptions(maxDistance, threads);
+  const InversionOptions options = MakeOptions(maxDistance, threads, false);
   Results results = InvertPoints(self, points, options);
   py::dict fields = ProbeFieldsDict(self.fields(), results, names, options.threads);
   py::dict out = ResultsDict(std::move(results), self.dimension());
@@ -252,9 +265,10 @@ py::dict Probe(const PyManifold& self, const py::handle& points, const std::opti
 }
 
 /// Manifold.trim: the mask of the points `invmap trim` keeps.
-py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep) {
+py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep,
+                       bool pointwise) {
   if (keep != "near" && keep != "far") throw InputError("keep: '" + keep + "', expected 'near' or 'far'");
-  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt));
+  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt, pointwise));
   const bool keepFar = keep == "far";
   py::array_t<bool> mask(static_cast<py::ssize_t>(results.status.size()));
   bool* out = mask.mutable_data();
@@ -317,11 +331,10 @@ Counts describing the manifold, as `invmap info` prints them.
 
 Returns a dict: dimension (int), patches (int), cells (int), cells_by_shape
 (dict such as {"quad 3x3": 1024}), bounds_lo and bounds_hi (tuples of
-`dimension` floats; zeros when there are no cells) and memory_bytes (heap
-memory of cells, bounds and BVH).
+`dimension` floats) and memory_bytes (heap memory of cells, bounds and BVH).
 )doc")
       .def("invert", &Invert, py::arg("points"), py::arg("max_distance") = py::none(),
-           py::arg("threads") = py::none(), R"doc(
+           py::arg("threads") = py::none(), py::arg("pointwise") = false, R"doc(
 Closest point, cell and parameters of every query point.
 
 points: (N, dimension) array-like. float32 and float64 arrays are read in
@@ -330,6 +343,10 @@ max_distance: gap tolerance; points farther than this from every cell get
   status 1 (none). Default: unlimited.
 threads: worker threads, default (None or 0) all cores. Results do not
   depend on it.
+pointwise: each answer a function of its point and the geometry only, bit
+  for bit whatever batch or chunk the point comes in (by default a point's
+  solve starts from its neighbour's answer: the same minimum, but the last
+  digits depend on the batch). Slower; see docs/limitations.md.
 
 Returns a dict of numpy arrays, one row per point in input order:
   status   (N,) uint8: 0 found, 1 none, 2 invalid (NaN or infinite input)
@@ -359,18 +376,28 @@ Raises InputError for an unknown name or a manifold without fields.
 )doc")
       .def_property_readonly("fields", [](const PyManifold& self) { return FieldComponents(self.fields()); },
                              "The node fields the manifold carries: {name: components}.")
-      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near", R"doc(
+      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near",
+           py::arg("pointwise") = false, R"doc(
 Boolean mask of the points `invmap trim` keeps: those within max_distance
 of the geometry (keep="near") or beyond it (keep="far"). Points with NaN or
-infinite coordinates are in neither set.
+infinite coordinates are in neither set. pointwise: as in invert.
 )doc")
       .def("__repr__",
            [](const PyManifold& self) {
              return "<invmap.Manifold dimension=" + std::to_string(self.dimension()) +
                     " patches=" + std::to_string(self.patches()) + " cells=" + std::to_string(self.cells()) + ">";
            })
-      .def(py::pickle([](const PyManifold& self) { return py::bytes(self.state()); }, &FromState));
+      .def(py::pickle([](const PyManifold& self) { return py::bytes(self.state()); }, &FromState))
+      // Every pickle protocol (and copy) goes through __reduce__ once it is
+      // defined: protocols 0 and 1 otherwise rebuild through object.__new__,
+      // which a pybind11 class does not allow (the interpreter aborted).
+      .def("__reduce__", [](const PyManifold& self) {
+        return py::make_tuple(py::module_::import("invmap").attr("_unpickle_manifold"),
+                              py::make_tuple(py::bytes(self.state())));
+      });
 
+  m.def("_manifold_from_state", &FromState, py::arg("state"),
+        "Rebuilds a manifold from its pickled state (see invmap._unpickle_manifold).");
   m.def("_load_file", &LoadFile, py::arg("path"), "Reads and builds a geometry file (see invmap.load).");
   m.def("_load_json", &LoadJson, py::arg("text"), py::arg("name"),
         "Reads and builds geometry JSON text; messages name it `name` (see invmap.load).");

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <new>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +17,7 @@
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
 #include "invmap/pou.h"
+#include "io/geometry_source.h"
 #include "python/errors.h"
 #include "python/fields_binding.h"
 #include "python/geometry_state.h"
@@ -24,11 +27,15 @@ namespace invmap::python {
 class PyManifold {
  public:
   /// Builds `geometry`; a malformed one throws InputError
-  /// "<nameForMessages>: <reason>", worded as the command line words it.
-  /// Pure C++: callers may release the GIL around it.
-  PyManifold(const Geometry& geometry, const std::string& nameForMessages)
+  /// "<nameForMessages>: <reason>", worded as the command line words it, or,
+  /// for a geometry read from a file with its `source`, naming the file and
+  /// line. Pure C++: callers may release the GIL around it.
+  PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
       : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
     BuildResult built = Manifold::Build(geometry);
+    if (built.code == Error::OutOfMemory) throw std::bad_alloc();  // MemoryError
+    if (built.code == Error::Internal) throw std::runtime_error(nameForMessages + ": " + built.error);
+    if (built.problem && source) throw InputError(source->ToInputError(built.problem).what());
     if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
     manifold_ = std::move(built.manifold);
     for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
@@ -44,7 +51,8 @@ class PyManifold {
   }
 
   /// The same with the node fields of the geometry's file (kept for probe).
-  PyManifold(FieldGeometry&& model, const std::string& nameForMessages) : PyManifold(model.geometry, nameForMessages) {
+  PyManifold(FieldGeometry&& model, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
+      : PyManifold(model.geometry, nameForMessages, source) {
     if (model.fields.empty()) return;
     state_ = SerializeModel(state_, model.fields);
     fields_ = std::make_shared<const FieldGeometry>(std::move(model));

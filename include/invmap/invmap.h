@@ -19,10 +19,10 @@
 #include <string>
 #include <vector>
 
-namespace invmap {
+#include "invmap/cell_type.h"
+#include "invmap/geometry_error.h"
 
-/// Reference cell types (FORMATS.md section 1).
-enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
+namespace invmap {
 
 /// One patch of a geometry, as in the geometry file (FORMATS.md section 2).
 /// Fields not used by a kind are left empty.
@@ -116,13 +116,27 @@ struct PointsView {
 /// Options of a batch inversion.
 struct InversionOptions {
   /// Gap tolerance (model units): points farther than this from every cell
-  /// get Status::None. Default: unlimited.
+  /// get Status::None. Default: unlimited. Any D >= 0 is exact on the near
+  /// side: a point at distance <= D is always found (D = 0 finds every point
+  /// on the geometry, and every point inside a volume, at distance 0). A
+  /// point is None only when every cell is certified farther than D; a
+  /// cell's distance is computed to 1e-11 of its size, so a found point may
+  /// report a distance up to that much beyond D.
   double maxDistance = std::numeric_limits<double>::infinity();
-  /// Worker threads; 0 means all cores. Results do not depend on it.
+  /// Worker threads; 0 means all cores, and more than the cores this process
+  /// may use runs as many as the cores. Results do not depend on it.
   int threads = 0;
   /// Query points per spatial bucket (a bucket shares one BVH traversal).
   /// Cost: larger buckets cull less precisely; smaller ones traverse more.
   int bucketSize = 32;
+  /// Optional: every point searched on its own, from a start of its own,
+  /// so that its answer is a function of the point and the geometry only,
+  /// bit for bit, whatever batch (chunk, Dask partition) it comes in. By
+  /// default a point's solve starts from its spatial neighbour's answer and
+  /// its bucket shares one candidate list: the same minimum to the solve's
+  /// tolerance, but its last digits (and which of two equally near cells is
+  /// reported) depend on the batch. Cost: see docs/limitations.md.
+  bool pointwise = false;
 };
 
 /// Results of a batch, structure of arrays, one entry per query point in
@@ -158,8 +172,7 @@ struct ManifoldInfo {
 class Manifold;
 struct ManifoldAccess;
 
-/// Result of Manifold::Build: a manifold, or an error message naming the
-/// patch and field that is wrong.
+/// Result of Manifold::Build: a manifold, or what is wrong with the geometry.
 struct BuildResult;
 
 /// An immutable geometry ready for queries: Bezier cells with their bounds and
@@ -167,7 +180,10 @@ struct BuildResult;
 class Manifold {
  public:
   /// Builds from patches in memory. Never throws: a malformed geometry gives
-  /// an error message (e.g. "patch 2: knots[1]: decreasing at index 4").
+  /// BuildResult::problem, the patch, field and element at fault, and
+  /// BuildResult::error, its text (e.g. "patch 2: knots[1]: decreasing at
+  /// index 4 (0.5 > 0.25)"). Every geometry is checked here, whatever
+  /// produced it.
   static BuildResult Build(const Geometry& geometry);
 
   Manifold();
@@ -205,7 +221,14 @@ class Manifold {
 
 struct BuildResult {
   Manifold manifold;
-  std::string error;  ///< Empty on success.
+  /// What is wrong with the geometry; no error (empty message) on success.
+  /// An error of the build itself (out of memory) has no place: patch -1,
+  /// field None.
+  GeometryError problem;
+  std::string error;  ///< Describe(problem): empty on success.
+  /// Why it failed: InvalidArgument for a malformed geometry (`problem`
+  /// says where), OutOfMemory, or Internal (a bug); Ok on success.
+  Error code = Error::Ok;
 };
 
 /// Library version, "major.minor.patch".

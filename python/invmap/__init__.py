@@ -33,6 +33,12 @@ for _public in (DistanceTracker, FileError, InputError, Manifold, PointTracker):
 del _public
 
 
+def _unpickle_manifold(state):
+    """Rebuilds a pickled Manifold from its geometry bytes (what
+    Manifold.__reduce__ names, for every pickle protocol)."""
+    return _invmap._manifold_from_state(state)
+
+
 def load(source):
     """Reads and builds a geometry.
 

@@ -151,7 +151,7 @@ TEST(CsvResults, NumbersMatchPrintf17g) {
 // PLY
 
 const char* const kPlyHeaderBody =
-    "element vertex 000000000004\n"
+    "element vertex 4\ncomment            \n"
     "property double x\nproperty double y\nproperty double z\nproperty uchar status\nproperty int patch\n"
     "property int cell\nproperty double u\nproperty double v\nproperty double w\nproperty double cx\n"
     "property double cy\nproperty double cz\nproperty double distance\n";

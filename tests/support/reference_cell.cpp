@@ -920,7 +920,7 @@ double RefCell::size() const {
 std::string Describe(const RefCell& cell) {
   std::ostringstream os;
   os.precision(17);
-  os << kernels::CellTypeName(cell.type) << " degrees [";
+  os << invmap::CellTypeName(cell.type) << " degrees [";
   for (int f = 0; f < FactorCount(cell.type); ++f) os << (f ? ", " : "") << cell.degrees[f];
   os << "] ambientDim " << cell.ambientDim << (cell.isRational() ? " rational" : " polynomial") << ", "
      << cell.numControlPoints() << " control points (x y [z] [w]):\n";
