@@ -1,5 +1,5 @@
 // Bezier extraction: splits a B-spline or NURBS patch into one Bezier cell per
-// non-empty knot span (FORMATS.md section 2, patch kind `bspline`).
+// non-empty knot span (docs/formats.md section 2, patch kind `bspline`).
 #pragma once
 
 #include <array>
@@ -57,7 +57,7 @@ struct ExtractedCells {
   int pointsPerCell = 0;
   /// numCells * pointsPerCell * ambientDim Cartesian coordinates; point k of
   /// cell c starts at (c * pointsPerCell + k) * ambientDim. Within a cell the
-  /// points follow FORMATS.md tensor order (u fastest).
+  /// points follow docs/formats.md tensor order (u fastest).
   std::vector<double> points;
   /// Optional: numCells * pointsPerCell positive weights in the order of
   /// `points`; empty exactly when the patch is polynomial.

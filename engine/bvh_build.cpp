@@ -1,4 +1,4 @@
-// The only file in invmap that includes Embree (STYLE.md section 5).
+// The only file in invmap that includes Embree.
 //
 // Embree's SAH builder works on float boxes and calls back into this file to
 // make its nodes; those temporary nodes live in Embree's thread-local

@@ -5,7 +5,7 @@
 // (implicit function lists and CSG trees, Cubit's JSON) read it with
 // ReadWholeFile, up to a limit. Output goes to a temporary file
 // beside the target and is renamed onto it only when complete, so a target
-// is either the complete new file or untouched (FORMATS.md section 5).
+// is either the complete new file or untouched (docs/formats.md section 6).
 #pragma once
 
 #include <cstddef>

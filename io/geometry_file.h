@@ -9,7 +9,7 @@
 namespace invmap::io {
 
 /// Reads any supported geometry file, chosen by its extension (case-insensitive):
-///  - .json: the invmap geometry file (FORMATS.md section 2, ReadGeometryJson);
+///  - .json: the invmap geometry file (docs/formats.md section 2, ReadGeometryJson);
 ///  - .obj, .stl, .off: triangle and quad meshes (ReadMeshFile);
 ///  - .ply: polygon meshes (ReadPlyMesh);
 ///  - .msh: gmsh meshes, linear and high-order (ReadGmsh);

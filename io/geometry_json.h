@@ -1,4 +1,4 @@
-// Reader of the invmap geometry file (FORMATS.md section 2).
+// Reader of the invmap geometry file (docs/formats.md section 2).
 #pragma once
 
 #include <iosfwd>

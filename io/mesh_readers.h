@@ -9,7 +9,7 @@
 // carries every vertex of the file, in file order (STL: in order of first
 // appearance after merging), so vertex
 // indices are the same in both patches. Reported parameters are the reference
-// coordinates of the tri (s, t) or quad (s, t) cell (FORMATS.md section 2),
+// coordinates of the tri (s, t) or quad (s, t) cell (docs/formats.md section 2),
 // with the face's vertices in file order as the cell's vertices 0, 1, 2 (, 3).
 //
 // A file without any face is an error (it is most likely a point cloud), as

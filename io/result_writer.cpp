@@ -163,7 +163,7 @@ class PlyResultWriter : public ResultWriter {
       : ResultWriter(path, dim, options.extraColumns.size()), options_(options) {
     recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.colorByDistance ? 3 : 0) + 8 * extraColumns_;
     twoPass_ = options_.colorByDistance && (std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
-    std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n";
+    std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (docs/formats.md section 5)\n";
     if (options_.colorByDistance) {
       colorCommentOffset_ = static_cast<std::int64_t>(header.size());
       header += ColorComment(options_.colorMin, options_.colorMax);

@@ -1,4 +1,4 @@
-// Streaming output of inversion results (FORMATS.md section 4) as CSV, PLY
+// Streaming output of inversion results (docs/formats.md section 5) as CSV, PLY
 // or npy, chosen by the output's extension. Rows are appended chunk by
 // chunk in input order; counts that a header needs are patched in place at
 // the end, and the file appears under its name only once complete.

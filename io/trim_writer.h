@@ -1,4 +1,4 @@
-// Output of `invmap trim` (FORMATS.md section 5): the input points that pass
+// Output of `invmap trim` (docs/formats.md section 6): the input points that pass
 // a filter, written unchanged with all their attributes, in input order and
 // in the input's own format.
 #pragma once

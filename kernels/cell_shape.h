@@ -1,4 +1,4 @@
-// Cell types as tensor products of simplices (FORMATS.md section 1).
+// Cell types as tensor products of simplices (docs/formats.md section 1).
 #pragma once
 
 #include <array>
@@ -48,7 +48,7 @@ constexpr int SimplexBasisSize(int dim, int degree) {
 
 /// A cell type with its per-factor degrees: everything needed to size and
 /// index its control net. Degrees are listed per simplex factor as in
-/// FORMATS.md (line [p], tri [p], quad [p, q], tet [p], hex [p, q, r],
+/// docs/formats.md (line [p], tri [p], quad [p, q], tet [p], hex [p, q, r],
 /// wedge [p_tri, q_line]).
 class CellShape {
  public:

@@ -129,14 +129,6 @@ void ChooseSplit(const CellShape& shape, double* slot, const double* paramScale,
   }
 }
 
-/// A part of a cell whose squared distance stays at or above this level
-/// cannot beat a best squared distance `best2` by more than tau (the
-/// distance tolerance times the cell's size); `slack` covers the rounding of
-/// the nets' coefficients.
-double ExclusionLevel(double best2, double tau, double slack) {
-  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
-}
-
 /// True for polynomial cells and rational ones whose weights vary by at most
 /// 5%: beyond that the curvature bounds of a rational cell, which bound the
 /// Hessians of NN, NW and WW separately, lose the cancellations between

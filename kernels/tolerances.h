@@ -10,6 +10,8 @@
 // the split of the work, so only its speed, stay with their code.)
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace invmap::kernels {
@@ -223,5 +225,14 @@ constexpr double kRegionConditioning = 1e-8;
 /// the box is clamped onto it: rounding puts on-face minimizers a hair
 /// outside; beyond it the minimizer lies on another face.
 constexpr double kRegionFaceSlack = 1e-12;
+
+/// The branch and bound searches' pruning level (of one cell, or of a pair
+/// of cells): a part whose squared distance stays at or above it cannot
+/// beat a best squared distance `best2` by more than tau (the distance
+/// tolerance times the size); `slack` covers the rounding of the nets'
+/// coefficients.
+inline double ExclusionLevel(double best2, double tau, double slack) {
+  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
+}
 
 }  // namespace invmap::kernels

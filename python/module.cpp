@@ -235,7 +235,7 @@ py::dict ResultsDict(Results&& results, int dim) {
     }
     results.closest.resize(2 * n);
   }
-  // Status is a uint8 enum holding the FORMATS.md codes: its vector is the uint8 array.
+  // Status is a uint8 enum holding the codes of docs/formats.md section 5: its vector is the uint8 array.
   static_assert(sizeof(Status) == sizeof(std::uint8_t));
   py::dict out;
   out["status"] = Adopt(std::move(results.status), {n}, py::dtype::of<std::uint8_t>());
@@ -402,7 +402,7 @@ infinite coordinates are in neither set. pointwise: as in invert.
   m.def("_load_json", &LoadJson, py::arg("text"), py::arg("name"),
         "Reads and builds geometry JSON text; messages name it `name` (see invmap.load).");
   m.def("from_mesh", &FromMesh, py::arg("vertices"), py::arg("cells"), py::arg("cell") = "tri", R"doc(
-A manifold of linear cells sharing vertices (a "mesh" patch, FORMATS.md section 2).
+A manifold of linear cells sharing vertices (a "mesh" patch, docs/formats.md section 2).
 
 vertices: (V, 2) or (V, 3) real array; the geometry's dimension follows.
 cells: (C, k) integer array of 0-based vertex indices in finite-element order,

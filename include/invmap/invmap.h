@@ -3,7 +3,7 @@
 // implicit-complex grids) it is what include/invmap/ installs, and all a
 // program of libinvmap (CMake: invmap::invmap) includes.
 //
-//   invmap::Geometry geometry = ...;                 // patches in memory (FORMATS.md section 2)
+//   invmap::Geometry geometry = ...;                 // patches in memory (docs/formats.md section 2)
 //   invmap::BuildResult built = invmap::Manifold::Build(geometry);
 //   if (!built.error.empty()) { ... }                // malformed geometry, with the reason
 //   invmap::Results results;
@@ -24,7 +24,7 @@
 
 namespace invmap {
 
-/// One patch of a geometry, as in the geometry file (FORMATS.md section 2).
+/// One patch of a geometry, as in the geometry file (docs/formats.md section 2).
 /// Fields not used by a kind are left empty.
 ///  - BSpline: degrees, knots, counts, points, optional weights.
 ///  - Bezier: one cell: cell, degrees, points, optional weights.
@@ -51,7 +51,7 @@ struct Patch {
   /// BSpline: control points per direction, n_u, (n_v, (n_w)).
   std::vector<int> counts;
   /// BSpline, Bezier: control points, point-major, `dimension` values each,
-  /// in FORMATS.md order. Mesh: the vertices, the same layout.
+  /// in docs/formats.md order. Mesh: the vertices, the same layout.
   std::vector<double> points;
   /// Optional: one positive weight per control point (rational patch).
   std::vector<double> weights;
@@ -77,7 +77,7 @@ struct Geometry {
   std::vector<Patch> patches;
 };
 
-/// Per-point result status (FORMATS.md section 4 codes).
+/// Per-point result status (docs/formats.md section 5 codes).
 enum class Status : std::uint8_t {
   Found = 0,    ///< The closest point is in the results.
   None = 1,     ///< No cell within InversionOptions::maxDistance.
@@ -147,7 +147,7 @@ struct Results {
   std::vector<std::int64_t> cell;    ///< Cell index within the patch; -1 when not found.
   /// Parameters (u, v, w) of the closest point, 3 per point: B-spline
   /// patches report knot values, Bezier and mesh cells reference coordinates
-  /// (FORMATS.md section 2); unused ones are NaN.
+  /// (docs/formats.md section 2); unused ones are NaN.
   std::vector<double> params;
   /// Closest point, 3 per point (z = 0 in 2D); NaN when not found.
   std::vector<double> closest;

@@ -100,7 +100,7 @@ def from_bspline(control_points, knots, degrees, weights=None):
     if np.ndim(degrees) == 0:
         degrees = [degrees] * directions
     counts = list(points.shape[:-1])
-    # FORMATS.md lists control points u fastest; reversing the parameter axes
+    # docs/formats.md lists control points u fastest; reversing the parameter axes
     # makes numpy's C order run u fastest.
     axes = tuple(reversed(range(directions)))
     flat_points = np.ascontiguousarray(points.transpose(axes + (directions,))).reshape(-1, points.shape[-1])

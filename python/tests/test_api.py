@@ -191,7 +191,7 @@ def bspline_surface_dict():
 
 def test_from_bspline_matches_json_order():
     grid, weights, knots = bspline_surface_dict()
-    # FORMATS.md: control points listed u fastest.
+    # docs/formats.md: control points listed u fastest.
     listed = [grid[i, j].tolist() for j in range(grid.shape[1]) for i in range(grid.shape[0])]
     listed_weights = [weights[i, j] for j in range(grid.shape[1]) for i in range(grid.shape[0])]
     geometry = {"format": "invmap-geometry", "version": 1, "dimension": 3,

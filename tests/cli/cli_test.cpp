@@ -221,7 +221,7 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   // Usage errors: 2.
   EXPECT_EQ(Run("invert -g " + Path("s.json"), &log), 2);
   EXPECT_EQ(Run("frobnicate", &log), 2);
-  EXPECT_NE(log.find("unknown command 'frobnicate' (commands: invert, trim, info, generate, grid, probe)"),
+  EXPECT_NE(log.find("unknown command 'frobnicate' (commands: invert, trim, info, generate, grid, manifold, probe, distance)"),
             std::string::npos)
       << log;
   EXPECT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("t.xyz"), &log), 2)
@@ -314,6 +314,29 @@ TEST_F(CliTest, AnOutputOverAnInputIsRefusedByAnyPathBeforeAnythingIsRead) {
   EXPECT_EQ(ReadFile(Path("s.json")), geometry);
   EXPECT_EQ(ReadFile(Path("m.ply")), mesh);
   EXPECT_TRUE(fs::is_symlink(Path("link.xyz")));
+}
+
+TEST_F(CliTest, GenerateWritesOnlyFilesNamedForTheirFormat) {
+  // A sample's output must carry its format's extension: a gmsh mesh named
+  // .json would be read back as a geometry file and fail there.
+  std::string log;
+  const struct {
+    const char* command;
+    const char* wrong;
+    const char* right;
+  } cases[] = {{"generate tets --resolution 1", "t.json", "t.msh"},
+               {"generate trimesh --triangles 20", "m.json", "m.ply"},
+               {"generate surface --spans 2", "s.msh", "s.json"},
+               {"generate torus", "t.ply", "torus.json"},
+               {"generate curve", "c.obj", "c.json"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command);
+    EXPECT_EQ(Run(std::string(c.command) + " -o " + Path(c.wrong), &log), 2) << log;
+    EXPECT_NE(log.find("--output " + Path(c.wrong) + ": generate"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(Path(c.wrong)));
+    ASSERT_EQ(Run(std::string(c.command) + " -o " + Path(c.right), &log), 0) << log;
+    EXPECT_EQ(Run("info -g " + Path(c.right), &log), 0) << log;
+  }
 }
 
 TEST_F(CliTest, AnOutputThroughASymbolicLinkIsWrittenToItsTarget) {

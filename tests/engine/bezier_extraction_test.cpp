@@ -70,7 +70,7 @@ std::vector<double> EvaluateCell(const ExtractedCells& cells, int cell, const do
   return sum;
 }
 
-/// The spans a reader of FORMATS.md expects: knot indices k in [p, n) with
+/// The spans a reader of docs/formats.md expects: knot indices k in [p, n) with
 /// t_k < t_{k+1}.
 std::vector<int> NonEmptySpans(const std::vector<double>& knots, int degree, int count) {
   std::vector<int> spans;

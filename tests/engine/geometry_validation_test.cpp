@@ -261,8 +261,14 @@ TEST(GeometryValidationTest, ValidGeometriesOfEveryKindPass) {
   for (const Geometry& g : geometries) {
     EXPECT_FALSE(engine::ValidateGeometry(g)) << Describe(engine::ValidateGeometry(g));
   }
+}
+
+TEST(GeometryValidationTest, AGeometryWithoutCellsIsRefused) {
+  // Every point would be "none" against it: a mistake, not a geometry.
   Geometry empty;
-  EXPECT_FALSE(engine::ValidateGeometry(empty));
+  const GeometryError error = engine::ValidateGeometry(empty);
+  EXPECT_TRUE(error);
+  EXPECT_NE(error.message.find("the geometry has no cells"), std::string::npos) << error.message;
 }
 
 }  // namespace

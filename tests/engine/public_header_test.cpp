@@ -1,5 +1,5 @@
 // The public header stands alone: it is included first and nothing internal
-// is (STYLE.md section 1), and its basic contract holds.
+// is, and its basic contract holds.
 #include "invmap/invmap.h"
 
 #include <gtest/gtest.h>

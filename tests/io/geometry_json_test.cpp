@@ -1,4 +1,4 @@
-// Tests of the JSON geometry reader (FORMATS.md section 2): every accepted
+// Tests of the JSON geometry reader (docs/formats.md section 2): every accepted
 // form, every validation message with its JSON path and line (the reader's
 // own, and Manifold::Build's mapped back to the file by GeometrySource),
 // malformed and hostile files, and round trips through Manifold::Build.
@@ -82,10 +82,15 @@ Closest Query(const Geometry& geometry, const double* query) {
 
 // ------------------------------------------------------------ accepted forms
 
-TEST(GeometryJson, EmptyPatchListIsAnEmptyGeometry) {
-  const Geometry g = Parse(Doc(2, ""));
+TEST(GeometryJson, EmptyPatchListIsReadAndRefusedByTheBuild) {
+  // The reader accepts the empty list (the format allows it); the build
+  // refuses a geometry without cells, naming the file.
+  std::istringstream in(Doc(2, ""));
+  GeometrySource source;
+  const Geometry g = ReadGeometryJson(in, "g.json", &source);
   EXPECT_EQ(g.dimension, 2);
   EXPECT_TRUE(g.patches.empty());
+  ExpectInputError([&] { Parse(Doc(2, "")); }, 0, {"g.json: the geometry has no cells"});
 }
 
 TEST(GeometryJson, BSplineCurveSurfaceAndVolume) {

@@ -1,5 +1,5 @@
 // Result files (io/result_writer.h): the exact CSV, PLY and npy layouts of
-// FORMATS.md section 4, streaming in chunks, colours, and the rule that an
+// docs/formats.md section 5, streaming in chunks, colours, and the rule that an
 // output is complete or absent.
 #include "io/result_writer.h"
 
@@ -166,7 +166,7 @@ TEST(PlyResults, HeaderAndValuesReadBack) {
     const std::string text = ReadAll(path);
     EXPECT_EQ(
         text.substr(0, text.find("end_header\n") + 11),
-        std::string("ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n") +
+        std::string("ply\nformat binary_little_endian 1.0\ncomment invmap invert results (docs/formats.md section 5)\n") +
             kPlyHeaderBody + "end_header\n");
     PlyReader reader(path);
     EXPECT_EQ(reader.header().elements[0].properties[3].type, PlyType::UInt8);

@@ -30,7 +30,7 @@ using invmap::kernels::MapJet;
 using invmap::kernels::SolveWorkspace;
 using Real = long double;
 
-/// A simplex factor's multi-indices (a0, .., ad) in FORMATS.md order: a1
+/// A simplex factor's multi-indices (a0, .., ad) in docs/formats.md order: a1
 /// fastest, then a2, then a3; a0 = p - the others.
 std::vector<std::array<int, 4>> SimplexMultiIndices(int dim, int p) {
   std::vector<std::array<int, 4>> out;

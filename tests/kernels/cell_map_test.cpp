@@ -31,7 +31,7 @@ using invmap::testing::RefJet;
 constexpr CellType kAllTypes[] = {CellType::Line, CellType::Tri, CellType::Quad,
                                   CellType::Tet,  CellType::Hex, CellType::Wedge};
 
-/// Degree combinations per factor (FORMATS.md order): every uniform degree
+/// Degree combinations per factor (docs/formats.md order): every uniform degree
 /// from 1 to 8 (the highest the formats allow), and mixed ones, which take
 /// the general contraction.
 std::vector<std::array<int, 3>> DegreeCases(CellType type) {

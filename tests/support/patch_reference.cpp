@@ -11,7 +11,7 @@
 namespace invmap::testing {
 namespace {
 
-/// Vertices of a linear mesh cell (FORMATS.md section 2).
+/// Vertices of a linear mesh cell (docs/formats.md section 2).
 int MeshCellVertices(CellType type) {
   switch (type) {
     case CellType::Line:
@@ -83,7 +83,7 @@ std::vector<double> SpanToBezier(const std::vector<double>& knots, int p, int sp
 }
 
 /// Shape functions of a linear mesh cell at reference coordinates u, in FE
-/// vertex order (FORMATS.md section 2), written out per type.
+/// vertex order (docs/formats.md section 2), written out per type.
 int FeShape(CellType type, const double* u, double* n) {
   const double s = u[0], t = u[1], r = u[2];
   switch (type) {

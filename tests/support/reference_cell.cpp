@@ -28,7 +28,7 @@ double Factorial(int n) {
   return f;
 }
 
-/// Multi-indices (a0, a1, .., ad) of one simplex factor in FORMATS.md order
+/// Multi-indices (a0, a1, .., ad) of one simplex factor in docs/formats.md order
 /// (a1 fastest, then a2, then a3; a0 = p - sum) with their multinomial
 /// coefficients p! / (a0! .. ad!).
 struct FactorTable {
