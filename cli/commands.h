@@ -45,8 +45,10 @@ struct InvertOptions {
 /// reader or Manifold::Build finds the problem, throws io::InputError naming
 /// the file and the line it came from (for the formats that record lines;
 /// exit code 3); a lack of memory throws std::bad_alloc, a bug
-/// std::runtime_error (both exit code 1).
-Manifold LoadManifold(const std::string& path);
+/// std::runtime_error (both exit code 1). `refuse`, when given, sees the
+/// geometry before it is built and throws io::InputError for what the
+/// command cannot take.
+Manifold LoadManifold(const std::string& path, void (*refuse)(const Geometry&, const std::string& path) = nullptr);
 
 /// `geometry`, read from `path`, built (errors as LoadManifold's).
 Manifold BuildManifold(const Geometry& geometry, const std::string& path);
@@ -95,6 +97,20 @@ struct GridCommandOptions {
 };
 
 int RunGrid(const GridCommandOptions& options);
+
+/// `invmap manifold`: a partition-of-unity surface over a closed triangle
+/// mesh (docs/manifold.md).
+struct ManifoldOptions {
+  std::string mesh;
+  std::string base = "loop";   ///< flat, pn or loop.
+  int degree = 0;              ///< 0: automatic.
+  std::string output;
+  std::string tessellate;      ///< Optional .ply output.
+  int resolution = 8;          ///< Tessellation: segments along each mesh edge.
+  bool quiet = false;
+};
+
+int RunManifold(const ManifoldOptions& options);
 
 /// `invmap probe`: node fields at the closest points (docs/fields.md).
 struct ProbeOptions {

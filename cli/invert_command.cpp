@@ -219,9 +219,10 @@ Manifold TakeManifold(BuildResult built, const std::string& path, const io::Geom
 
 }  // namespace
 
-Manifold LoadManifold(const std::string& path) {
+Manifold LoadManifold(const std::string& path, void (*refuse)(const Geometry&, const std::string& path)) {
   io::GeometrySource source;
   const Geometry geometry = io::ReadGeometryFile(path, &source);
+  if (refuse) refuse(geometry, path);
   return TakeManifold(Manifold::Build(geometry), path, &source);
 }
 

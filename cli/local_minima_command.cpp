@@ -95,6 +95,18 @@ class MinimaWriter {
   std::int64_t rows_ = 0;
 };
 
+/// --all-minima has no search over partition-of-unity surfaces: refused
+/// (exit 3) rather than answered as if the surface were absent.
+void RefusePouSurfaces(const Geometry& geometry, const std::string& path) {
+  for (const Patch& patch : geometry.patches) {
+    if (patch.kind == Patch::Kind::PouManifold) {
+      throw io::InputError(path, 0,
+                           "--all-minima: partition-of-unity surfaces (pou_manifold patches) have no search for "
+                           "every local minimum yet");
+    }
+  }
+}
+
 }  // namespace
 
 int RunInvertAllMinima(const InvertOptions& options) {
@@ -114,7 +126,7 @@ int RunInvertAllMinima(const InvertOptions& options) {
                  options.geometry.c_str());
     return 2;
   }
-  const Manifold manifold = LoadManifold(options.geometry);
+  const Manifold manifold = LoadManifold(options.geometry, RefusePouSurfaces);
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;
   readOptions.forcedDim = dim;

@@ -119,6 +119,21 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 
+  invmap::cli::ManifoldOptions manifold;
+  std::string manifoldDegree = "auto";
+  CLI::App* manifoldCommand =
+      app.add_subcommand("manifold", "a smooth partition-of-unity surface over a closed triangle mesh");
+  manifoldCommand->add_option("--mesh,-m", manifold.mesh, "closed triangle mesh (.obj, .ply, .off, .stl)")->required();
+  manifoldCommand->add_option("--base", manifold.base, "surface the charts are fitted to: flat, pn or loop (default)")
+      ->check(CLI::IsMember({"flat", "pn", "loop"}));
+  manifoldCommand->add_option("--degree", manifoldDegree, "bidegree of the shape functions: auto (default) or 1 to 8");
+  manifoldCommand->add_option("--output,-o", manifold.output, "the surface (.json)")->required();
+  auto* tessellate = manifoldCommand->add_option("--tessellate", manifold.tessellate, "also write a triangle mesh of the surface (.ply)");
+  manifoldCommand->add_option("--resolution", manifold.resolution, "tessellation: segments along each mesh edge (default 8)")
+      ->check(CLI::Range(1, 1000))
+      ->needs(tessellate);
+  manifoldCommand->add_flag("--quiet,-q", manifold.quiet, "no summary");
+
   invmap::cli::ProbeOptions probe;
   CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
   CLI::App* distanceCommand = invmap::cli::AddDistanceCommand(&app);
@@ -159,6 +174,17 @@ int main(int argc, char** argv) {
         return 2;
       }
       return invmap::cli::RunGenerate(generate);
+    }
+    if (*manifoldCommand) {
+      if (manifoldDegree != "auto") {
+        int degree = 0;
+        if (!CLI::detail::lexical_cast(manifoldDegree, degree) || degree < 1 || degree > 8) {
+          std::fprintf(stderr, "invmap manifold: --degree %s: expected auto or 1 to 8\n", manifoldDegree.c_str());
+          return 2;
+        }
+        manifold.degree = degree;
+      }
+      return invmap::cli::RunManifold(manifold);
     }
     if (*gridCommand) {
       if (grid.grid.empty() && grid.box.empty()) {

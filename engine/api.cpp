@@ -145,16 +145,19 @@ ManifoldInfo Manifold::Info() const {
     info.boundsHi[k] = info.cells ? bounds.hi[k] : 0.0;
   }
   info.memoryBytes = impl_->index.MemoryBytes() + sizeof(Impl);
+  impl_->index.pou().AddInfo(&info);
   return info;
 }
 
 std::int64_t Manifold::NumCells(int patch) const {
   if (!impl_ || patch < 0 || static_cast<std::size_t>(patch) >= impl_->index.cells().numPatches()) return 0;
+  if (const std::int64_t charts = impl_->index.pou().NumCells(patch); charts >= 0) return charts;
   return impl_->index.cells().patchFirstCell(patch + 1) - impl_->index.cells().patchFirstCell(patch);
 }
 
 bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], double params[3], double point[3]) const {
   if (cell < 0 || cell >= NumCells(patch)) return false;
+  if (impl_->index.pou().NumCells(patch) >= 0) return impl_->index.pou().PointAt(patch, cell, sample, params, point);
   const engine::CellStore& store = impl_->index.cells();
   const std::int64_t c = store.patchFirstCell(patch) + cell;
   const kernels::CellSolver& solver = store.solver(c);
@@ -222,6 +225,7 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
 const engine::SearchIndex& ManifoldAccess::Index(const Manifold& m) { return m.impl_->index; }
 const engine::CellStore& ManifoldAccess::Store(const Manifold& m) { return m.impl_->index.cells(); }
 const engine::Bvh& ManifoldAccess::Tree(const Manifold& m) { return m.impl_->index.bvh(); }
+bool ManifoldAccess::HasPouSurfaces(const Manifold& m) { return !m.impl_->index.pou().empty(); }
 
 const char* Version() { return INVMAP_VERSION; }  // project(VERSION) of CMakeLists.txt
 

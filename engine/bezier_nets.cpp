@@ -160,6 +160,8 @@ BezierNets ToBezierNets(const Geometry& geometry) {
       case Patch::Kind::TrimmedSurface:
         AddTrimmedSurfaceCells(patch, p, &nets);
         break;
+      case Patch::Kind::PouManifold:
+        break;  // no Bezier cells: its charts are searched by engine/pou_patches.h
     }
   }
   nets.patchFirst.push_back(nets.size());

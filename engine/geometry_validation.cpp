@@ -10,6 +10,8 @@
 
 #include "kernels/cell_shape.h"
 #include "kernels/trim_region.h"
+#include "pou/closed_mesh.h"
+#include "pou/shape_function.h"
 
 namespace invmap::engine {
 namespace {
@@ -134,7 +136,8 @@ class PatchCheck {
     return GeometryError{index_, field, element, item, std::move(message)};
   }
   GeometryField PointsField() const {
-    return patch_.kind == Patch::Kind::Mesh ? GeometryField::Vertices : GeometryField::ControlPoints;
+    return patch_.kind == Patch::Kind::Mesh || patch_.kind == Patch::Kind::PouManifold ? GeometryField::Vertices
+                                                                                          : GeometryField::ControlPoints;
   }
   std::int64_t NumPoints() const { return static_cast<std::int64_t>(patch_.points.size() / dim_); }
 
@@ -145,6 +148,9 @@ class PatchCheck {
   GeometryError Mesh() const;
   GeometryError BezierCells() const;
   GeometryError TrimmedSurface() const;
+  GeometryError PouManifold() const;
+  /// Patch::cells as rows of `perCell` indices of the patch's points.
+  GeometryError VertexIndices(std::size_t perCell, const char* cellName) const;
   /// The degrees of one Bezier cell of the known type `type`, `count` of
   /// them listed in `degrees`: its shape in *shape, or a message (without
   /// the place) with the index of the degree at fault in *badDegree (-1
@@ -159,11 +165,12 @@ class PatchCheck {
 };
 
 GeometryError PatchCheck::Run(Extent* extent) const {
-  if (static_cast<int>(patch_.kind) > static_cast<int>(Patch::Kind::TrimmedSurface)) {
+  if (static_cast<int>(patch_.kind) > static_cast<int>(Patch::Kind::PouManifold)) {
     return Fail(GeometryField::Kind, -1, -1, "unknown patch kind " + std::to_string(static_cast<int>(patch_.kind)));
   }
   if (patch_.kind != Patch::Kind::BSpline && patch_.kind != Patch::Kind::BezierCells &&
-      patch_.kind != Patch::Kind::TrimmedSurface && !IsKnownCellType(patch_.cell)) {
+      patch_.kind != Patch::Kind::TrimmedSurface && patch_.kind != Patch::Kind::PouManifold &&
+      !IsKnownCellType(patch_.cell)) {
     return Fail(GeometryField::Cell, -1, -1, "unknown cell type " + std::to_string(static_cast<int>(patch_.cell)));
   }
   if (GeometryError e = Coordinates()) return e;
@@ -183,6 +190,9 @@ GeometryError PatchCheck::Run(Extent* extent) const {
       break;
     case Patch::Kind::TrimmedSurface:
       e = TrimmedSurface();
+      break;
+    case Patch::Kind::PouManifold:
+      e = PouManifold();
       break;
   }
   if (!e) AddUsedPoints(extent);
@@ -350,10 +360,13 @@ GeometryError PatchCheck::Mesh() const {
     return Fail(GeometryField::Cell, -1, -1, std::string("a ") + traits.name + " mesh needs dimension 3");
   }
   if (!patch_.weights.empty()) return Fail(GeometryField::Weights, -1, -1, "a mesh has no weights");
-  const std::size_t perCell = static_cast<std::size_t>(traits.vertices);
+  return VertexIndices(static_cast<std::size_t>(traits.vertices), traits.name);
+}
+
+GeometryError PatchCheck::VertexIndices(std::size_t perCell, const char* cellName) const {
   if (patch_.cells.size() % perCell != 0) {
     return Fail(GeometryField::Cells, -1, -1,
-                std::to_string(patch_.cells.size()) + " vertex indices, not a whole number of " + traits.name +
+                std::to_string(patch_.cells.size()) + " vertex indices, not a whole number of " + cellName +
                     " cells (" + std::to_string(perCell) + " each)");
   }
   const std::int64_t numVertices = NumPoints();
@@ -448,6 +461,50 @@ GeometryError PatchCheck::TrimmedSurface() const {
     if (std::string m = SplineCurveProblem(edge.pcurve, 2); !m.empty()) {
       return Fail(GeometryField::Edges, static_cast<std::int64_t>(e), -1, "pcurve: " + m);
     }
+  }
+  return {};
+}
+
+GeometryError PatchCheck::PouManifold() const {
+  if (dim_ != 3) return Fail(GeometryField::Kind, -1, -1, "a pou_manifold is a surface of R^3: it needs dimension 3");
+  if (!patch_.weights.empty()) return Fail(GeometryField::Weights, -1, -1, "a pou_manifold has no weights");
+  if (GeometryError e = VertexIndices(3, "tri")) return e;
+  const std::int64_t numVertices = NumPoints();
+  if (static_cast<std::int64_t>(patch_.degrees.size()) != numVertices) {
+    return Fail(GeometryField::Degrees, -1, -1,
+                std::to_string(patch_.degrees.size()) + " values, expected one per vertex (" +
+                    std::to_string(numVertices) + ")");
+  }
+  std::size_t expected = 0;
+  for (std::size_t v = 0; v < patch_.degrees.size(); ++v) {
+    const int d = patch_.degrees[v];
+    if (d < 1 || d > pou::kMaxChartDegree) {
+      return Fail(GeometryField::Degrees, static_cast<std::int64_t>(v), -1,
+                  std::to_string(d) + ", expected 1 to " + std::to_string(pou::kMaxChartDegree));
+    }
+    expected += static_cast<std::size_t>(d + 1) * static_cast<std::size_t>(d + 1);
+  }
+  const std::vector<double>& nets = patch_.chartControlPoints;
+  if (nets.size() != 3 * expected) {
+    return Fail(GeometryField::ChartControlPoints, -1, -1,
+                std::to_string(nets.size()) + " coordinates, expected " + std::to_string(3 * expected) +
+                    " (3 for each of the (degree + 1)^2 control points of every vertex's chart)");
+  }
+  for (std::size_t i = 0; i < nets.size(); ++i) {
+    const std::int64_t point = static_cast<std::int64_t>(i / 3), k = static_cast<std::int64_t>(i % 3);
+    if (!std::isfinite(nets[i]) || std::abs(nets[i]) > kMaxCoordinate) {
+      return Fail(GeometryField::ChartControlPoints, point, k,
+                  "coordinate " + std::to_string(k) + " is " + Number(nets[i]) +
+                      ", not a finite number within [-1e100, 1e100]");
+    }
+  }
+  // The gluing data needs a closed, oriented, manifold mesh; the message
+  // names the vertex, edge or triangle at fault.
+  pou::ClosedMesh mesh;
+  if (std::string m = mesh.Build(patch_.points.data(), numVertices, patch_.cells.data(),
+                                 static_cast<std::int64_t>(patch_.cells.size() / 3));
+      !m.empty()) {
+    return Fail(GeometryField::Cells, -1, -1, std::move(m));
   }
   return {};
 }

@@ -108,6 +108,8 @@ void InvertBatch(const SearchIndex& index, const QueryPoints& points, const Inve
         },
         options.threads);
   }
+  // The partition-of-unity surfaces, which must beat the cells' answers.
+  index.pou().Invert(points, options, results);
 }
 
 }  // namespace invmap::engine

@@ -9,8 +9,9 @@
 
 namespace invmap::engine {
 
-/// Inverts every point of `points` onto the cells of `index` and writes the
-/// results at the points' input indices.
+/// Inverts every point of `points` onto the cells of `index`, then its
+/// partition-of-unity surfaces, and writes the results at the points' input
+/// indices.
 /// Results are identical for any thread count: the buckets are fixed runs of
 /// the Morton order, and each point's answer depends only on its bucket.
 /// `results` is resized to points.count (sized only: every field of every

@@ -143,6 +143,8 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
   try {
     INVMAP_VERIFY(manifold.valid(), "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
+    INVMAP_VERIFY(!ManifoldAccess::HasPouSurfaces(manifold),
+                  "partition-of-unity surfaces (pou_manifold patches) have no search for every local minimum yet");
     const engine::CellStore& store = ManifoldAccess::Store(manifold);
     // The per-cell enumeration knows nothing of a trimmed face's region: it
     // would give minima outside the face and miss those on its edges.

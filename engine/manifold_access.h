@@ -17,6 +17,10 @@ struct ManifoldAccess {
   static const engine::CellStore& Store(const Manifold& manifold);
   /// The BVH over the store's subdivisions.
   static const engine::Bvh& Tree(const Manifold& manifold);
+  /// True when the geometry has partition-of-unity surfaces (pou_manifold
+  /// patches), which the store does not hold and only Manifold::Invert
+  /// searches (engine/pou_patches.h).
+  static bool HasPouSurfaces(const Manifold& manifold);
 };
 
 }  // namespace invmap

@@ -150,6 +150,9 @@ Error PointTracker::Update(const double* point, PointAnswer* answer, std::string
   try {
     if (!impl_->manifold->valid()) throw std::invalid_argument("the manifold is empty (not built)");
     if (!answer || !point) throw std::invalid_argument("point or answer: null");
+    if (ManifoldAccess::HasPouSurfaces(*impl_->manifold)) {
+      throw std::invalid_argument("partition-of-unity surfaces (pou_manifold patches) cannot be tracked yet");
+    }
     if (std::isnan(impl_->maxDistance) || impl_->maxDistance < 0.0) {
       throw std::invalid_argument("maxDistance must be >= 0");
     }

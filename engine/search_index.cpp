@@ -1,5 +1,7 @@
 #include "engine/search_index.h"
 
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -31,14 +33,25 @@ SearchIndex SearchIndex::Build(const Geometry& geometry, int maxThreads) {
                   [&cells](int s, std::vector<double>* xyz) { cells.SubdivisionHullPoints(s, xyz); });
   SimplexItems simplices;
   simplices.Build(cells, bvh);
-  return SearchIndex(std::move(cells), std::move(bvh), std::move(wideBvh), std::move(simplices));
+  PouPatches pou;
+  // The validation checked every pou_manifold patch (its topology included):
+  // a failure here is a bug.
+  if (const std::string error = pou.Build(geometry, maxThreads); !error.empty()) {
+    throw std::logic_error("pou_manifold passed validation but does not build: " + error);
+  }
+  return SearchIndex(std::move(cells), std::move(bvh), std::move(wideBvh), std::move(simplices), std::move(pou));
 }
 
-SearchIndex::SearchIndex(CellStore cells, Bvh bvh, WideBvh wideBvh, SimplexItems simplices)
-    : cells_(std::move(cells)), bvh_(std::move(bvh)), wideBvh_(std::move(wideBvh)), simplices_(std::move(simplices)) {}
+SearchIndex::SearchIndex(CellStore cells, Bvh bvh, WideBvh wideBvh, SimplexItems simplices, PouPatches pou)
+    : cells_(std::move(cells)),
+      bvh_(std::move(bvh)),
+      wideBvh_(std::move(wideBvh)),
+      simplices_(std::move(simplices)),
+      pou_(std::move(pou)) {}
 
 std::size_t SearchIndex::MemoryBytes() const {
-  return cells_.MemoryBytes() + bvh_.MemoryBytes() + wideBvh_.MemoryBytes() + simplices_.MemoryBytes();
+  return cells_.MemoryBytes() + bvh_.MemoryBytes() + wideBvh_.MemoryBytes() + simplices_.MemoryBytes() +
+         pou_.MemoryBytes();
 }
 
 }  // namespace invmap::engine

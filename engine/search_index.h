@@ -1,12 +1,14 @@
 // Everything a batch of queries searches, built once per geometry: the cells
 // (CellStore), the BVH over their subdivisions, its 4-wide form with
-// oriented boxes, and the affine simplices' vertices in the BVH's leaf order.
+// oriented boxes, the affine simplices' vertices in the BVH's leaf order, and
+// the partition-of-unity surfaces (PouPatches), which have no Bezier cells.
 #pragma once
 
 #include <cstddef>
 
 #include "engine/bvh_build.h"
 #include "engine/cell_store.h"
+#include "engine/pou_patches.h"
 #include "engine/simplex_items.h"
 #include "engine/wide_bvh.h"
 #include "invmap/invmap.h"
@@ -33,17 +35,20 @@ class SearchIndex {
   const WideBvh& wideBvh() const { return wideBvh_; }
   /// The affine simplex items of bvh(), in its leaf order.
   const SimplexItems& simplices() const { return simplices_; }
+  /// The pou_manifold patches, searched after the cells (InvertBatch).
+  const PouPatches& pou() const { return pou_; }
   int dimension() const { return cells_.dimension(); }
   /// Heap memory of every part, in bytes.
   std::size_t MemoryBytes() const;
 
  private:
-  SearchIndex(CellStore cells, Bvh bvh, WideBvh wideBvh, SimplexItems simplices);
+  SearchIndex(CellStore cells, Bvh bvh, WideBvh wideBvh, SimplexItems simplices, PouPatches pou);
 
   CellStore cells_;
   Bvh bvh_;
   WideBvh wideBvh_;
   SimplexItems simplices_;
+  PouPatches pou_;
 };
 
 }  // namespace invmap::engine

@@ -27,16 +27,29 @@ using Json = nlohmann::json;
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
 
 /// The fields a patch object may have (the union over all kinds).
-enum class Field : int { Kind, Cell, Degrees, Knots, Counts, ControlPoints, Weights, Vertices, Cells, None };
+enum class Field : int {
+  Kind,
+  Cell,
+  Degrees,
+  Knots,
+  Counts,
+  ControlPoints,
+  Weights,
+  Vertices,
+  Cells,
+  ChartControlPoints,
+  None
+};
 constexpr int kNumFields = static_cast<int>(Field::None);
 constexpr const char* kFieldNames[kNumFields] = {"kind",           "cell",    "degrees",  "knots", "counts",
-                                                 "control_points", "weights", "vertices", "cells"};
+                                                 "control_points", "weights", "vertices", "cells",
+                                                 "chart_control_points"};
 
 /// Each field as the engine's validation names it (GeometryError::field).
 constexpr GeometryField kGeometryFields[kNumFields] = {
     GeometryField::Kind,          GeometryField::Cell,    GeometryField::Degrees,  GeometryField::Knots,
     GeometryField::Counts,        GeometryField::ControlPoints, GeometryField::Weights, GeometryField::Vertices,
-    GeometryField::Cells};
+    GeometryField::Cells,         GeometryField::ChartControlPoints};
 
 /// The top-level fields; Other is any unknown one, which is skipped.
 enum class RootKey { Format, Version, Dimension, Patches, Other };
@@ -153,6 +166,7 @@ struct PatchSource {
   std::string kind;                      ///< As written (checked when the patch closes).
   std::string cell;                      ///< As written.
   RowShape points;                       ///< control_points or vertices.
+  RowShape chartPoints;                  ///< chart_control_points.
   RowShape cells;
 
   /// A patch with no field seen yet.
@@ -169,6 +183,7 @@ struct DimensionCheck {
   std::size_t patch = 0;  ///< Index of the patch.
   Patch::Kind kind = Patch::Kind::Mesh;
   RowShape points;  ///< control_points or vertices.
+  std::size_t kindLine = 0;  ///< Of "kind", for a pou_manifold outside dimension 3.
 };
 
 /// The SAX handler: checks each value's type and place as it arrives,
@@ -278,7 +293,7 @@ class GeometryHandler {
   /// True for the fields that are arrays of arrays.
   bool NestedField() const {
     return field_ == Field::Knots || field_ == Field::ControlPoints || field_ == Field::Vertices ||
-           field_ == Field::Cells;
+           field_ == Field::Cells || field_ == Field::ChartControlPoints;
   }
 
   const std::string& name_;    ///< File name for messages.
@@ -306,7 +321,7 @@ class GeometryHandler {
 std::string GeometryHandler::FieldExpectation(Field f) {
   switch (f) {
     case Field::Kind:
-      return "a string (bspline, bezier or mesh)";
+      return "a string (bspline, bezier, mesh or pou_manifold)";
     case Field::Cell:
       return std::string("a string (") + kCellTypeNames + ")";
     case Field::Degrees:
@@ -318,6 +333,7 @@ std::string GeometryHandler::FieldExpectation(Field f) {
       return "an array of knot vectors (arrays of numbers)";
     case Field::ControlPoints:
     case Field::Vertices:
+    case Field::ChartControlPoints:
       return "an array of points (arrays of numbers)";
     case Field::Cells:
       return "an array of cells (arrays of vertex indices)";
@@ -431,6 +447,9 @@ void GeometryHandler::RowScalar(const Scalar& v) {
     if (!std::isfinite(x)) Fail(Here(), RowElementPath() + ": " + Describe(v) + " is not a finite number");
     if (field_ == Field::Knots) {
       patch.knots.back().push_back(x);
+    } else if (field_ == Field::ChartControlPoints) {
+      patch.chartControlPoints.push_back(x);
+      ++patch_.chartPoints.openLength;
     } else {
       patch.points.push_back(x);
       ++patch_.points.openLength;
@@ -516,7 +535,10 @@ bool GeometryHandler::start_array(std::size_t) {
       if (field_ == Field::Knots) {
         patches_.back().knots.emplace_back();
       } else {
-        (field_ == Field::Cells ? patch_.cells : patch_.points).Open(Here());
+        (field_ == Field::Cells                ? patch_.cells
+         : field_ == Field::ChartControlPoints ? patch_.chartPoints
+                                               : patch_.points)
+            .Open(Here());
       }
       break;
     default:
@@ -534,6 +556,7 @@ bool GeometryHandler::end_array() {
   --depth_;
   if (depth_ == 4) {
     if (field_ == Field::ControlPoints || field_ == Field::Vertices) patch_.points.Close();
+    if (field_ == Field::ChartControlPoints) patch_.chartPoints.Close();
     if (field_ == Field::Cells) patch_.cells.Close();
     ++element_;
   }
@@ -575,7 +598,8 @@ bool GeometryHandler::key(std::string& name) {
   }
   if (field_ == Field::None) {
     Fail(Here(), PatchPath() + ": unknown field \"" + name +
-                     "\" (patch fields: kind, cell, degrees, knots, counts, control_points, weights, vertices, cells)");
+                     "\" (patch fields: kind, cell, degrees, knots, counts, control_points, weights, vertices, cells, "
+                     "chart_control_points)");
   }
   if (patch_.Has(field_)) Fail(Here(), PatchPath() + ": duplicate field \"" + name + "\"");
   patch_.fieldLine[static_cast<int>(field_)] = Here();
@@ -613,7 +637,9 @@ void GeometryHandler::CheckPatchFields() {
   const std::string where = "patches[" + std::to_string(index) + "]";
 
   // Kind, then which fields it allows and needs.
-  if (!source.Has(Field::Kind)) Fail(source.line, where + ": missing field \"kind\" (bspline, bezier or mesh)");
+  if (!source.Has(Field::Kind)) {
+    Fail(source.line, where + ": missing field \"kind\" (bspline, bezier, mesh or pou_manifold)");
+  }
   // Fields of each kind as bit sets over Field.
   const auto bit = [](Field f) { return 1u << static_cast<int>(f); };
   unsigned required = 0, optional = bit(Field::Kind);
@@ -628,9 +654,13 @@ void GeometryHandler::CheckPatchFields() {
   } else if (source.kind == "mesh") {
     patch.kind = Patch::Kind::Mesh;
     required = bit(Field::Cell) | bit(Field::Vertices) | bit(Field::Cells);
+  } else if (source.kind == "pou_manifold") {
+    patch.kind = Patch::Kind::PouManifold;
+    patch.cell = CellType::Tri;
+    required = bit(Field::Vertices) | bit(Field::Cells) | bit(Field::Degrees) | bit(Field::ChartControlPoints);
   } else {
-    Fail(source.At(Field::Kind),
-         where + ".kind: unknown patch kind \"" + source.kind + "\" (expected bspline, bezier or mesh)");
+    Fail(source.At(Field::Kind), where + ".kind: unknown patch kind \"" + source.kind +
+                                     "\" (expected bspline, bezier, mesh or pou_manifold)");
   }
   for (int f = 0; f < kNumFields; ++f) {
     if (source.Has(static_cast<Field>(f)) && !((required | optional) & (1u << f))) {
@@ -651,7 +681,7 @@ void GeometryHandler::CheckPatchFields() {
 
   // Every cell a row of its type's vertex count: the indices go into one
   // array, where a row too long or too short would shift every later cell.
-  if (patch.kind == Patch::Kind::Mesh) {
+  if (patch.kind == Patch::Kind::Mesh || patch.kind == Patch::Kind::PouManifold) {
     const std::size_t perCell = static_cast<std::size_t>(TraitsOf(patch.cell).vertices);
     const RowShape& cells = source.cells;
     const auto cellCountMessage = [&](std::size_t row, std::size_t length) {
@@ -661,11 +691,22 @@ void GeometryHandler::CheckPatchFields() {
     if (cells.rows > 0 && cells.firstLength != perCell) Fail(cells.firstLine, cellCountMessage(0, cells.firstLength));
     if (cells.oddRow != kNone) Fail(cells.oddLine, cellCountMessage(cells.oddRow, cells.oddLength));
   }
+  // A chart's control point is a point of R^3, whatever the dimension.
+  if (patch.kind == Patch::Kind::PouManifold) {
+    const RowShape& rows = source.chartPoints;
+    const auto rowMessage = [&](std::size_t row, std::size_t length) {
+      return where + ".chart_control_points[" + std::to_string(row) + "]: " + std::to_string(length) +
+             " coordinates, expected 3";
+    };
+    if (rows.rows > 0 && rows.firstLength != 3) Fail(rows.firstLine, rowMessage(0, rows.firstLength));
+    if (rows.oddRow != kNone) Fail(rows.oddLine, rowMessage(rows.oddRow, rows.oddLength));
+  }
 
   DimensionCheck check;
   check.patch = index;
   check.kind = patch.kind;
   check.points = source.points;
+  check.kindLine = source.At(Field::Kind);
   if (dimension_ != 0) {
     CheckDimension(check);
   } else {
@@ -676,7 +717,12 @@ void GeometryHandler::CheckPatchFields() {
 void GeometryHandler::CheckDimension(const DimensionCheck& check) const {
   const std::string where = "patches[" + std::to_string(check.patch) + "]";
   const std::size_t dim = static_cast<std::size_t>(dimension_);
-  const char* pointsName = check.kind == Patch::Kind::Mesh ? "vertices" : "control_points";
+  if (check.kind == Patch::Kind::PouManifold && dim != 3) {
+    Fail(check.kindLine, where + ".kind: a pou_manifold is a surface of R^3 (dimension 3), the file's dimension is " +
+                             std::to_string(dim));
+  }
+  const char* pointsName =
+      check.kind == Patch::Kind::Mesh || check.kind == Patch::Kind::PouManifold ? "vertices" : "control_points";
   const RowShape& points = check.points;
   if (points.rows > 0 && points.firstLength != dim) {
     Fail(points.firstLine, where + "." + pointsName + "[0]: " + std::to_string(points.firstLength) +

@@ -74,7 +74,7 @@ class GeometrySource {
   }
 
  private:
-  static constexpr int kNumFields = static_cast<int>(GeometryField::Edges) + 1;  // the last field
+  static constexpr int kNumFields = static_cast<int>(GeometryField::ChartControlPoints) + 1;  // the last field
   struct ItemLine {
     GeometryField field;
     std::int64_t element, item, line;

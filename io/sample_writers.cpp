@@ -123,6 +123,18 @@ void WriteGeometryJson(const Geometry& geometry, const std::string& path) {
         out.Write(",\n");
         WriteRows(out, "cells", patch.cells, static_cast<std::size_t>(TraitsOf(patch.cell).vertices));
         break;
+      case Patch::Kind::PouManifold:
+        head += "   \"kind\": \"pou_manifold\",\n";
+        out.Write(head);
+        WriteRows(out, "vertices", patch.points, 3);
+        out.Write(",\n");
+        WriteRows(out, "cells", patch.cells, 3);
+        head = ",\n   \"degrees\": ";
+        AppendList(&head, patch.degrees.data(), patch.degrees.size());
+        head += ",\n";
+        out.Write(head);
+        WriteRows(out, "chart_control_points", patch.chartControlPoints, 3);
+        break;
       case Patch::Kind::BezierCells:
       case Patch::Kind::TrimmedSurface:
         break;  // refused above

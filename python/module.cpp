@@ -37,6 +37,7 @@
 #include "python/numpy_points.h"
 #include "python/distance_binding.h"
 #include "python/point_files_binding.h"
+#include "python/pou_binding.h"
 #include "python/py_manifold.h"
 
 namespace py = pybind11;
@@ -97,26 +98,6 @@ PyManifold FromState(const py::bytes& state) {
     throw InputError("pickled manifold: " + problem);
   }
   return PyManifold(std::move(model), "pickled manifold");
-}
-
-/// `values` as a C-ordered float64 array (converted when needed), or
-/// InputError naming `field`.
-py::array_t<double, py::array::c_style | py::array::forcecast> RealArray(const py::handle& values, const char* field) {
-  const py::array array = py::array::ensure(values);
-  if (!array || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' && array.dtype().kind() != 'u')) {
-    throw InputError(std::string(field) + ": expected an array of real numbers");
-  }
-  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
-}
-
-/// The elements of a C-ordered array. memcpy, because numpy arrays need not
-/// be aligned.
-template <typename T, int Flags>
-std::vector<T> CopyElements(const py::array_t<T, Flags>& array) {
-  static_assert((Flags & py::array::c_style) != 0);
-  std::vector<T> values(static_cast<std::size_t>(array.size()));
-  if (!values.empty()) std::memcpy(values.data(), array.data(), values.size() * sizeof(T));
-  return values;
 }
 
 /// The cell type called `name` (invmap/cell_type.h).
@@ -493,4 +474,5 @@ Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
   RegisterGrid(m);
   RegisterDistance(m);
   RegisterPointFiles(m);
+  RegisterPou(m);
 }

@@ -11,10 +11,13 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "invmap/distance.h"
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
+#include "invmap/pou.h"
 #include "io/geometry_source.h"
 #include "python/cad_binding.h"
 #include "python/errors.h"
@@ -57,6 +60,15 @@ class PyManifold {
   std::size_t patches() const { return patches_; }
   std::int64_t cells() const { return cells_; }
 
+  /// The charts of patch `patch` when it is a pou_manifold
+  /// (include/invmap/pou.h), else null.
+  const PouCharts* charts(std::size_t patch) const {
+    for (const auto& [p, c] : *charts_) {
+      if (p == patch) return &c;
+    }
+    return nullptr;
+  }
+
   /// The distance model (include/invmap/distance.h), prepared on the first
   /// call and kept. It refers to this object's manifold: the module never
   /// moves a manifold once Python holds it. Thread-safe; pure C++.
@@ -81,6 +93,15 @@ class PyManifold {
     if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
     manifold_ = std::move(built.manifold);
     for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
+    auto charts = std::make_shared<std::vector<std::pair<std::size_t, PouCharts>>>();
+    for (std::size_t p = 0; p < patches_; ++p) {
+      if (geometry.patches[p].kind != Patch::Kind::PouManifold) continue;
+      PouCharts c;
+      const std::string error = PouCharts::Create(geometry.patches[p], &c);
+      if (!error.empty()) throw InputError(nameForMessages + ": patch " + std::to_string(p) + ": " + error);
+      charts->emplace_back(p, std::move(c));
+    }
+    charts_ = std::move(charts);
   }
 
   struct DistanceCache {
@@ -91,6 +112,7 @@ class PyManifold {
   Manifold manifold_;
   std::string state_;
   std::shared_ptr<const FieldGeometry> fields_;
+  std::shared_ptr<const std::vector<std::pair<std::size_t, PouCharts>>> charts_;
   int dimension_;
   std::size_t patches_;
   std::int64_t cells_ = 0;

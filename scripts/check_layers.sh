@@ -13,12 +13,13 @@ root=$(cd "${1:-$(dirname "$0")/..}" && pwd)
 # What each folder may include besides its own headers. "invmap" is the
 # public API (include/invmap/); tests, benchmarks and fuzzers may use every
 # library but not the command or the Python module.
-libraries="common kernels engine implicit fields io implicit_io fem cad samples invmap"
+libraries="common kernels pou engine implicit fields io implicit_io fem cad samples invmap"
 declare -A may_use=(
   [include]="invmap"
   [common]=""
   [kernels]="common invmap"
-  [engine]="common kernels invmap"
+  [pou]="common invmap"
+  [engine]="common kernels pou invmap"
   [implicit]="common invmap"
   [fields]="common kernels engine invmap"
   [io]="common kernels invmap"

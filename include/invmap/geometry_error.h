@@ -20,7 +20,7 @@ enum class GeometryField : std::uint8_t {
   Knots,          ///< Patch::knots: element = knot vector, item = knot.
   Counts,         ///< Patch::counts.
   ControlPoints,  ///< Patch::points of a BSpline, Bezier or BezierCells patch: element = point, item = coordinate.
-  Vertices,       ///< Patch::points of a Mesh patch: element = vertex, item = coordinate.
+  Vertices,       ///< Patch::points of a Mesh or PouManifold patch: element = vertex, item = coordinate.
   Weights,        ///< Patch::weights.
   /// Mesh: Patch::cells, element = cell, item = its vertex. BezierCells:
   /// element = cell, whose cellTypes, cellDegrees and cellOffsets entries
@@ -31,6 +31,9 @@ enum class GeometryField : std::uint8_t {
   Angular,      ///< Patch::angular of a TrimmedSurface: element = direction.
   TrimLoops,    ///< Patch::trimLoops: element = loop, item = its curve.
   Edges,        ///< Patch::edges: element = edge (the message says curve or pcurve).
+  /// Patch::chartControlPoints of a PouManifold patch: element = point,
+  /// item = coordinate.
+  ChartControlPoints,
 };
 
 /// The field's name in the geometry file: "degrees", "control_points",
@@ -39,7 +42,7 @@ inline const char* GeometryFieldName(GeometryField field) {
   static const char* const kNames[] = {"",        "dimension", "kind",           "cell",     "degrees",
                                        "knots",   "counts",    "control_points", "vertices", "weights",
                                        "cells",   "cellDegrees", "cellOffsets", "angular",  "trimLoops",
-                                       "edges"};
+                                       "edges",   "chart_control_points"};
   return kNames[static_cast<int>(field)];
 }
 

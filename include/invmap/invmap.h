@@ -77,8 +77,13 @@ struct PatchEdge {
 ///    region's boundary, so every curve of that boundary must be an edge
 ///    of some TrimmedSurface patch of the geometry (of this one or of the
 ///    face across it).
+///  - PouManifold: a partition-of-unity surface over a closed triangle mesh
+///    (include/invmap/pou.h, docs/manifold.md): points (the mesh's vertices),
+///    cells (its triangles, 3 indices each), degrees (one bidegree per
+///    vertex's chart), chartControlPoints. Its cells are the charts (one per
+///    vertex), their parameters the chart's local coordinates (u, v).
 struct Patch {
-  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells, TrimmedSurface };
+  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells, TrimmedSurface, PouManifold };
   Kind kind = Kind::Bezier;
   /// Bezier and Mesh: the cell type. BSpline: ignored (the parametric
   /// dimension is degrees.size(): line, quad or hex cells).
@@ -120,6 +125,9 @@ struct Patch {
   std::vector<std::vector<SplineCurve>> trimLoops;
   /// TrimmedSurface: the boundary curves of the face answered from this patch.
   std::vector<PatchEdge> edges;
+  /// PouManifold: the shape functions' control points, chart after chart:
+  /// (degrees[v] + 1)^2 points of 3 coordinates for vertex v, x fastest.
+  std::vector<double> chartControlPoints;
 };
 
 /// A geometry: its ambient dimension (2 or 3) and its patches.

@@ -19,11 +19,11 @@ import os
 import numpy as np
 
 from ._invmap import (DistanceTracker, FileError, InputError, Manifold, PointTracker, __version__, distance,
-                      from_mesh, read_points)
+                      from_mesh, manifold, read_points)
 from . import _invmap
 
 __all__ = ["DistanceTracker", "FileError", "InputError", "Manifold", "PointTracker", "distance", "from_bspline",
-           "from_mesh", "grid", "load", "read_points"]
+           "from_mesh", "grid", "load", "manifold", "read_points"]
 
 # Public names live in `invmap`, not in the private extension module: this
 # is also where pickle looks classes up (manifolds and exceptions travel

@@ -221,7 +221,7 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   // Usage errors: 2.
   EXPECT_EQ(Run("invert -g " + Path("s.json"), &log), 2);
   EXPECT_EQ(Run("frobnicate", &log), 2);
-  EXPECT_NE(log.find("unknown command 'frobnicate' (commands: invert, trim, info, generate, grid, probe, distance)"),
+  EXPECT_NE(log.find("unknown command 'frobnicate' (commands: invert, trim, info, generate, grid, manifold, probe, distance)"),
             std::string::npos)
       << log;
   EXPECT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("t.xyz"), &log), 2)

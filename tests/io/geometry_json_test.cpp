@@ -319,10 +319,17 @@ TEST_P(GeometryJsonBadPatch, NamesPatchFieldAndLine) {
 // Body line k is file line 5 + k.
 const BadPatch kBadPatches[] = {
     {"UnknownKind", 3, R"({"kind": "nurbs", "degrees": [1]})", 6,
-     "patches[0].kind: unknown patch kind \"nurbs\" (expected bspline, bezier or mesh)"},
+     "patches[0].kind: unknown patch kind \"nurbs\" (expected bspline, bezier, mesh or pou_manifold)"},
     {"MissingKind", 3, "{\"cell\": \"tri\",\n \"vertices\": []}", 6,
-     "patches[0]: missing field \"kind\" (bspline, bezier or mesh)"},
-    {"KindNotString", 3, R"({"kind": 3})", 6, "patches[0].kind: expected a string (bspline, bezier or mesh), found 3"},
+     "patches[0]: missing field \"kind\" (bspline, bezier, mesh or pou_manifold)"},
+    {"KindNotString", 3, R"({"kind": 3})", 6, "patches[0].kind: expected a string (bspline, bezier, mesh or pou_manifold), found 3"},
+    {"PouChartPointRow", 3,
+     "{\"kind\": \"pou_manifold\", \"vertices\": [], \"cells\": [], \"degrees\": [],\n"
+     " \"chart_control_points\": [[0, 0, 0], [1, 2]]}",
+     7, "patches[0].chart_control_points[1]: 2 coordinates, expected 3"},
+    {"PouInTwoDimensions", 2,
+     R"({"kind": "pou_manifold", "vertices": [], "cells": [], "degrees": [], "chart_control_points": []})", 6,
+     "patches[0].kind: a pou_manifold is a surface of R^3 (dimension 3), the file's dimension is 2"},
     {"UnknownCellType", 3, "{\"kind\": \"mesh\",\n \"cell\": \"pyramid\", \"vertices\": [], \"cells\": []}", 7,
      "patches[0].cell: unknown cell type \"pyramid\" (expected line, tri, quad, tet, hex or wedge)"},
     {"UnknownField", 3, "{\"kind\": \"bspline\",\n \"weight\": [1]}", 7, "patches[0]: unknown field \"weight\""},

@@ -186,6 +186,8 @@ std::vector<PatchCell> PatchCells(const Geometry& geometry, int patchIndex) {
       out.push_back(std::move(pc));
       break;
     }
+    case Patch::Kind::PouManifold:
+      break;  // not Bezier cells: tests/support/pou_reference.h evaluates them
     case Patch::Kind::BezierCells: {
       for (std::size_t c = 0; c < patch.cellTypes.size(); ++c) {
         PatchCell pc;
@@ -367,6 +369,9 @@ std::vector<std::int64_t> CellCounts(const Geometry& geometry) {
       case Patch::Kind::BezierCells:
         counts.push_back(static_cast<std::int64_t>(patch.cellTypes.size()));
         break;
+      case Patch::Kind::PouManifold:
+        counts.push_back(static_cast<std::int64_t>(patch.degrees.size()));
+        break;
       case Patch::Kind::Mesh:
         counts.push_back(static_cast<std::int64_t>(patch.cells.size() / MeshCellVertices(patch.cell)));
         break;
@@ -405,6 +410,8 @@ std::string EvaluateReported(const Geometry& geometry, std::int32_t patchIndex, 
       RefEvaluate(ref, u, x);
       return "";
     }
+    case Patch::Kind::PouManifold:
+      return "pou_manifold patches are checked by tests/support/pou_reference.h";
     case Patch::Kind::BezierCells: {
       if (cell < 0 || cell >= static_cast<std::int64_t>(patch.cellTypes.size())) return "cell index out of range";
       const RefCell ref = CellOfBezierCells(geometry, patch, static_cast<std::size_t>(cell));
