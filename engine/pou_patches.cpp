@@ -61,8 +61,9 @@ std::string PouPatches::Build(const Geometry& geometry, int maxThreads) {
       xyz->insert(xyz->end(), corners, corners + 24);
     });
     const BvhBox& root = s->bvh.RootBounds();
-    // Distances the search does not try to improve on: the core's tolerance
-    // of a cell's size, for the surface's bounding box (docs/manifold.md).
+    // Distances the search does not try to improve on, and the gap band
+    // before any answer: the core's tolerance of a cell's size, for the
+    // surface's bounding box (docs/manifold.md).
     s->tolerance = kernels::kDistanceTolerance * std::hypot(root.hi[0] - root.lo[0], root.hi[1] - root.lo[1],
                                                    root.hi[2] - root.lo[2]);
     surfaces_.push_back(std::move(s));
@@ -161,11 +162,15 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
           if (results->status[i] == Status::Invalid) continue;
           for (std::size_t k = 0; k < surfaces_.size(); ++k) {
             const Surface& surface = *surfaces_[k];
-            const double cutoff =
-                results->status[i] == Status::Found ? results->distance[i] : options.maxDistance;
-            const double x[3] = {points.coord[0][i], points.coord[1][i], points.coord[2][i]};
-            pou::PointSearch search(surface.surface, x, surface.tolerance, cutoff);
+            // A cell's answer (or an earlier surface's) is beaten only by a
+            // nearer point; before any answer, the gap tolerance admits the
+            // same band as the cells' search (PointSearch::GapBand, with the
+            // surface's size): a point at distance maxDistance is found.
             const bool hadAnswer = results->status[i] == Status::Found;
+            const double cutoff = hadAnswer ? results->distance[i] : options.maxDistance;
+            const double band = hadAnswer ? 0.0 : surface.tolerance;
+            const double x[3] = {points.coord[0][i], points.coord[1][i], points.coord[2][i]};
+            pou::PointSearch search(surface.surface, x, surface.tolerance, cutoff, band);
             if (previous[k].chart >= 0) search.Seed(previous[k].chart, previous[k].u, previous[k].v);
             // Depth first over the wide tree, nearest child first; an entry
             // is skipped when its bound (recorded when it was pushed) no

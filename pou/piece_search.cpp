@@ -173,14 +173,14 @@ double QuadraticModelMinimum(const double g[2], double a, double b, double e, co
 
 }  // namespace
 
-PointSearch::PointSearch(const PouSurface& surface, const double x[3], double tolerance, double cutoff)
-    : surface_(surface), tolerance_(tolerance), distance_(cutoff) {
+PointSearch::PointSearch(const PouSurface& surface, const double x[3], double tolerance, double cutoff, double band)
+    : surface_(surface), tolerance_(tolerance), band_(band), distance_(cutoff) {
   for (int k = 0; k < 3; ++k) x_[k] = x[k];
 }
 
 void PointSearch::Offer(std::int64_t chart, double u, double v, const double point[3], double f) {
   const double d = std::sqrt(f);
-  if (found_ ? !(d < distance_) : !(d <= distance_)) return;
+  if (found_ ? !(d < distance_) : !(d <= distance_ + band_)) return;
   found_ = true;
   distance_ = d;
   chart_ = chart;

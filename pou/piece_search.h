@@ -29,6 +29,7 @@
 // best point found is kept.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -41,9 +42,14 @@ namespace invmap::pou {
 class PointSearch {
  public:
   /// Search for the point of `surface` nearest `x`; distances within
-  /// `tolerance` of the best are not worth proving smaller. `cutoff`: a
-  /// distance the answer must beat (infinity for none).
-  PointSearch(const PouSurface& surface, const double x[3], double tolerance, double cutoff);
+  /// `tolerance` of the best are not worth proving smaller. `cutoff`: the
+  /// distance an answer may have at most (infinity for none). `band`: how
+  /// far beyond `cutoff` an answer is still taken before the search has
+  /// found one (the cell search's gap band, engine/point_search.h), so that
+  /// a point at distance exactly `cutoff` is never lost to a solve that lands
+  /// a rounding's width beyond it; 0 when `cutoff` is another answer's
+  /// distance, which only a nearer point replaces.
+  PointSearch(const PouSurface& surface, const double x[3], double tolerance, double cutoff, double band);
 
   /// A local solve in `chart` from (u, v), over the square of side 4R/3
   /// about its centre; a closer answer replaces the best.
@@ -52,8 +58,14 @@ class PointSearch {
   /// its shape majorants).
   void SearchPiece(std::int64_t chart, const ChartBox& box, const ShapeMajorants& shapes);
 
-  /// The squared distance below which a piece or box must be searched.
+  /// The squared distance below which a piece or box must be searched:
+  /// the best's less the tolerance, or before any answer the cut-off and
+  /// its band (equality admitted).
   double Cutoff2() const {
+    if (!found_) {
+      const double reach = distance_ + band_;
+      return std::nextafter(reach * reach, HUGE_VAL);
+    }
     const double d = distance_ - tolerance_;
     return d > 0.0 ? d * d : -1.0;
   }
@@ -96,6 +108,7 @@ class PointSearch {
   const PouSurface& surface_;
   double x_[3];
   double tolerance_;
+  double band_;
   bool found_ = false;
   double distance_;
   std::int64_t chart_ = -1;
