@@ -116,19 +116,9 @@ std::vector<double> ReadPlyVertices(const std::string& text, std::int64_t* numTr
   return xyz;
 }
 
-double Diagonal(const std::vector<double>& xyz) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (std::size_t i = 0; i < xyz.size(); i += 3)
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], xyz[i + c]);
-      hi[c] = std::max(hi[c], xyz[i + c]);
-    }
-  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-}
-
 TEST_F(CliTest, ManifoldFromEveryMeshFormatAndBaseIsTakenByInfoAndInvert) {
   const TriangleMesh mesh = invmap::testing::Bipyramid(5);
-  const double size = Diagonal(mesh.xyz);
+  const double size = mesh.diagonal();
   // Points near the mesh and farther off, the same for every surface.
   std::mt19937_64 random(3);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -196,7 +186,7 @@ TEST_F(CliTest, ManifoldFromEveryMeshFormatAndBaseIsTakenByInfoAndInvert) {
 
 TEST_F(CliTest, ManifoldTessellationVerticesLieOnTheSurface) {
   const TriangleMesh mesh = invmap::testing::Bipyramid(4);
-  const double size = Diagonal(mesh.xyz);
+  const double size = mesh.diagonal();
   WriteFile("mesh.off", MeshText(mesh, ".off"));
   for (const std::string base : {"flat", "pn", "loop"}) {
     std::string out;

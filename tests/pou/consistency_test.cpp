@@ -15,16 +15,6 @@ namespace {
 
 using testing::TriangleMesh;
 
-double Diagonal(const TriangleMesh& m) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (std::int64_t v = 0; v < m.numVertices(); ++v)
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], m.xyz[3 * v + c]);
-      hi[c] = std::max(hi[c], m.xyz[3 * v + c]);
-    }
-  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-}
-
 std::vector<TriangleMesh> Meshes() {
   std::vector<TriangleMesh> meshes;
   for (int n = 3; n <= 8; ++n) meshes.push_back(testing::Bipyramid(n));
@@ -43,7 +33,7 @@ TEST_P(ConsistencyTest, ChartsAgreeOnEveryOverlap) {
     PouSurface surface;
     ASSERT_EQ(surface.Build(m.xyz.data(), m.numVertices(), m.triangles.data(), m.numTriangles(), GetParam(), 0), "")
         << m.name;
-    const double size = Diagonal(m);
+    const double size = m.diagonal();
     double worst = 0.0;
     int overlaps = 0;
     for (std::int64_t v = 0; v < surface.numCharts(); ++v) {

@@ -23,16 +23,6 @@
 namespace invmap {
 namespace {
 
-double Diagonal(const std::vector<double>& xyz) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (std::size_t i = 0; i < xyz.size(); i += 3)
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], xyz[i + c]);
-      hi[c] = std::max(hi[c], xyz[i + c]);
-    }
-  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-}
-
 struct Case {
   testing::TriangleMesh mesh;
   PouBase base;
@@ -60,7 +50,7 @@ TEST(PouInversionTest, MatchesTheIndependentReference) {
     PouCharts charts;
     ASSERT_EQ(PouCharts::Create(patch, &charts), "");
     const testing::PouReference reference(patch.points, patch.cells, patch.degrees, patch.chartControlPoints);
-    const double size = Diagonal(m.xyz);
+    const double size = m.diagonal();
     // A random point of a random chart, moved off the surface by the offset
     // in a random direction.
     std::vector<double> points;

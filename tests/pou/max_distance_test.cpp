@@ -22,16 +22,6 @@
 namespace invmap {
 namespace {
 
-double Diagonal(const std::vector<double>& xyz) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (std::size_t i = 0; i < xyz.size(); i += 3)
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], xyz[i + c]);
-      hi[c] = std::max(hi[c], xyz[i + c]);
-    }
-  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-}
-
 struct Surface {
   testing::TriangleMesh mesh;
   Patch patch;
@@ -70,7 +60,7 @@ TEST(PouMaxDistanceTest, PointsOnTheSurfaceAreFoundWithMaxDistanceZero) {
       reference.Evaluate(v, {r * unit(random), r * unit(random)}, p);
       points.insert(points.end(), p, p + 3);
     }
-    const double band = 1e-11 * Diagonal(s.mesh.xyz);
+    const double band = 1e-11 * s.mesh.diagonal();
     InversionOptions options;
     options.maxDistance = 0.0;
     Results results;
@@ -90,7 +80,7 @@ TEST(PouMaxDistanceTest, PointsAtDistanceDAreFoundWithMaxDistanceD) {
   const Surface s = Make(testing::Bipyramid(5), PouBase::Loop);
   ASSERT_TRUE(s.built.manifold.valid());
   const testing::PouReference reference(s.patch.points, s.patch.cells, s.patch.degrees, s.patch.chartControlPoints);
-  const double size = Diagonal(s.mesh.xyz);
+  const double size = s.mesh.diagonal();
   const double band = 1e-11 * size;
   for (int i = 0; i < 12; ++i) {
     const std::int64_t v = static_cast<std::int64_t>(random() % reference.numCharts());

@@ -37,6 +37,16 @@ TriangleMesh Split(const TriangleMesh& mesh, Place place) {
 
 }  // namespace
 
+double TriangleMesh::diagonal() const {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (std::size_t i = 0; i < xyz.size(); i += 3)
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], xyz[i + c]);
+      hi[c] = std::max(hi[c], xyz[i + c]);
+    }
+  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+}
+
 TriangleMesh Bipyramid(int n) {
   TriangleMesh m;
   m.name = "bipyramid" + std::to_string(n);

@@ -15,6 +15,8 @@ struct TriangleMesh {
   std::vector<std::int64_t> triangles;   ///< 3 per triangle, counter-clockwise seen from outside.
   std::int64_t numVertices() const { return static_cast<std::int64_t>(xyz.size() / 3); }
   std::int64_t numTriangles() const { return static_cast<std::int64_t>(triangles.size() / 3); }
+  /// The diagonal of the vertices' bounding box: the size tolerances scale with.
+  double diagonal() const;
 };
 
 /// Two apexes of valence n joined through an equator of n vertices (valence 4).
