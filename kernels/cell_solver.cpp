@@ -789,31 +789,23 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
 }
 
 void CellSolver::SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const {
-  const int pd = cell_.shape.paramDim();
-  const int ad = cell_.ambientDim;
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplexLane(queries, results);
     return;
   }
-  // Curved cells: Newton iterations differ per lane, so lanes are solved one
-  // after the other.
-  for (int l = 0; l < queries.count; ++l) {
-    double point[3] = {0, 0, 0};
-    for (int k = 0; k < ad; ++k) point[k] = queries.coord[k][l];
-    double init[3];
-    const bool warm = queries.initialRef[0] != nullptr;
-    if (warm) {
-      for (int i = 0; i < pd; ++i) init[i] = queries.initialRef[i][l];
-    }
-    const CellSolveResult r = Solve(point, warm ? init : nullptr, ws);
-    for (int i = 0; i < 3; ++i) {
-      if (results.ref[i]) results.ref[i][l] = i < pd ? r.ref[i] : std::numeric_limits<double>::quiet_NaN();
-      if (results.closest[i]) results.closest[i][l] = i < ad ? r.closest[i] : std::numeric_limits<double>::quiet_NaN();
-    }
-    if (results.distance) results.distance[l] = r.distance;
-    if (results.status) results.status[l] = r.status;
-    if (results.iterations) results.iterations[l] = r.iterations;
+  SolveCurvedLanes(queries, results, ws);
+}
+
+void CellSolver::WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const {
+  const int pd = cell_.shape.paramDim();
+  const int ad = cell_.ambientDim;
+  for (int i = 0; i < 3; ++i) {
+    if (results.ref[i]) results.ref[i][l] = i < pd ? r.ref[i] : std::numeric_limits<double>::quiet_NaN();
+    if (results.closest[i]) results.closest[i][l] = i < ad ? r.closest[i] : std::numeric_limits<double>::quiet_NaN();
   }
+  if (results.distance) results.distance[l] = r.distance;
+  if (results.status) results.status[l] = r.status;
+  if (results.iterations) results.iterations[l] = r.iterations;
 }
 
 }  // namespace invmap::kernels

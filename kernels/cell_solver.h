@@ -103,8 +103,12 @@ class CellSolver {
 
   /// Solves every lane of `queries`; see QueryLane and ResultLane. Affine
   /// segments, triangles and tetrahedra solve all lanes at once in closed
-  /// form (vectorized, kernels/affine_simplex_lanes.h); curved cells solve
-  /// the lanes one after the other (initialRef warm-starts each).
+  /// form (vectorized, kernels/affine_simplex_lanes.h); curved curves and
+  /// surfaces of line factors run their local solves in SIMD lanes
+  /// (kernels/newton_lanes.h) and certify each lane as Solve does; other
+  /// cells solve the lanes one after the other (initialRef warm-starts
+  /// each). Every lane's answer is the certified global minimum over the
+  /// cell, and depends on its own point and start only.
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
 
   /// Tetrahedra: the smallest barycentric coordinate of `point` relative to
@@ -157,6 +161,13 @@ class CellSolver {
   void SolveAffineSimplex(const double* point, CellSolveResult* result) const;
   /// SolveLane for affine simplices.
   void SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const;
+  /// SolveLane for curved cells: the local solves in SIMD lanes
+  /// (kernels/newton_lanes.h) where they cover the cell, then each lane's
+  /// certificate as Solve's; lanes that leave the lanes, and cells they do
+  /// not cover, are solved by Solve (kernels/cell_solver_lanes.cpp).
+  void SolveCurvedLanes(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+  /// Writes lane l of `results` from one cell's answer.
+  void WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const;
 
   /// Cells of line factors (line, quad, hex): the Greville parameters of the
   /// control point nearest to `point`, a start for the local solve that is

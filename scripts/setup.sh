@@ -12,7 +12,8 @@ jobs=$(nproc)
 
 packages=(build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libeigen3-dev libtbb-dev
           libembree-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev gmsh
-          python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed)
+          python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
+          libxsimd-dev)
 
 install_missing() {
   local missing=()

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "kernels/cell_solver.h"
+#include "kernels/newton_lanes.h"
 #include "tests/support/reference_cell.h"
 
 namespace invmap::testing {
@@ -746,6 +747,17 @@ TEST(CellSolverLane, MatchesSolvePerLane) {
             double p[3] = {coord[0][l], coord[1][l], coord[2][l]};
             double seed[3] = {init[0][l], init[1][l], init[2][l]};
             const CellSolveResult r = solver.Solve(p, warm ? seed : nullptr, &singleWs);
+            if (kernels::NewtonLanesCover(cell.view()) && r.status != PointStatus::InvalidInput) {
+              // Curves and surfaces of line factors run their local solves in
+              // SIMD lanes (tests/kernels/newton_lanes_test.cpp checks them
+              // against the brute-force reference): the same certified
+              // minimum, not the same bits (a point whose foot is within
+              // rounding of an edge may be held on it or not).
+              EXPECT_TRUE(status[l] == PointStatus::Converged || status[l] == PointStatus::ProjectedToBoundary)
+                  << "lane " << l;
+              EXPECT_NEAR(distance[l], r.distance, kRelTol * solver.size()) << "lane " << l;
+              continue;
+            }
             // Same code path expected: bit-for-bit equality.
             EXPECT_EQ(status[l], r.status) << "lane " << l;
             if (r.status == PointStatus::InvalidInput) continue;

@@ -1,0 +1,92 @@
+// The local solve of many query points on ONE curved cell at once, one point
+// per SIMD lane (structure of arrays): Newton steps, the bounds of the
+// domain, the stationarity and release tests and the KKT check are lane
+// masks. A lane whose solve leaves the common path (a step that the line
+// search would have to shorten, a Hessian that is not positive definite, a
+// constraint to release) stops there and hands its iterate to the scalar
+// local solve (kernels/local_solver.h), which carries on from it.
+//
+// Covered cells: curves (2D or 3D) and surfaces in 3D whose factors are all
+// lines (line and quad cells), polynomial or rational, any degree up to
+// kMaxDegree; cubic factors get loops of constant length.
+//
+// Each lane runs the same IEEE operations whatever the other lanes hold and
+// whatever the vector width: AVX-512, AVX2 and SSE2 give the same answer bit
+// for bit (the flags keep the compiler from fusing multiplies and adds), so
+// an answer never depends on which points shared its vector, nor on the
+// machine's instruction set.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/cell_map.h"
+
+namespace invmap::kernels {
+
+/// The instruction sets the lanes are compiled for.
+enum class LaneIsa : std::uint8_t { Sse2, Avx2, Avx512 };
+
+/// The widest instruction set this processor (and the OS) runs; detected
+/// once.
+LaneIsa BestLaneIsa();
+/// Name for reports ("avx512", "avx2", "sse2").
+const char* LaneIsaName(LaneIsa isa);
+/// True when this processor runs `isa`.
+bool LaneIsaAvailable(LaneIsa isa);
+
+/// How a lane's local solve ended.
+enum class LaneOutcome : std::uint8_t {
+  /// A KKT point (independently checked, as LocalSolveResult::kkt), with
+  /// `closest` and `squaredDistance` set.
+  Kkt,
+  /// Left the lanes: `ref` is the iterate to continue from in the scalar solve.
+  Handover,
+};
+
+/// Lanes of one call, structure of arrays; every array has `count` entries.
+struct NewtonLanes {
+  int count = 0;
+  /// Query points (ambientDim arrays).
+  const double* point[3] = {nullptr, nullptr, nullptr};
+  /// In: the starts (paramDim arrays, clamped into [0, 1]); out: the KKT
+  /// point or the iterate handed over.
+  double* ref[3] = {nullptr, nullptr, nullptr};
+  /// Out (Kkt lanes): the map at ref and |closest - point|^2.
+  double* closest[3] = {nullptr, nullptr, nullptr};
+  double* squaredDistance = nullptr;
+  /// Out (Kkt lanes): true when a constraint is held at the answer.
+  bool* onBoundary = nullptr;
+  LaneOutcome* outcome = nullptr;
+  /// Out: Newton iterations of each lane.
+  int* iterations = nullptr;
+};
+
+/// True for the cells SolveNewtonLanes covers (see the top of this file).
+bool NewtonLanesCover(const CellView& cell);
+
+/// The local solve of every lane on `cell` (NewtonLanesCover(cell)), with the
+/// tolerances of LocalSolve for a cell of length scale `size`. Query points
+/// must be finite.
+void SolveNewtonLanes(const CellView& cell, double size, const NewtonLanes& lanes, LaneIsa isa = BestLaneIsa());
+
+/// Lower bounds of the squared distance from `count` points to a cell, from
+/// the nets of DistanceNets (NN = |N|^2, NW_k = N_k W and WW = W^2, built
+/// around `center`): per point d = p - center and
+///   min_i (NN_i - 2 d . NW_i + |d|^2 WW_i) / WW_i,
+/// one fused loop over the coefficients for all lanes (the quotient only for
+/// a rational cell: a polynomial cell's WW is 1 up to rounding). The values
+/// are DistanceNets::SquaredDistanceNumerator's and NetLowerBound's, bit
+/// for bit; the caller subtracts the rounding slack.
+struct NetLanes {
+  int size = 0;  ///< Coefficients per net.
+  int ambientDim = 3;
+  bool rational = false;
+  const double* nn = nullptr;
+  const double* nw[3] = {nullptr, nullptr, nullptr};
+  const double* ww = nullptr;
+  const double* center = nullptr;
+};
+void NetLowerBoundLanes(const NetLanes& nets, int count, const double* const point[3], double* lowerBound,
+                        LaneIsa isa = BestLaneIsa());
+
+}  // namespace invmap::kernels
