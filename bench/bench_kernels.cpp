@@ -7,6 +7,8 @@
 
 #include "kernels/cell_bounds.h"
 #include "kernels/cell_solver.h"
+#include "kernels/local_solver.h"
+#include "kernels/newton_lanes.h"
 
 namespace {
 
@@ -95,6 +97,84 @@ void CellArgs(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_EvaluateMap)->Apply(CellArgs);
 BENCHMARK(BM_SolveCell)->Apply(CellArgs);
+
+/// Points near the cell (the engine's common case: a bucket's points that
+/// share a candidate cell): the map at random reference points, moved by up
+/// to 2% of the cell's size in a random direction; as structure of arrays.
+struct NearPoints {
+  std::vector<double> coord[3];
+  int count() const { return static_cast<int>(coord[0].size()); }
+};
+NearPoints MakeNearPoints(const CellSolver& solver, int count) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), offset(-0.02, 0.02);
+  NearPoints points;
+  const int pd = solver.cell().shape.paramDim();
+  for (int i = 0; i < count; ++i) {
+    double ref[3] = {unit(rng), pd > 1 ? unit(rng) : 0.0, 0.0};
+    invmap::kernels::MapJet jet;
+    invmap::kernels::EvaluateMap(solver.cell(), ref, invmap::kernels::JetOrder::Value, &jet);
+    for (int k = 0; k < 3; ++k) points.coord[k].push_back(jet.x[k] + offset(rng) * solver.size());
+  }
+  return points;
+}
+
+/// Certified solves of 64 near points on one curve or surface: SolveLane
+/// (SIMD lanes for the local solves) against Solve point by point, in the
+/// same run. Arguments: cell type (0 line, 2 quad), degree, rational,
+/// lanes (1) or point by point (0), bend in percent of the cell (20: as
+/// BM_SolveCell's cells; 2: as a B-spline surface's spans).
+void BM_SolveNearPoints(benchmark::State& state) {
+  const BenchCell cell = MakeCell(TypeArg(state.range(0)), static_cast<int>(state.range(1)), state.range(2) != 0,
+                                  0.01 * static_cast<double>(state.range(4)));
+  const CellSolver solver(cell.view());
+  const NearPoints points = MakeNearPoints(solver, 64);
+  const bool lanes = state.range(3) != 0;
+  invmap::kernels::SolveWorkspace ws;
+  invmap::kernels::QueryLane query;
+  query.count = points.count();
+  for (int k = 0; k < 3; ++k) query.coord[k] = points.coord[k].data();
+  std::vector<double> ref[3], closest[3], distance(query.count);
+  std::vector<invmap::kernels::PointStatus> status(query.count);
+  std::vector<int> iterations(query.count);
+  invmap::kernels::ResultLane result;
+  for (int k = 0; k < 3; ++k) {
+    ref[k].resize(query.count);
+    closest[k].resize(query.count);
+    result.ref[k] = ref[k].data();
+    result.closest[k] = closest[k].data();
+  }
+  result.distance = distance.data();
+  result.status = status.data();
+  result.iterations = iterations.data();
+  for (auto _ : state) {
+    if (lanes) {
+      solver.SolveLane(query, result, &ws);
+    } else {
+      for (int l = 0; l < query.count; ++l) {
+        const double p[3] = {points.coord[0][l], points.coord[1][l], points.coord[2][l]};
+        distance[l] = solver.Solve(p, nullptr, &ws).distance;
+      }
+    }
+    benchmark::DoNotOptimize(distance.data());
+  }
+  state.counters["solves/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * query.count, benchmark::Counter::kIsRate);
+  state.SetLabel(lanes ? invmap::kernels::LaneIsaName(invmap::kernels::BestLaneIsa()) : "point by point");
+}
+
+void NearArgs(benchmark::internal::Benchmark* b) {
+  for (int type : {0, 2}) {
+    for (int degree = 2; degree <= 3; ++degree) {
+      for (int rational = 0; rational <= 1; ++rational) {
+        for (int bend : {20, 2}) {
+          for (int lanes = 0; lanes <= 1; ++lanes) b->Args({type, degree, rational, lanes, bend});
+        }
+      }
+    }
+  }
+}
+BENCHMARK(BM_SolveNearPoints)->Apply(NearArgs);
 
 }  // namespace
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kernels/cell_bounds.h"
 #include "kernels/cell_solver.h"
 #include "kernels/newton_lanes.h"
 
@@ -20,8 +19,8 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
   // The lanes run a chunk at a time from arrays on the stack: the finite
   // points, gathered (Solve answers the others with InvalidInput).
   constexpr int kChunk = 64;
-  double point[3][kChunk], ref[3][kChunk], closest[3][kChunk], squaredDistance[kChunk];
-  bool onBoundary[kChunk];
+  double point[3][kChunk], ref[3][kChunk], closest[3][kChunk], squaredDistance[kChunk], level[kChunk];
+  bool onBoundary[kChunk], convex[kChunk];
   LaneOutcome outcome[kChunk];
   int iterations[kChunk], lane[kChunk];
   const double tau = kDistanceTolerance * size_;
@@ -29,7 +28,7 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
     const int end = std::min(queries.count, first + kChunk);
     int n = 0;
     for (int l = first; l < end; ++l) {
-      double p[3] = {0, 0, 0}, start[3] = {0, 0, 0};
+      double p[3] = {0, 0, 0}, start[3] = {0, 0, 0};  // start: the lanes' own when cold
       bool finite = true;
       for (int k = 0; k < ad; ++k) {
         p[k] = queries.coord[k][l];
@@ -42,7 +41,6 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
         WriteLane(l, Solve(p, warm ? start : nullptr, ws), results);
         continue;
       }
-      if (!warm && !NearestControlPointStart(p, start)) ReferenceCenter(cell_.shape, start);
       for (int k = 0; k < ad; ++k) point[k][n] = p[k];
       for (int i = 0; i < pd; ++i) ref[i][n] = start[i];
       lane[n++] = l;
@@ -59,7 +57,15 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
     lanes.onBoundary = onBoundary;
     lanes.outcome = outcome;
     lanes.iterations = iterations;
+    lanes.startAtNearestControlPoint = !warm;
     SolveNewtonLanes(cell_, size_, lanes);
+    // The curvature bounds' certificate (Search's first test) for all the
+    // lanes that reached a KKT point farther than tau at once.
+    if (curvature_) {
+      for (int j = 0; j < n; ++j) level[j] = outcome[j] == LaneOutcome::Kkt ? squaredDistance[j] : -1.0;
+      const double* const points[3] = {point[0], point[1], point[2]};
+      ProvesConvexLanes(*curvature_, n, points, level, convex);
+    }
     for (int j = 0; j < n; ++j) {
       const double p[3] = {point[0][j], point[1][j], ad > 2 ? point[2][j] : 0.0};
       const double at[3] = {ref[0][j], pd > 1 ? ref[1][j] : 0.0, 0.0};
@@ -80,7 +86,7 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
       best.iterations = iterations[j];
       int total = iterations[j];
       bool certified = true;
-      if (best.squaredDistance > tau * tau) {
+      if (best.squaredDistance > tau * tau && !(curvature_ && convex[j])) {
         certified = Search(p, std::numeric_limits<double>::infinity(), nets_.RoundingSlack(p), &best, &total, ws);
       }
       CellSolveResult r;

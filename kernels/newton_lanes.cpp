@@ -10,6 +10,12 @@ void SolveNewtonLanesAvx512(const CellView& view, double size, const NewtonLanes
 void NetLowerBoundLanesSse2(const NetLanes& nets, int count, const double* const point[3], double* lower);
 void NetLowerBoundLanesAvx2(const NetLanes& nets, int count, const double* const point[3], double* lower);
 void NetLowerBoundLanesAvx512(const NetLanes& nets, int count, const double* const point[3], double* lower);
+void ProvesConvexLanesSse2(const CurvatureBounds& bounds, int count, const double* const point[3], const double* level,
+                           bool* proved);
+void ProvesConvexLanesAvx2(const CurvatureBounds& bounds, int count, const double* const point[3], const double* level,
+                           bool* proved);
+void ProvesConvexLanesAvx512(const CurvatureBounds& bounds, int count, const double* const point[3],
+                             const double* level, bool* proved);
 }  // namespace lanes
 
 bool LaneIsaAvailable(LaneIsa isa) {
@@ -76,6 +82,19 @@ void NetLowerBoundLanes(const NetLanes& nets, int count, const double* const poi
       return lanes::NetLowerBoundLanesAvx2(nets, count, point, lowerBound);
     case LaneIsa::Sse2:
       return lanes::NetLowerBoundLanesSse2(nets, count, point, lowerBound);
+  }
+}
+
+void ProvesConvexLanes(const CurvatureBounds& bounds, int count, const double* const point[3], const double* level,
+                       bool* proved, LaneIsa isa) {
+  if (count <= 0) return;
+  switch (isa) {
+    case LaneIsa::Avx512:
+      return lanes::ProvesConvexLanesAvx512(bounds, count, point, level, proved);
+    case LaneIsa::Avx2:
+      return lanes::ProvesConvexLanesAvx2(bounds, count, point, level, proved);
+    case LaneIsa::Sse2:
+      return lanes::ProvesConvexLanesSse2(bounds, count, point, level, proved);
   }
 }
 

@@ -20,6 +20,7 @@
 #include <cstdint>
 
 #include "kernels/cell_map.h"
+#include "kernels/curvature_bounds.h"
 
 namespace invmap::kernels {
 
@@ -59,6 +60,9 @@ struct NewtonLanes {
   LaneOutcome* outcome = nullptr;
   /// Out: Newton iterations of each lane.
   int* iterations = nullptr;
+  /// In: instead of `ref`, start at the Greville parameters of the control
+  /// point nearest to each point (as the scalar solve's cold start).
+  bool startAtNearestControlPoint = false;
 };
 
 /// True for the cells SolveNewtonLanes covers (see the top of this file).
@@ -88,5 +92,18 @@ struct NetLanes {
 };
 void NetLowerBoundLanes(const NetLanes& nets, int count, const double* const point[3], double* lowerBound,
                         LaneIsa isa = BestLaneIsa());
+
+/// CurvatureBounds::ProvesConvex for `count` points at once: proved[l] is
+/// its answer for point l (the same arithmetic, lane by lane) and level[l].
+/// Cells of one or two parameters.
+void ProvesConvexLanes(const CurvatureBounds& bounds, int count, const double* const point[3], const double* level,
+                       bool* proved, LaneIsa isa = BestLaneIsa());
+
+/// The lanes' access to CurvatureBounds' ranges.
+struct CurvatureLanes {
+  template <class Arch>
+  static void Prove(const CurvatureBounds& bounds, int count, const double* const point[3], const double* level,
+                    bool* proved);
+};
 
 }  // namespace invmap::kernels

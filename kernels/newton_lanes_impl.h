@@ -27,6 +27,9 @@ constexpr double kLaneKktSlope = 1e-7;
 constexpr double kLaneKktSlopeFloor = 1e-12;
 constexpr double kLaneKktOnFace = 1e-12;
 constexpr int kLaneMaxIterations = 100;
+// CurvatureBounds::ProvesConvex's and IntervalMatrixIsPositive's margins.
+constexpr double kBoundSumRoundingLanes = 1e-14;
+constexpr double kPositivityMarginLanes = 1e-12;
 
 template <class A>
 using Batch = xsimd::batch<double, A>;
@@ -111,8 +114,33 @@ class LineCellLanes {
  public:
   static constexpr int kComps = AD + (Rational ? 1 : 0);
 
-  LineCellLanes(const int* degrees, const double* homogeneous) : h_(homogeneous) {
+  LineCellLanes(const int* degrees, const double* homogeneous, const double* points)
+      : h_(homogeneous), points_(points) {
     for (int f = 0; f < PD; ++f) degree_[f] = degrees[f];
+  }
+
+  /// The Greville parameters of the control point nearest to each lane's
+  /// point (CellSolver::NearestControlPointStart's start for a curve or a
+  /// surface: the first of equally near ones).
+  void NearestControlPointStart(const Batch<A>* point, Batch<A>* ref) const {
+    const int n0 = Degree(0) + 1;
+    const int n = PD == 1 ? n0 : n0 * (Degree(PD - 1) + 1);
+    Batch<A> nearest2(std::numeric_limits<double>::infinity()), nearest(0.0);
+    for (int c = 0; c < n; ++c) {
+      Batch<A> d2(0.0);
+      for (int k = 0; k < AD; ++k) {
+        const Batch<A> d = Batch<A>(points_[c * AD + k]) - point[k];
+        d2 += d * d;
+      }
+      const Mask<A> nearer = d2 < nearest2;
+      nearest2 = xsimd::select(nearer, d2, nearest2);
+      nearest = xsimd::select(nearer, Batch<A>(static_cast<double>(c)), nearest);
+    }
+    // Control point (i, j) sits over (i / p, j / q); the indices are exact
+    // small integers in double.
+    const Batch<A> row = xsimd::floor(nearest / Batch<A>(static_cast<double>(n0)));
+    ref[0] = (nearest - row * Batch<A>(static_cast<double>(n0))) / Batch<A>(static_cast<double>(Degree(0)));
+    if constexpr (PD == 2) ref[1] = row / Batch<A>(static_cast<double>(Degree(1)));
   }
   /// Factor f's degree, a constant when FixedDegree is set.
   int Degree(int f) const { return FixedDegree > 0 ? FixedDegree : degree_[f]; }
@@ -190,6 +218,7 @@ class LineCellLanes {
 
  private:
   const double* h_;
+  const double* points_;  ///< Cartesian control points.
   int degree_[PD];
 };
 
@@ -222,7 +251,12 @@ void SolveBlock(const LineCellLanes<A, PD, AD, Rational, FixedDegree>& cell, dou
   };
   B point[AD], ref[PD];
   for (int k = 0; k < AD; ++k) point[k] = load(lanes.point[k]);
-  for (int i = 0; i < PD; ++i) ref[i] = xsimd::min(xsimd::max(load(lanes.ref[i]), B(0.0)), B(1.0));
+  if (lanes.startAtNearestControlPoint) {
+    cell.NearestControlPointStart(point, ref);
+  } else {
+    for (int i = 0; i < PD; ++i) ref[i] = load(lanes.ref[i]);
+  }
+  for (int i = 0; i < PD; ++i) ref[i] = xsimd::min(xsimd::max(ref[i], B(0.0)), B(1.0));
   const B zero(0.0), one(1.0);
   // Held constraints per parameter: at 0 (released toward +u) or at 1.
   M heldLo[PD], heldHi[PD];
@@ -473,7 +507,7 @@ void SolveTyped(const CellView& view, double size, const NewtonLanes& lanes) {
   }
   int degrees[PD];
   for (int f = 0; f < PD; ++f) degrees[f] = view.shape.factor(f).degree;
-  const LineCellLanes<A, PD, AD, Rational, FixedDegree> cell(degrees, homogeneous);
+  const LineCellLanes<A, PD, AD, Rational, FixedDegree> cell(degrees, homogeneous, view.points);
   constexpr int W = static_cast<int>(Batch<A>::size);
   for (int first = 0; first < lanes.count; first += W) SolveBlock(cell, size, lanes, first);
 }
@@ -530,7 +564,92 @@ void NetLowerBoundLanesFor(const NetLanes& nets, int count, const double* const 
   }
 }
 
+/// IntervalMatrixIsPositive for lanes, dimension 1 or 2 (the same tests in
+/// the same order of operations).
+template <class A, int Dim>
+Mask<A> IntervalMatrixIsPositiveLanes(const Batch<A> (&lo)[2][2], const Batch<A> (&hi)[2][2]) {
+  using B = Batch<A>;
+  const B zero(0.0), half(0.5);
+  Mask<A> positive = lo[0][0] > zero;
+  if constexpr (Dim == 1) {
+    return positive;
+  } else {
+    positive = positive & (lo[1][1] > zero);
+    B mid[2][2], radius2 = zero;
+    for (int a = 0; a < 2; ++a) {
+      for (int b = a; b < 2; ++b) {
+        mid[a][b] = half * (lo[a][b] + hi[a][b]);
+        const B r = half * (hi[a][b] - lo[a][b]);
+        radius2 += B(a == b ? 1.0 : 2.0) * r * r;
+      }
+    }
+    const B halfDifference = half * (mid[0][0] - mid[1][1]);
+    const B lambdaMin =
+        half * (mid[0][0] + mid[1][1]) - xsimd::sqrt(halfDifference * halfDifference + mid[0][1] * mid[0][1]);
+    const B scale = xsimd::max(xsimd::max(xsimd::abs(mid[0][0]), xsimd::abs(mid[0][1])), xsimd::abs(mid[1][1]));
+    const Mask<A> interval = lambdaMin > xsimd::sqrt(radius2) + B(kPositivityMarginLanes) * scale;
+    const B largest = xsimd::max(xsimd::abs(lo[0][1]), xsimd::abs(hi[0][1]));
+    const B beta = largest / (xsimd::sqrt(lo[0][0]) * xsimd::sqrt(lo[1][1]));
+    const Mask<A> scaled = beta < B(1.0 - kPositivityMarginLanes);
+    return positive & (interval | scaled);
+  }
+}
+
 }  // namespace invmap::kernels::lanes
+
+namespace invmap::kernels {
+
+template <class A>
+void CurvatureLanes::Prove(const CurvatureBounds& bounds, int count, const double* const point[3],
+                           const double* level, bool* proved) {
+  using B = lanes::Batch<A>;
+  using M = lanes::Mask<A>;
+  constexpr int W = static_cast<int>(B::size);
+  alignas(64) double buffer[W];
+  const int pd = bounds.paramDim_;
+  const int ad = bounds.ambientDim_;
+  for (int first = 0; first < count; first += W) {
+    const int valid = std::min(W, count - first);
+    const auto load = [&](const double* data) {
+      for (int l = 0; l < W; ++l) buffer[l] = data[first + std::min(l, valid - 1)];
+      return B::load_aligned(buffer);
+    };
+    B d[3], distance2(0.0);
+    for (int k = 0; k < ad; ++k) {
+      d[k] = load(point[k]) - B(bounds.center_[k]);
+      distance2 += d[k] * d[k];
+    }
+    const B weightFactor = distance2 - load(level);
+    B lo[2][2], hi[2][2];
+    for (int a = 0; a < pd; ++a) {
+      for (int b = a; b < pd; ++b) {
+        const int e = CurvatureBounds::Entry(a, b);
+        B along(0.0), spread(0.0), size(0.0);
+        for (int k = 0; k < ad; ++k) {
+          along += d[k] * B(bounds.nw_[e][k].mid());
+          spread += xsimd::abs(d[k]) * B(bounds.nw_[e][k].radius());
+          size += xsimd::abs(d[k] * B(bounds.nw_[e][k].mid()));
+        }
+        B weightLo(0.0), weightHi(0.0);
+        if (bounds.rational_) {
+          const B atLo = weightFactor * B(bounds.ww_[e].lo), atHi = weightFactor * B(bounds.ww_[e].hi);
+          weightLo = xsimd::min(atLo, atHi);
+          weightHi = xsimd::max(atLo, atHi);
+          size += xsimd::abs(weightLo) + xsimd::abs(weightHi);
+        }
+        const B rounding = B(lanes::kBoundSumRoundingLanes) * size;
+        lo[a][b] = B(bounds.nn_[e].lo) - B(2.0) * (along + spread) + weightLo - rounding;
+        hi[a][b] = B(bounds.nn_[e].hi) - B(2.0) * (along - spread) + weightHi + rounding;
+      }
+    }
+    const M positive = pd == 1 ? lanes::IntervalMatrixIsPositiveLanes<A, 1>(lo, hi)
+                               : lanes::IntervalMatrixIsPositiveLanes<A, 2>(lo, hi);
+    xsimd::select(positive, B(1.0), B(0.0)).store_aligned(buffer);
+    for (int l = 0; l < valid; ++l) proved[first + l] = buffer[l] != 0.0;
+  }
+}
+
+}  // namespace invmap::kernels
 
 /// Defines the entry points of one instruction set (newton_lanes_<isa>.cpp).
 #define INVMAP_NEWTON_LANES_ISA(Suffix, Arch)                                                                     \
@@ -540,5 +659,9 @@ void NetLowerBoundLanesFor(const NetLanes& nets, int count, const double* const 
   }                                                                                                             \
   void NetLowerBoundLanes##Suffix(const NetLanes& nets, int count, const double* const point[3], double* lower) { \
     NetLowerBoundLanesFor<Arch>(nets, count, point, lower);                                                     \
+  }                                                                                                             \
+  void ProvesConvexLanes##Suffix(const CurvatureBounds& bounds, int count, const double* const point[3],        \
+                                 const double* level, bool* proved) {                                           \
+    CurvatureLanes::Prove<Arch>(bounds, count, point, level, proved);                                           \
   }                                                                                                             \
   }

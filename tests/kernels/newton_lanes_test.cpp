@@ -18,7 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "kernels/bernstein_net.h"
 #include "kernels/cell_solver.h"
+#include "kernels/curvature_bounds.h"
 #include "kernels/distance_net.h"
 #include "kernels/newton_lanes.h"
 #include "tests/support/reference_cell.h"
@@ -393,6 +395,52 @@ TEST(NewtonLanes, NetLowerBoundsOfAllLanes) {
       }
     }
   }
+}
+
+/// The curvature bounds' certificate for all lanes: the scalar test's
+/// answer lane by lane on every instruction set, at levels where it holds
+/// and where it fails.
+TEST(NewtonLanes, CurvatureCertificateOfAllLanesIsTheScalarOne) {
+  std::mt19937_64 rng(67);
+  int proved = 0, refused = 0;
+  for (const Combination& c : CoveredCombinations()) {
+    if (c.degree < 2) continue;
+    SCOPED_TRACE(Name(c));
+    for (double bend : {0.02, 0.2}) {
+      // Mildly curved cells (a B-spline surface's spans) and strongly curved ones.
+      RefCell cell = RandomCurvedCell(c.type, c.degree, false, c.ambientDim, rng);
+      for (double& x : cell.points) x += bend * (std::uniform_real_distribution<double>(-1, 1)(rng));
+      double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, center[3] = {0, 0, 0};
+      for (int p = 0; p < cell.numControlPoints(); ++p) {
+        for (int k = 0; k < cell.ambientDim; ++k) {
+          lo[k] = std::min(lo[k], cell.points[p * cell.ambientDim + k]);
+          hi[k] = std::max(hi[k], cell.points[p * cell.ambientDim + k]);
+        }
+      }
+      for (int k = 0; k < cell.ambientDim; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
+      kernels::DistanceNets nets;
+      nets.Build(cell.view(), center);
+      const kernels::CurvatureBounds bounds(nets, kernels::HessianStencil::Get(nets.shape()));
+      const LaneInput in = MakeInput(cell, 41, rng);
+      std::vector<double> level(in.count());
+      for (double& v : level) v = std::uniform_real_distribution<double>(0.0, 0.05)(rng) * cell.size() * cell.size();
+      const double* points[3] = {in.coord[0].data(), in.coord[1].data(), in.coord[2].data()};
+      for (LaneIsa isa : AvailableIsas()) {
+        std::vector<char> lanes(in.count());
+        kernels::ProvesConvexLanes(bounds, in.count(), points, level.data(), reinterpret_cast<bool*>(lanes.data()),
+                                   isa);
+        for (int l = 0; l < in.count(); ++l) {
+          const double p[3] = {in.coord[0][l], in.coord[1][l], in.coord[2][l]};
+          const bool scalar = bounds.ProvesConvex(p, level[l]);
+          EXPECT_EQ(lanes[l] != 0, scalar) << kernels::LaneIsaName(isa) << " lane " << l;
+          (scalar ? proved : refused) += 1;
+        }
+      }
+    }
+  }
+  // Both answers occur, so the comparison says something.
+  EXPECT_GT(proved, 0);
+  EXPECT_GT(refused, 0);
 }
 
 }  // namespace
