@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace invmap::cli {
 
 /// Options shared by invert and trim.
@@ -61,5 +65,21 @@ struct GridCommandOptions {
 };
 
 int RunGrid(const GridCommandOptions& options);
+
+/// `invmap probe`: node fields at the closest points (docs/fields.md).
+struct ProbeOptions {
+  std::string geometry;
+  std::string points;
+  std::string output;
+  std::vector<std::string> fields;  ///< --fields; empty: every field.
+  double maxDistance = std::numeric_limits<double>::infinity();
+  int threads = 0;
+  std::int64_t timeStep = 0;        ///< Exodus: 1-based time step; 0: the last.
+  bool quiet = false;
+};
+
+int RunProbe(const ProbeOptions& options);
+/// Adds the `probe` subcommand and its options to `app`.
+CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options);
 
 }  // namespace invmap::cli

@@ -8,6 +8,7 @@
 #include <new>
 
 #include "cli/commands.h"
+#include "fem/register_readers.h"
 #include "invmap/invmap.h"
 #include "io/input_error.h"
 
@@ -39,6 +40,7 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
 }  // namespace
 
 int main(int argc, char** argv) {
+  invmap::fem::RegisterFemReaders();
   CLI::App app{"invmap: closest points, cells and parameters of point clouds on parametric geometry"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("invmap ") + invmap::Version());
@@ -96,6 +98,9 @@ int main(int argc, char** argv) {
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 
+  invmap::cli::ProbeOptions probe;
+  CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -110,6 +115,7 @@ int main(int argc, char** argv) {
       return invmap::cli::RunTrim(trim);
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
+    if (*probeCommand) return invmap::cli::RunProbe(probe);
     if (*generateCommand) {
       if (generate.what == "points" && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate points: --geometry is required\n");

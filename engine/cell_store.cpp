@@ -12,32 +12,6 @@
 namespace invmap::engine {
 namespace {
 
-/// Vertices per linear mesh cell, and the finite-element to Bezier order
-/// (FORMATS.md: quads and hexes list their faces counter-clockwise, Bezier
-/// nets are tensor products with the first coordinate fastest).
-struct MeshCellLayout {
-  int vertices;
-  int bezierFromFe[8];
-};
-
-MeshCellLayout LayoutOf(CellType type) {
-  switch (type) {
-    case CellType::Line:
-      return {2, {0, 1}};
-    case CellType::Tri:
-      return {3, {0, 1, 2}};
-    case CellType::Quad:
-      return {4, {0, 1, 3, 2}};
-    case CellType::Tet:
-      return {4, {0, 1, 2, 3}};
-    case CellType::Hex:
-      return {8, {0, 1, 3, 2, 4, 5, 7, 6}};
-    case CellType::Wedge:
-      return {6, {0, 1, 2, 3, 4, 5}};
-  }
-  return {0, {}};
-}
-
 std::string CheckCoordinates(const std::vector<double>& values, const char* field, int stride) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
@@ -121,6 +95,24 @@ std::string BezierShape(CellType cell, const int* degreeList, int count, int dim
 }  // namespace
 
 kernels::CellType ToKernelType(CellType type) { return static_cast<kernels::CellType>(type); }
+
+MeshCellLayout LayoutOf(CellType type) {
+  switch (type) {
+    case CellType::Line:
+      return {2, {0, 1}};
+    case CellType::Tri:
+      return {3, {0, 1, 2}};
+    case CellType::Quad:
+      return {4, {0, 1, 3, 2}};
+    case CellType::Tet:
+      return {4, {0, 1, 2, 3}};
+    case CellType::Hex:
+      return {8, {0, 1, 3, 2, 4, 5, 7, 6}};
+    case CellType::Wedge:
+      return {6, {0, 1, 2, 3, 4, 5}};
+  }
+  return {0, {}};
+}
 
 void CellStore::SubdivisionHullPoints(std::int64_t s, std::vector<double>* xyz) const {
   if (isRegion(s)) {

@@ -126,4 +126,14 @@ class CellStore {
 /// Converts the public cell type to the kernels' one.
 kernels::CellType ToKernelType(CellType type);
 
+/// Vertices per linear mesh cell, and the finite-element to Bezier order
+/// (docs/formats.md: quads and hexes list their faces counter-clockwise,
+/// Bezier nets are tensor products with the first coordinate fastest):
+/// control point k of the degree-1 cell is vertex bezierFromFe[k].
+struct MeshCellLayout {
+  int vertices;
+  int bezierFromFe[8];
+};
+MeshCellLayout LayoutOf(CellType type);
+
 }  // namespace invmap::engine

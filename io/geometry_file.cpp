@@ -6,11 +6,13 @@
 #include "io/input_error.h"
 #include "io/mesh_readers.h"
 #include "io/ply_mesh.h"
+#include "io/reader_registry.h"
 
 namespace invmap::io {
 
 Geometry ReadGeometryFile(const std::string& path) {
   const std::string ext = LowerExtension(path);
+  if (const RegisteredReader* reader = FindRegisteredReader(path)) return reader->read(path, {}).geometry;
   if (ext == ".json") return ReadGeometryJson(path);
   if (ext == ".obj" || ext == ".stl" || ext == ".off") return ReadMeshFile(path);
   if (ext == ".ply") return ReadPlyMesh(path);
@@ -18,7 +20,8 @@ Geometry ReadGeometryFile(const std::string& path) {
   throw InputError(
       path, 0,
       (ext.empty() ? std::string("no file extension") : "unknown geometry file extension \"" + ext + "\"") +
-          " (supported: .json, .obj, .stl, .off, .ply, .msh)");
+          " (supported: .json, .obj, .stl, .off, .ply, .msh" +
+          (RegisteredExtensions().empty() ? std::string() : ", " + RegisteredExtensions()) + ")");
 }
 
 }  // namespace invmap::io

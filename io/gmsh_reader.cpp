@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <istream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string_view>
@@ -44,6 +45,7 @@ struct MeshData {
   std::vector<std::int64_t> elementNodes;         ///< Node indices (into nodes / 3) of every cell element.
   std::vector<ElementBlock> blocks;
   bool anyVolume = false;
+  std::vector<GmshNodeView> nodeViews;  ///< $NodeData, the last time step of each view.
 };
 
 /// Maps node tags to node indices: a dense table when the tags are compact
@@ -135,6 +137,9 @@ class GmshParser {
         Once(&haveElements, token);
         if (!haveNodes) Fail("$Elements before $Nodes");
         ReadElements();
+      } else if (token == "$NodeData") {
+        if (!haveNodes) Fail("$NodeData before $Nodes");
+        ReadNodeData();
       } else if (token == "$PartitionedEntities") {
         Fail("partitioned meshes ($PartitionedEntities) are not supported: save the mesh without partitions");
       } else if (token.size() > 1 && token[0] == '$' && token.substr(0, 4) != "$End") {
@@ -510,6 +515,73 @@ class GmshParser {
     ExpectEnd("Elements");
   }
 
+  /// A string tag: a quoted string that may hold spaces (the rest of its
+  /// line up to the closing quote), or a bare token.
+  std::string StringTag(const char* what) {
+    const std::string_view token = Token(what);
+    if (token.empty() || token.front() != '"') return std::string(token);
+    const std::string_view line(token.data(), static_cast<std::size_t>(rest_.data() + rest_.size() - token.data()));
+    const std::size_t close = line.find('"', 1);
+    if (close == std::string_view::npos) Fail(std::string(what) + " has no closing quote");
+    rest_ = line.substr(close + 1);
+    return std::string(line.substr(1, close - 1));
+  }
+
+  /// One $NodeData section: string tags (the view's name first), real tags
+  /// (its time first), integer tags (time step, components, count, and a
+  /// partition), then `count` records of a node tag and its components (in
+  /// binary files a 4-byte int and doubles). Keeps the highest time step of
+  /// each view; sections of the same step (partitions) add their nodes.
+  void ReadNodeData() {
+    const std::int64_t numStrings = TextInt("the number of string tags");
+    if (numStrings < 1) Fail("$NodeData needs a string tag with the view's name");
+    CheckCount(static_cast<std::uint64_t>(numStrings), 3, "string tag");
+    const std::string name = StringTag("the view's name");
+    for (std::int64_t i = 1; i < numStrings; ++i) StringTag("a string tag");
+    const std::int64_t numReals = TextInt("the number of real tags");
+    if (numReals < 0) Fail("negative number of real tags");
+    CheckCount(static_cast<std::uint64_t>(numReals), 2, "real tag");
+    for (std::int64_t i = 0; i < numReals; ++i) TextReal("a real tag");
+    const std::int64_t numIntegers = TextInt("the number of integer tags");
+    if (numIntegers < 3) Fail("$NodeData needs 3 integer tags (time step, components, count)");
+    CheckCount(static_cast<std::uint64_t>(numIntegers), 2, "integer tag");
+    const std::int64_t step = TextInt("the time step");
+    const std::int64_t components = TextInt("the number of components");
+    const std::int64_t count = TextInt("the number of nodes with data");
+    for (std::int64_t i = 3; i < numIntegers; ++i) TextInt("an integer tag");
+    if (components < 1 || components > 9) Fail("view '" + name + "': " + std::to_string(components) + " components, expected 1 to 9");
+    if (count < 0) Fail("view '" + name + "': negative number of nodes");
+    CheckCount(static_cast<std::uint64_t>(count), MinBytes(4) + MinBytes(8) * static_cast<std::uint64_t>(components),
+               "node data");
+
+    const std::size_t numNodes = mesh_.nodes.size() / 3;
+    auto view = std::find_if(mesh_.nodeViews.begin(), mesh_.nodeViews.end(),
+                             [&](const GmshNodeView& v) { return v.name == name; });
+    if (view == mesh_.nodeViews.end()) {
+      view = mesh_.nodeViews.insert(mesh_.nodeViews.end(), GmshNodeView{name, -1, static_cast<int>(components), {}});
+    }
+    const bool keep = step >= view->timeStep;
+    if (step > view->timeStep) {
+      view->timeStep = step;
+      view->components = static_cast<int>(components);
+      view->values.assign(numNodes * static_cast<std::size_t>(components), std::numeric_limits<double>::quiet_NaN());
+    } else if (keep && components != view->components) {
+      Fail("view '" + name + "': time step " + std::to_string(step) + " has " + std::to_string(components) +
+           " components in one section and " + std::to_string(view->components) + " in another");
+    }
+    if (binary_) StartBinary("$NodeData");
+    for (std::int64_t i = 0; i < count; ++i) {
+      const std::int64_t tag = binary_ ? Binary<std::int32_t>("a node tag") : TextInt("a node tag");
+      const std::int64_t index = tag < 0 ? -1 : nodeIndex_->Find(static_cast<std::uint64_t>(tag));
+      if (index < 0) Fail("view '" + name + "' has data for node " + std::to_string(tag) + ", which $Nodes does not define");
+      for (std::int64_t k = 0; k < components; ++k) {
+        const double value = Real("a node data value");
+        if (keep) view->values[static_cast<std::size_t>(index * components + k)] = value;
+      }
+    }
+    ExpectEnd("NodeData");
+  }
+
   /// Error for a block of an element type invmap does not convert, naming its
   /// first element.
   [[noreturn]] void RejectType(int mshType, std::uint64_t count) {
@@ -531,23 +603,6 @@ class GmshParser {
   bool binary_ = false;
   bool bigEndian_ = false;
 };
-
-/// Degrees of a cell as Patch::cellDegrees stores them (3 per cell).
-std::array<int, 3> CellDegrees(const GmshElementType& type) {
-  const int p = type.order;
-  switch (type.cell) {
-    case CellType::Line:
-    case CellType::Tri:
-    case CellType::Tet:
-      return {p, 0, 0};
-    case CellType::Quad:
-    case CellType::Wedge:
-      return {p, p, 0};
-    case CellType::Hex:
-      return {p, p, p};
-  }
-  return {0, 0, 0};
-}
 
 /// Turns parsed sections into patches of Bezier cells.
 class GeometryBuilder {
@@ -572,12 +627,41 @@ class GeometryBuilder {
     if (patches.empty()) patches = EntityPatches();
     for (auto& [source, blocks] : patches) {
       geometry.patches.push_back(MakePatch(blocks));
+      patchBlocks_.push_back(blocks);
       if (sources != nullptr) sources->push_back(std::move(source));
     }
     if (geometry.patches.empty()) {
       throw InputError(name_, 0, "no cells: the mesh has no line, surface or volume elements");
     }
     return geometry;
+  }
+
+  /// A view as a field over the patches Build made: each element's nodal
+  /// values through its change of basis, in the patch's point order.
+  NodeField MakeField(const GmshNodeView& view) {
+    NodeField field;
+    field.name = view.name;
+    field.components = view.components;
+    const std::size_t n = static_cast<std::size_t>(view.components);
+    std::vector<double> nodal;
+    for (const std::vector<const ElementBlock*>& blocks : patchBlocks_) {
+      std::vector<double>& out = field.patchValues.emplace_back();
+      for (const ElementBlock* block : blocks) {
+        const GmshElementType& type = *block->type;
+        const LagrangeToBernstein& converter = Converter(type);
+        nodal.resize(type.numNodes * n);
+        for (std::int64_t e = 0; e < block->count; ++e) {
+          const std::int64_t* nodes = mesh_.elementNodes.data() + block->firstNode + e * type.numNodes;
+          for (int j = 0; j < type.numNodes; ++j) {
+            std::copy_n(view.values.data() + nodes[j] * n, n, nodal.data() + j * n);
+          }
+          const std::size_t first = out.size();
+          out.resize(first + converter.numControlPoints() * n);
+          converter.ApplyToValues(nodal.data(), view.components, out.data() + first);
+        }
+      }
+    }
+    return field;
   }
 
  private:
@@ -679,7 +763,7 @@ class GeometryBuilder {
     for (const ElementBlock* block : blocks) {
       const GmshElementType& type = *block->type;
       const LagrangeToBernstein& converter = Converter(type);
-      const std::array<int, 3> degrees = CellDegrees(type);
+      const std::array<int, 3> degrees = UniformDegrees(type.cell, type.order);
       nodal.resize(3 * static_cast<std::size_t>(type.numNodes));
       for (std::int64_t e = 0; e < block->count; ++e) {
         const std::int64_t* nodes = mesh_.elementNodes.data() + block->firstNode + e * type.numNodes;
@@ -699,29 +783,48 @@ class GeometryBuilder {
   const MeshData& mesh_;
   std::string name_;
   int dim_ = 3;
+  std::vector<std::vector<const ElementBlock*>> patchBlocks_;  ///< The blocks of each patch built.
   std::map<std::pair<int, int>, const Entity*> entities_;  ///< By (dim, tag).
   std::map<int, LagrangeToBernstein> converters_;          ///< By gmsh element type.
 };
 
-/// Both ReadGmsh overloads.
-Geometry ReadGmshBuffer(InputBuffer& in, std::vector<GmshPatchSource>* sources) {
+/// Every ReadGmsh and ReadGmshWithFields overload; fields only when asked.
+FieldGeometry ReadGmshBuffer(InputBuffer& in, std::vector<GmshPatchSource>* sources, bool withFields) {
   const MeshData mesh = GmshParser(in).Parse();
   if (sources != nullptr) sources->clear();
-  return GeometryBuilder(mesh, in.name()).Build(sources);
+  GeometryBuilder builder(mesh, in.name());
+  FieldGeometry out;
+  out.geometry = builder.Build(sources);
+  if (withFields) {
+    for (const GmshNodeView& view : mesh.nodeViews) out.fields.push_back(builder.MakeField(view));
+  }
+  return out;
 }
+
+/// A second istream over the caller's buffer: InputBuffer owns its stream,
+/// the caller keeps theirs.
+std::unique_ptr<std::istream> SharedStream(std::istream& in) { return std::make_unique<std::istream>(in.rdbuf()); }
 
 }  // namespace
 
 Geometry ReadGmsh(const std::string& path, std::vector<GmshPatchSource>* sources) {
   InputBuffer in(path);
-  return ReadGmshBuffer(in, sources);
+  return ReadGmshBuffer(in, sources, false).geometry;
 }
 
 Geometry ReadGmsh(std::istream& in, const std::string& name, std::vector<GmshPatchSource>* sources) {
-  // A second istream over the same buffer: InputBuffer owns its stream, the
-  // caller keeps theirs.
-  InputBuffer buffer(std::make_unique<std::istream>(in.rdbuf()), name);
-  return ReadGmshBuffer(buffer, sources);
+  InputBuffer buffer(SharedStream(in), name);
+  return ReadGmshBuffer(buffer, sources, false).geometry;
+}
+
+FieldGeometry ReadGmshWithFields(const std::string& path, std::vector<GmshPatchSource>* sources) {
+  InputBuffer in(path);
+  return ReadGmshBuffer(in, sources, true);
+}
+
+FieldGeometry ReadGmshWithFields(std::istream& in, const std::string& name, std::vector<GmshPatchSource>* sources) {
+  InputBuffer buffer(SharedStream(in), name);
+  return ReadGmshBuffer(buffer, sources, true);
 }
 
 }  // namespace invmap::io

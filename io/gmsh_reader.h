@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "invmap/fields.h"
 #include "invmap/invmap.h"
 
 namespace invmap::io {
@@ -55,5 +56,30 @@ Geometry ReadGmsh(const std::string& path, std::vector<GmshPatchSource>* sources
 
 /// The same from a stream (read to its end), named `name` in messages.
 Geometry ReadGmsh(std::istream& in, const std::string& name, std::vector<GmshPatchSource>* sources = nullptr);
+
+/// One view of a file's $NodeData sections: the values of its highest time
+/// step at every node.
+struct GmshNodeView {
+  std::string name;
+  std::int64_t timeStep = -1;  ///< gmsh's time step index (from 0).
+  int components = 1;          ///< 1 (scalar), 3 (vector) or 9 (tensor); gmsh allows 1 to 9.
+  /// `components` values per node, in $Nodes order; NaN at nodes that no
+  /// section of this step gives a value.
+  std::vector<double> values;
+};
+
+/// ReadGmsh plus the file's $NodeData: one NodeField per view (its highest
+/// time step; sections of that step from several partitions together), in
+/// the order the views first appear, converted to each cell's Bernstein
+/// coefficients by the cell's own change of basis, so a cell interpolates
+/// the field exactly as gmsh's element does. A node without a value gives
+/// NaN coefficients to the cells around it. $NodeData sections need 3
+/// integer tags (time step, components, count) and refer to defined nodes,
+/// else InputError. $ElementData and $ElementNodeData are skipped.
+FieldGeometry ReadGmshWithFields(const std::string& path, std::vector<GmshPatchSource>* sources = nullptr);
+
+/// The same from a stream, named `name` in messages.
+FieldGeometry ReadGmshWithFields(std::istream& in, const std::string& name,
+                                 std::vector<GmshPatchSource>* sources = nullptr);
 
 }  // namespace invmap::io

@@ -201,6 +201,47 @@ LagrangeToBernstein::LagrangeToBernstein(CellType type, int degree, const std::v
     }
     if (!Solve(std::move(bernstein), m, &result, n)) throw std::invalid_argument("Bernstein lattice not unisolvent");
   }
+  SetMatrix(result);
+}
+
+LagrangeToBernstein LagrangeToBernstein::FromShapeValues(CellType type, int degree, int numNodes,
+                                                         const std::vector<double>& values) {
+  LagrangeToBernstein out;
+  out.numNodes_ = numNodes;
+  out.numControl_ = BernsteinCount(type, degree);
+  const int m = out.numControl_;
+  const int n = numNodes;
+  if (n < 1 || values.size() != static_cast<std::size_t>(m) * n) {
+    throw std::invalid_argument(std::to_string(values.size()) + " shape function values for " + std::to_string(m) +
+                                " lattice points and " + std::to_string(n) + " nodes");
+  }
+  const std::vector<std::array<double, 3>> lattice = BernsteinLattice(type, degree);
+  std::vector<Real> result(values.begin(), values.end());
+  std::vector<Real> bernstein(static_cast<std::size_t>(m) * m);
+  for (int y = 0; y < m; ++y) {
+    const std::vector<Real> b = BernsteinValues(type, degree, lattice[y]);
+    for (int l = 0; l < m; ++l) bernstein[y * m + l] = b[l];
+  }
+  if (!Solve(std::move(bernstein), m, &result, n)) throw std::invalid_argument("Bernstein lattice not unisolvent");
+  out.SetMatrix(result);
+  return out;
+}
+
+std::array<int, 3> UniformDegrees(CellType type, int degree) {
+  std::array<int, 3> degrees{0, 0, 0};
+  const std::size_t factors = FactorDims(type).size();
+  for (std::size_t f = 0; f < factors; ++f) degrees[f] = degree;
+  return degrees;
+}
+
+std::vector<double> BernsteinBasisAt(CellType type, int degree, const std::array<double, 3>& x) {
+  const std::vector<Real> b = BernsteinValues(type, degree, x);
+  return std::vector<double>(b.begin(), b.end());
+}
+
+void LagrangeToBernstein::SetMatrix(const std::vector<Real>& result) {
+  const int m = numControl_;
+  const int n = numNodes_;
   matrix_.resize(result.size());
   for (std::size_t i = 0; i < result.size(); ++i) matrix_[i] = static_cast<double>(result[i]);
   // A vertex's Bernstein coefficient is its nodal value; the solve leaves
@@ -238,6 +279,19 @@ void LagrangeToBernstein::Apply(const double* nodes, int dim, double* control) c
       for (int k = 0; k < dim; ++k) sum[k] += row[j] * (nodes[3 * j + k] - nodes[k]);
     }
     for (int k = 0; k < dim; ++k) control[i * dim + k] = nodes[k] + sum[k];
+  }
+}
+
+void LagrangeToBernstein::ApplyToValues(const double* nodal, int components, double* control) const {
+  for (int i = 0; i < numControl_; ++i) {
+    const double* row = matrix_.data() + static_cast<std::size_t>(i) * numNodes_;
+    for (int k = 0; k < components; ++k) {
+      double sum = 0.0;
+      for (int j = 0; j < numNodes_; ++j) {
+        if (row[j] != 0.0) sum += row[j] * nodal[static_cast<std::size_t>(j) * components + k];
+      }
+      control[static_cast<std::size_t>(i) * components + k] = sum;
+    }
   }
 }
 

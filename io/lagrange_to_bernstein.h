@@ -18,6 +18,14 @@ int BernsteinCount(CellType type, int degree);
 /// coordinates 0): a simplex multi-index a sits at a / degree.
 std::vector<std::array<double, 3>> BernsteinLattice(CellType type, int degree);
 
+/// Degrees of a cell as Patch::cellDegrees stores them (3 per cell, one per
+/// simplex factor, unused 0) for `degree` in every factor.
+std::array<int, 3> UniformDegrees(CellType type, int degree);
+
+/// Values of every Bernstein polynomial of a cell of `type` with degree
+/// `degree` in every factor at reference point x, in control point order.
+std::vector<double> BernsteinBasisAt(CellType type, int degree, const std::array<double, 3>& x);
+
 /// The linear map from the values of a polynomial at a cell's Lagrange nodes
 /// to its Bernstein control points of degree `degree` (every factor), built
 /// once per element type and applied to every element.
@@ -41,6 +49,16 @@ class LagrangeToBernstein {
   LagrangeToBernstein(CellType type, int degree, const std::vector<std::array<double, 3>>& nodes,
                       const std::vector<std::array<int, 3>>& monomials = {});
 
+  /// The change of basis of an element known by its shape functions alone
+  /// (a library's cell that evaluates them, such as VTK's): `values` holds
+  /// the numNodes shape functions at each point of BernsteinLattice(type,
+  /// degree), lattice point-major (values[y * numNodes + j] = N_j(y)). Exact
+  /// when the shape functions are polynomials of that degree; whether they
+  /// are is the caller's to check (BernsteinBasisAt). Throws
+  /// std::invalid_argument when the sizes do not match.
+  static LagrangeToBernstein FromShapeValues(CellType type, int degree, int numNodes,
+                                             const std::vector<double>& values);
+
   int numNodes() const { return numNodes_; }
   int numControlPoints() const { return numControl_; }
   /// Entry (i, j): weight of node j in control point i.
@@ -53,7 +71,18 @@ class LagrangeToBernstein {
   /// share vertices share their corner control points bit for bit.
   void Apply(const double* nodes, int dim, double* control) const;
 
+  /// Control values of a field over the element: `nodal` holds numNodes()
+  /// rows of `components` values (the element's nodes in order), `control`
+  /// receives numControlPoints() rows. A zero coefficient leaves its node
+  /// out, so a node without a value (NaN) spoils only the control values it
+  /// contributes to.
+  void ApplyToValues(const double* nodal, int components, double* control) const;
+
  private:
+  LagrangeToBernstein() = default;
+  /// Sets the matrix from C in long double, and marks the rows that copy a node.
+  void SetMatrix(const std::vector<long double>& result);
+
   int numNodes_ = 0;
   int numControl_ = 0;
   std::vector<double> matrix_;  ///< numControl_ x numNodes_, row-major.

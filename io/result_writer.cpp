@@ -63,8 +63,27 @@ constexpr unsigned char kNoColor = 128;
 /// Value of the fields that are empty in CSV.
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-/// Bytes a CSV row can take: 11 fields of at most 24 characters.
-constexpr std::size_t kMaxCsvRow = 11 * 25 + 1;
+/// Bytes a CSV row can take: 11 fields and the extra ones, each at most 24
+/// characters and a separator.
+constexpr std::size_t MaxCsvRow(std::size_t extraColumns) { return (11 + extraColumns) * 25 + 1; }
+
+/// A CSV header field: quoted (quotes doubled) when it holds a separator,
+/// a quote or a line break.
+std::string CsvName(const std::string& name) {
+  if (name.find_first_of(",\"\r\n") == std::string::npos) return name;
+  std::string quoted = "\"";
+  for (const char c : name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+/// A PLY property name: one token.
+std::string PlyName(const std::string& name) {
+  std::string token = name.empty() ? std::string("_") : name;
+  for (char& c : token) {
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') c = '_';
+  }
+  return token;
+}
 
 /// Writes `value` as %.17g (to_chars with precision 17 in general format is
 /// specified to match printf, and is much faster) and returns the end.
@@ -87,15 +106,18 @@ const char* const kStatusWords[] = {"found", "none", "invalid"};
 class CsvResultWriter : public ResultWriter {
  public:
   /// Creates the file and writes the header line.
-  CsvResultWriter(const std::string& path, int dim) : ResultWriter(path, dim) {
-    out_.Write("index,status,patch,cell,u,v,w,x,y,z,distance\n");
+  CsvResultWriter(const std::string& path, int dim, const std::vector<std::string>& extraColumns)
+      : ResultWriter(path, dim, extraColumns.size()) {
+    std::string header = "index,status,patch,cell,u,v,w,x,y,z,distance";
+    for (const std::string& name : extraColumns) header += "," + CsvName(name);
+    out_.Write(header + "\n");
   }
 
  private:
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double*, std::size_t count, const Results& results) override {
+  void WriteRows(const double*, std::size_t count, const Results& results, const double* extra) override {
     for (std::size_t i = 0; i < count; ++i) {
-      char* const start = out_.Reserve(kMaxCsvRow);
+      char* const start = out_.Reserve(MaxCsvRow(extraColumns_));
       char* p = WriteInteger(start, rows_ + static_cast<std::int64_t>(i));
       *p++ = ',';
       const Status status = results.status[i];
@@ -104,8 +126,12 @@ class CsvResultWriter : public ResultWriter {
       std::memcpy(p, word, length);
       p += length;
       if (status != Status::Found) {
-        std::memcpy(p, ",-1,-1,,,,,,,\n", 14);
-        out_.Advance(static_cast<std::size_t>(p - start) + 14);
+        std::memcpy(p, ",-1,-1,,,,,,,", 13);
+        p += 13;
+        std::memset(p, ',', extraColumns_);
+        p += extraColumns_;
+        *p++ = '\n';
+        out_.Advance(static_cast<std::size_t>(p - start));
         continue;
       }
       *p++ = ',';
@@ -117,7 +143,10 @@ class CsvResultWriter : public ResultWriter {
       p = WriteField(p, results.closest[3 * i], ',');
       p = WriteField(p, results.closest[3 * i + 1], ',');
       p = WriteField(p, dim_ == 3 ? results.closest[3 * i + 2] : kNan, ',');
-      p = WriteField(p, results.distance[i], '\n');
+      p = WriteField(p, results.distance[i], extraColumns_ > 0 ? ',' : '\n');
+      for (std::size_t k = 0; k < extraColumns_; ++k) {
+        p = WriteField(p, extra[i * extraColumns_ + k], k + 1 < extraColumns_ ? ',' : '\n');
+      }
       out_.Advance(static_cast<std::size_t>(p - start));
     }
   }
@@ -131,8 +160,8 @@ class PlyResultWriter : public ResultWriter {
  public:
   /// Creates the file and writes the header with a zero count.
   PlyResultWriter(const std::string& path, int dim, const ResultWriteOptions& options)
-      : ResultWriter(path, dim), options_(options) {
-    recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.colorByDistance ? 3 : 0);
+      : ResultWriter(path, dim, options.extraColumns.size()), options_(options) {
+    recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.colorByDistance ? 3 : 0) + 8 * extraColumns_;
     twoPass_ = options_.colorByDistance && (std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n";
     if (options_.colorByDistance) {
@@ -148,6 +177,7 @@ class PlyResultWriter : public ResultWriter {
       header += std::string("property double ") + name + "\n";
     }
     if (options_.colorByDistance) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    for (const std::string& name : options_.extraColumns) header += "property double " + PlyName(name) + "\n";
     header += "end_header\n";
     dataOffset_ = static_cast<std::int64_t>(header.size());
     out_.Write(header);
@@ -178,8 +208,14 @@ class PlyResultWriter : public ResultWriter {
     ViridisColor(hi > lo ? (distance - lo) / (hi - lo) : 0.0, rgb);
   }
 
+  /// Offsets in a record of the status byte and of the distance.
+  static constexpr std::size_t kStatusOffset = 3 * 8;
+  static constexpr std::size_t kDistanceOffset = 3 * 8 + 1 + 2 * 4 + 6 * 8;
+  /// Offset of the colours, right after the distance.
+  static constexpr std::size_t kColorOffset = kDistanceOffset + 8;
+
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double* points, std::size_t count, const Results& results) override {
+  void WriteRows(const double* points, std::size_t count, const Results& results, const double* extra) override {
     if (points == nullptr && count > 0) throw std::invalid_argument("ResultWriter: PLY output needs the query points");
     for (std::size_t i = 0; i < count; ++i) {
       char* const start = out_.Reserve(recordBytes_);
@@ -215,6 +251,10 @@ class PlyResultWriter : public ResultWriter {
           maxDistance_ = std::max(maxDistance_, values[6]);
         }
         std::memcpy(p, rgb, 3);
+        p += 3;
+      }
+      for (std::size_t k = 0; k < extraColumns_; ++k, p += 8) {
+        StoreLittleEndian<double>(p, found ? extra[i * extraColumns_ + k] : kNan);
       }
       out_.Advance(recordBytes_);
     }
@@ -242,16 +282,16 @@ class PlyResultWriter : public ResultWriter {
       out_.ReadAt(offset, block.data(), block.size());
       for (std::int64_t r = 0; r < n; ++r) {
         char* record = block.data() + static_cast<std::size_t>(r) * recordBytes_;
-        if (record[24] != static_cast<char>(Status::Found)) continue;
-        const double distance = LoadValue<double>(record + recordBytes_ - 3 - 8, false);
-        Color(distance, lo, hi, reinterpret_cast<unsigned char*>(record + recordBytes_ - 3));
+        if (record[kStatusOffset] != static_cast<char>(Status::Found)) continue;
+        const double distance = LoadValue<double>(record + kDistanceOffset, false);
+        Color(distance, lo, hi, reinterpret_cast<unsigned char*>(record + kColorOffset));
       }
       out_.WriteAt(offset, block.data(), block.size());
     }
   }
 
   ResultWriteOptions options_;
-  std::size_t recordBytes_ = 0;          ///< 89 bytes, 92 with colours.
+  std::size_t recordBytes_ = 0;          ///< 89 bytes, 92 with colours, 8 more per extra column.
   bool twoPass_ = false;                 ///< Colours wait for the distance range at Complete.
   std::int64_t countOffset_ = 0;         ///< Offset of the vertex count digits.
   std::int64_t colorCommentOffset_ = 0;  ///< Offset of the colour comment line.
@@ -265,8 +305,9 @@ class PlyResultWriter : public ResultWriter {
 class NpyResultWriter : public ResultWriter {
  public:
   /// Creates the file with a fixed-size header for 0 rows.
-  NpyResultWriter(const std::string& path, int dim) : ResultWriter(path, dim) {
-    out_.Write(FixedNpyHeader("<f8", 0, kColumns));
+  NpyResultWriter(const std::string& path, int dim, std::size_t extraColumns)
+      : ResultWriter(path, dim, extraColumns) {
+    out_.Write(FixedNpyHeader("<f8", 0, static_cast<int>(kColumns + extraColumns_)));
   }
 
  private:
@@ -274,7 +315,7 @@ class NpyResultWriter : public ResultWriter {
   static constexpr int kColumns = 11;
 
   /// See ResultWriter::WriteRows.
-  void WriteRows(const double*, std::size_t count, const Results& results) override {
+  void WriteRows(const double*, std::size_t count, const Results& results, const double* extra) override {
     for (std::size_t i = 0; i < count; ++i) {
       const bool found = results.status[i] == Status::Found;
       double row[kColumns] = {static_cast<double>(rows_ + static_cast<std::int64_t>(i)),
@@ -295,18 +336,21 @@ class NpyResultWriter : public ResultWriter {
         for (int k = 0; k < dim_; ++k) row[7 + k] = results.closest[3 * i + k];
         row[10] = results.distance[i];
       }
-      char* p = out_.Reserve(sizeof(row));
+      char* p = out_.Reserve(sizeof(row) + 8 * extraColumns_);
       for (double value : row) {
         StoreLittleEndian<double>(p, value);
         p += 8;
       }
-      out_.Advance(sizeof(row));
+      for (std::size_t k = 0; k < extraColumns_; ++k, p += 8) {
+        StoreLittleEndian<double>(p, found ? extra[i * extraColumns_ + k] : kNan);
+      }
+      out_.Advance(sizeof(row) + 8 * extraColumns_);
     }
   }
 
   /// Rewrites the header with the row count.
   void Complete() override {
-    const std::string header = FixedNpyHeader("<f8", rows_, kColumns);
+    const std::string header = FixedNpyHeader("<f8", rows_, static_cast<int>(kColumns + extraColumns_));
     out_.WriteAt(0, header.data(), header.size());
   }
 };
@@ -323,7 +367,7 @@ void ViridisColor(double t, unsigned char rgb[3]) {
 }
 
 void ResultWriter::WriteChunk(const double* points, std::size_t count, const Results& results,
-                              std::int64_t firstIndex) {
+                              std::int64_t firstIndex, const double* extra) {
   if (finished_) throw std::logic_error("ResultWriter::WriteChunk after Finish");
   if (firstIndex != rows_) {
     throw std::invalid_argument("ResultWriter::WriteChunk: firstIndex " + std::to_string(firstIndex) + " but " +
@@ -333,7 +377,10 @@ void ResultWriter::WriteChunk(const double* points, std::size_t count, const Res
       results.distance.size() < count || results.params.size() < 3 * count || results.closest.size() < 3 * count) {
     throw std::invalid_argument("ResultWriter::WriteChunk: results hold fewer than count points");
   }
-  WriteRows(points, count, results);
+  if (extraColumns_ > 0 && extra == nullptr && count > 0) {
+    throw std::invalid_argument("ResultWriter::WriteChunk: the extra columns need their values");
+  }
+  WriteRows(points, count, results, extra);
   rows_ += static_cast<std::int64_t>(count);
 }
 
@@ -347,9 +394,9 @@ void ResultWriter::Finish() {
 std::unique_ptr<ResultWriter> OpenResultWriter(const std::string& path, int dim, const ResultWriteOptions& options) {
   if (dim != 2 && dim != 3) throw std::invalid_argument("OpenResultWriter: dim must be 2 or 3");
   const std::string ext = LowerExtension(path);
-  if (ext == ".csv") return std::make_unique<CsvResultWriter>(path, dim);
+  if (ext == ".csv") return std::make_unique<CsvResultWriter>(path, dim, options.extraColumns);
   if (ext == ".ply") return std::make_unique<PlyResultWriter>(path, dim, options);
-  if (ext == ".npy") return std::make_unique<NpyResultWriter>(path, dim);
+  if (ext == ".npy") return std::make_unique<NpyResultWriter>(path, dim, options.extraColumns.size());
   throw InputError(path, 0, "unknown result file extension '" + ext + "' (expected .csv, .ply or .npy)",
                    InputError::Kind::Output);
 }

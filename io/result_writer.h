@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "invmap/invmap.h"
 #include "io/file_io.h"
@@ -31,6 +32,12 @@ struct ResultWriteOptions {
   /// of the found points (second pass as for colorMin). The CLI can pass
   /// --max-distance here to keep one pass.
   double colorMax = std::numeric_limits<double>::quiet_NaN();
+  /// Columns after the standard ones (`invmap probe`'s field components):
+  /// CSV columns after `distance`, PLY double properties after all others,
+  /// npy columns 11, 12, ... Their values come with each chunk (WriteChunk's
+  /// `extra`); NaN is an empty CSV field. A name with a comma or a quote is
+  /// quoted in the CSV header; white space becomes '_' in PLY names.
+  std::vector<std::string> extraColumns;
 };
 
 /// Writes result rows to one file. Not thread-safe.
@@ -61,9 +68,11 @@ class ResultWriter {
   /// `count` entries per field, params and closest 3 per point).
   /// `firstIndex`: the input index of the first point; it must equal the
   /// number of rows written so far (rows are in input order), else
-  /// std::invalid_argument. Throws InputError of kind Output when the file
-  /// cannot be written.
-  void WriteChunk(const double* points, std::size_t count, const Results& results, std::int64_t firstIndex);
+  /// std::invalid_argument. `extra`: the values of the extra columns,
+  /// count * extraColumns.size() values point-major (null when there are
+  /// none). Throws InputError of kind Output when the file cannot be written.
+  void WriteChunk(const double* points, std::size_t count, const Results& results, std::int64_t firstIndex,
+                  const double* extra = nullptr);
 
   /// Completes the file (header counts, colours) and renames it onto the
   /// output path. Without a successful Finish the output path is left as
@@ -75,16 +84,18 @@ class ResultWriter {
 
  protected:
   /// Creates the temporary output for `path`.
-  ResultWriter(const std::string& path, int dim) : out_(path), dim_(dim) {}
+  ResultWriter(const std::string& path, int dim, std::size_t extraColumns)
+      : out_(path), dim_(dim), extraColumns_(extraColumns) {}
 
   /// Appends rows for points [0, count) of the chunk; row i has index
-  /// rows_ + i.
-  virtual void WriteRows(const double* points, std::size_t count, const Results& results) = 0;
+  /// rows_ + i; `extra` as in WriteChunk.
+  virtual void WriteRows(const double* points, std::size_t count, const Results& results, const double* extra) = 0;
   /// Patches what the header needs once all rows are written.
   virtual void Complete() = 0;
 
   AtomicOutput out_;       ///< The output, renamed into place by Finish.
   int dim_;                ///< Dimension of the query points, 2 or 3.
+  std::size_t extraColumns_;  ///< ResultWriteOptions::extraColumns.size().
   std::int64_t rows_ = 0;  ///< Rows written so far.
 
  private:

@@ -6,6 +6,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "python/byte_state.h"
+
 namespace invmap::python {
 namespace {
 
@@ -15,70 +17,11 @@ constexpr char kMagic[8] = {'i', 'n', 'v', 'm', 'a', 'p', 'G', '1'};
 /// Read back as another value when the writer had the other byte order.
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 
-/// Appends trivially copyable values to a byte string.
-class Writer {
- public:
-  explicit Writer(std::string* out) : out_(out) {}
-
-  template <typename T>
-  void Value(const T& value) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    out_->append(reinterpret_cast<const char*>(&value), sizeof(T));
-  }
-
-  /// The length as a uint64, then the elements.
-  template <typename T>
-  void Vector(const std::vector<T>& values) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    Value<std::uint64_t>(values.size());
-    out_->append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-  }
-
- private:
-  std::string* out_;
-};
-
-/// Reads what Writer wrote, checking every length against the bytes left.
-class Reader {
- public:
-  Reader(const char* data, std::size_t size) : data_(data), left_(size) {}
-
-  template <typename T>
-  T Value() {
-    T value;
-    Take(&value, sizeof(T));
-    return value;
-  }
-
-  template <typename T>
-  std::vector<T> Vector() {
-    const std::uint64_t count = Value<std::uint64_t>();
-    // Dividing (not multiplying) so that a corrupt length cannot overflow.
-    if (count > left_ / sizeof(T)) throw std::invalid_argument("geometry state: truncated");
-    std::vector<T> values(static_cast<std::size_t>(count));
-    Take(values.data(), values.size() * sizeof(T));
-    return values;
-  }
-
-  bool AtEnd() const { return left_ == 0; }
-
- private:
-  void Take(void* out, std::size_t bytes) {
-    if (bytes > left_) throw std::invalid_argument("geometry state: truncated");
-    if (bytes) std::memcpy(out, data_, bytes);
-    data_ += bytes;
-    left_ -= bytes;
-  }
-
-  const char* data_;
-  std::size_t left_;
-};
-
 }  // namespace
 
 std::string SerializeGeometry(const Geometry& geometry) {
   std::string out(kMagic, sizeof(kMagic));
-  Writer w(&out);
+  StateWriter w(&out);
   w.Value(kByteOrderMark);
   w.Value<std::int32_t>(geometry.dimension);
   w.Value<std::uint64_t>(geometry.patches.size());
@@ -103,7 +46,7 @@ Geometry DeserializeGeometry(const std::string& state) {
   if (state.size() < sizeof(kMagic) || std::memcmp(state.data(), kMagic, sizeof(kMagic)) != 0) {
     throw std::invalid_argument("geometry state: not an invmap geometry of this version");
   }
-  Reader r(state.data() + sizeof(kMagic), state.size() - sizeof(kMagic));
+  StateReader r(state.data() + sizeof(kMagic), state.size() - sizeof(kMagic), "geometry state");
   if (r.Value<std::uint32_t>() != kByteOrderMark) {
     throw std::invalid_argument("geometry state: written on a machine of the other byte order");
   }

@@ -18,11 +18,15 @@
 #include <string>
 #include <vector>
 
+#include "fem/register_readers.h"
+#include "invmap/fields.h"
 #include "invmap/invmap.h"
+#include "io/field_geometry_file.h"
 #include "io/geometry_file.h"
 #include "io/geometry_json.h"
 #include "io/input_error.h"
 #include "python/errors.h"
+#include "python/fields_binding.h"
 #include "python/geometry_state.h"
 #include "python/grid_binding.h"
 #include "python/numpy_points.h"
@@ -47,8 +51,17 @@ class PyManifold {
     for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
   }
 
+  /// The same with the node fields of the geometry's file (kept for probe).
+  PyManifold(FieldGeometry&& model, const std::string& nameForMessages) : PyManifold(model.geometry, nameForMessages) {
+    if (model.fields.empty()) return;
+    state_ = SerializeModel(state_, model.fields);
+    fields_ = std::make_shared<const FieldGeometry>(std::move(model));
+  }
+
   const Manifold& manifold() const { return manifold_; }
-  /// SerializeGeometry of the geometry (the pickled state).
+  /// The geometry and its node fields; null without fields.
+  const FieldGeometry* fields() const { return fields_.get(); }
+  /// SerializeGeometry of the geometry, with the fields (SerializeModel): the pickled state.
   const std::string& state() const { return state_; }
   int dimension() const { return dimension_; }
   std::size_t patches() const { return patches_; }
@@ -57,6 +70,7 @@ class PyManifold {
  private:
   Manifold manifold_;
   std::string state_;
+  std::shared_ptr<const FieldGeometry> fields_;
   int dimension_;
   std::size_t patches_;
   std::int64_t cells_ = 0;
@@ -72,14 +86,14 @@ bool IsReadableFile(const std::string& path) {
 /// invmap.load of a path: ReadGeometryFile, then the build, without the GIL.
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
-  Geometry geometry;
+  FieldGeometry model;
   try {
-    geometry = io::ReadGeometryFile(path);
+    model = io::ReadGeometryWithFields(path);
   } catch (const io::InputError& e) {
     if (!IsReadableFile(path)) throw FileError(e.what());
     throw InputError(e.what());
   }
-  return PyManifold(geometry, path);
+  return PyManifold(std::move(model), path);
 }
 
 /// invmap.load of JSON text (or a dict, dumped to text by __init__.py).
@@ -99,13 +113,18 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
 PyManifold FromState(const py::bytes& state) {
   const std::string bytes = state;
   py::gil_scoped_release noGil;
-  Geometry geometry;
+  FieldGeometry model;
   try {
-    geometry = DeserializeGeometry(bytes);
+    std::string geometryState;
+    ParseModel(bytes, &geometryState, &model.fields);
+    model.geometry = DeserializeGeometry(geometryState);
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }
-  return PyManifold(geometry, "pickled manifold");
+  if (std::string problem = CheckFields(model.geometry, model.fields); !problem.empty()) {
+    throw InputError("pickled manifold: " + problem);
+  }
+  return PyManifold(std::move(model), "pickled manifold");
 }
 
 /// `values` as a C-ordered float64 array (converted when needed), or
@@ -252,12 +271,9 @@ Results InvertPoints(const PyManifold& self, const py::handle& points, const Inv
   return results;
 }
 
-/// Manifold.invert: the Results as numpy arrays (see its docstring).
-py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads) {
-  Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads));
+/// Results as the dict of numpy arrays Manifold.invert returns (see its docstring).
+py::dict ResultsDict(Results&& results, int dim) {
   const auto n = static_cast<py::ssize_t>(results.status.size());
-  const int dim = self.dimension();
   if (dim == 2) {
     // The engine writes z = 0 in 2D; packing the rows in place (the write
     // index never passes the read index) gives (N, 2) without a copy.
@@ -276,6 +292,23 @@ py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<
   out["params"] = Adopt(std::move(results.params), {n, 3}, py::dtype::of<double>());
   out["closest"] = Adopt(std::move(results.closest), {n, dim}, py::dtype::of<double>());
   out["distance"] = Adopt(std::move(results.distance), {n}, py::dtype::of<double>());
+  return out;
+}
+
+/// Manifold.invert: the Results as numpy arrays.
+py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
+                std::optional<int> threads) {
+  return ResultsDict(InvertPoints(self, points, MakeOptions(maxDistance, threads)), self.dimension());
+}
+
+/// Manifold.probe: Manifold.invert's dict with "fields" added.
+py::dict Probe(const PyManifold& self, const py::handle& points, const std::optional<std::vector<std::string>>& names,
+               std::optional<double> maxDistance, std::optional<int> threads) {
+  const InversionOptions options = MakeOptions(maxDistance, threads);
+  Results results = InvertPoints(self, points, options);
+  py::dict fields = ProbeFieldsDict(self.fields(), results, names, options.threads);
+  py::dict out = ResultsDict(std::move(results), self.dimension());
+  out["fields"] = fields;
   return out;
 }
 
@@ -320,6 +353,7 @@ py::dict Info(const PyManifold& self) {
 
 PYBIND11_MODULE(_invmap, m) {
   using namespace invmap::python;
+  invmap::fem::RegisterFemReaders();
   m.doc() = "Compiled core of the invmap package; use `import invmap`.";
   m.attr("__version__") = invmap::Version();
 
@@ -370,6 +404,22 @@ The GIL is released while the engine works.
 
 Raises InputError for points of the wrong shape or type and for bad options.
 )doc")
+      .def("probe", &Probe, py::arg("points"), py::arg("names") = py::none(), py::arg("max_distance") = py::none(),
+           py::arg("threads") = py::none(), R"doc(
+The node fields of the geometry at the closest point of every query point
+(as `invmap probe`; docs/fields.md).
+
+points, max_distance, threads: as invert. names: the fields to give, in
+order (default: every field of the file: gmsh $NodeData views, VTU point
+data arrays, Exodus nodal variables).
+
+Returns invert's dict plus "fields": {name: array}, (N,) for a scalar and
+(N, components) for a vector or tensor, each field interpolated with its
+cell's basis at the found parameters; NaN where the point is not found.
+Raises InputError for an unknown name or a manifold without fields.
+)doc")
+      .def_property_readonly("fields", [](const PyManifold& self) { return FieldComponents(self.fields()); },
+                             "The node fields the manifold carries: {name: components}.")
       .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near", R"doc(
 Boolean mask of the points `invmap trim` keeps: those within max_distance
 of the geometry (keep="near") or beyond it (keep="far"). Points with NaN or

@@ -35,9 +35,13 @@ def load(source):
     """Reads and builds a geometry.
 
     source: one of
-      - a path (str or os.PathLike) to a geometry file: .json (FORMATS.md
-        section 2), .obj, .stl, .off, .ply meshes or .msh gmsh meshes, as
-        `invmap invert --geometry` reads them;
+      - a path (str or os.PathLike) to a geometry file, as `invmap invert
+        --geometry` reads it: .json (invmap's geometry, docs/formats.md, or
+        Coreform Cubit's Bezier extraction JSON), .obj, .stl, .off, .ply
+        meshes, .msh gmsh meshes, .vtu VTK grids, .exo/.e Exodus II files,
+        .bext/.bxt Cubit LS-DYNA Bezier extraction. Node fields of the file
+        (gmsh $NodeData, VTU point data, Exodus nodal variables at the last
+        time step) come with it: Manifold.fields, Manifold.probe;
       - JSON text of an invmap geometry (a str starting with "{");
       - a dict in the same schema (as json.load returns it); numpy arrays
         inside are accepted.

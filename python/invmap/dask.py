@@ -26,7 +26,7 @@ import numpy as np
 
 from . import InputError, Manifold
 
-__all__ = ["cache_info", "clear_cache", "invert"]
+__all__ = ["cache_info", "clear_cache", "invert", "probe"]
 
 # Worker-process cache of built manifolds, least recently used first. A few
 # entries cover a pipeline that alternates geometries; each holds its BVH.
@@ -96,6 +96,45 @@ def _invert_block(points, ref, max_distance, threads):
     return ref.manifold().invert(points, max_distance=max_distance, threads=threads)
 
 
+def _probe_block(points, ref, names, max_distance, threads):
+    return ref.manifold().probe(points, names, max_distance=max_distance, threads=threads)
+
+
+def _chunked_points(points, manifold, verb):
+    """points as a 2-column-chunk-free dask array of the manifold's dimension."""
+    if not isinstance(manifold, Manifold):
+        raise TypeError(f"{verb}: manifold must be an invmap.Manifold, got {type(manifold).__name__}")
+    if not isinstance(points, da.Array):
+        points = da.from_array(np.asarray(points))
+    dim = manifold.dimension
+    if points.ndim != 2 or points.shape[1] != dim:
+        raise InputError(f"points: shape {points.shape}, expected (N, {dim}) for a {dim}-D geometry")
+    if len(points.chunks[1]) > 1:
+        points = points.rechunk({1: -1})
+    return points
+
+
+def _select(blocks, rows, key, dtype, columns, name):
+    """The array of one result key from the blocks of result dicts."""
+    extra = dict(new_axis=1, chunks=(rows, columns)) if columns else dict(chunks=(rows,))
+    return blocks.map_blocks(key, dtype=dtype, meta=np.empty((0,) * (1 + len(columns)), dtype=dtype),
+                             name=name, **extra)
+
+
+def _result_arrays(blocks, rows, dim):
+    """Manifold.invert's keys as dask arrays over the blocks."""
+    fields = {
+        "status": (np.uint8, ()),
+        "patch": (np.int32, ()),
+        "cell": (np.int64, ()),
+        "params": (np.float64, (3,)),
+        "closest": (np.float64, (dim,)),
+        "distance": (np.float64, ()),
+    }
+    return {key: _select(blocks, rows, operator.itemgetter(key), dtype, columns, f"invmap-{key}")
+            for key, (dtype, columns) in fields.items()}
+
+
 def invert(points, manifold, max_distance=None, threads=None):
     """Manifold.invert over a Dask array of points, chunk by chunk.
 
@@ -113,36 +152,44 @@ def invert(points, manifold, max_distance=None, threads=None):
     (dask.compute(result) or dask.compute(result["status"], result["cell"])).
     Each chunk's rows are exactly Manifold.invert's results on that chunk.
     """
-    if not isinstance(manifold, Manifold):
-        raise TypeError(f"invert: manifold must be an invmap.Manifold, got {type(manifold).__name__}")
-    if not isinstance(points, da.Array):
-        points = da.from_array(np.asarray(points))
-    dim = manifold.dimension
-    if points.ndim != 2 or points.shape[1] != dim:
-        raise InputError(f"points: shape {points.shape}, expected (N, {dim}) for a {dim}-D geometry")
-    if len(points.chunks[1]) > 1:
-        points = points.rechunk({1: -1})
-
+    points = _chunked_points(points, manifold, "invert")
     ref = _GeometryRef(manifold)
     geometry = dask.delayed(ref, name="invmap-geometry-" + ref.key, traverse=False)
     # Blocks of dicts (never computed as an array): one task per chunk, which
     # the per-key arrays below select from.
     blocks = da.map_blocks(_invert_block, points, geometry, max_distance, threads,
                            drop_axis=1, dtype=object, meta=np.empty((0,), dtype=object), name="invmap-invert")
+    return _result_arrays(blocks, points.chunks[0], manifold.dimension)
 
+
+def probe(points, manifold, names=None, max_distance=None, threads=None):
+    """Manifold.probe over a Dask array of points, chunk by chunk.
+
+    points, max_distance, threads: as invert. names: the fields to give
+    (default: every field of the manifold, Manifold.fields).
+
+    Returns invert's dict of dask arrays plus "fields": {name: dask array},
+    (N,) for a scalar and (N, components) otherwise. As with invert, one
+    compute call probes each chunk once whichever arrays it asks for.
+    """
+    points = _chunked_points(points, manifold, "probe")
+    available = manifold.fields
+    if not available:
+        raise InputError("probe: this manifold has no node fields (they come from gmsh $NodeData, VTU point data "
+                         "and Exodus nodal variables)")
+    names = list(available) if names is None else list(names)
+    for name in names:
+        if name not in available:
+            raise InputError(f"probe: no field '{name}' (the fields: {', '.join(available)})")
+    ref = _GeometryRef(manifold)
+    geometry = dask.delayed(ref, name="invmap-geometry-" + ref.key, traverse=False)
+    blocks = da.map_blocks(_probe_block, points, geometry, names, max_distance, threads,
+                           drop_axis=1, dtype=object, meta=np.empty((0,), dtype=object), name="invmap-probe")
     rows = points.chunks[0]
-    fields = {
-        "status": (np.uint8, ()),
-        "patch": (np.int32, ()),
-        "cell": (np.int64, ()),
-        "params": (np.float64, (3,)),
-        "closest": (np.float64, (dim,)),
-        "distance": (np.float64, ()),
-    }
-    result = {}
-    for key, (dtype, columns) in fields.items():
-        extra = dict(new_axis=1, chunks=(rows, columns)) if columns else dict(chunks=(rows,))
-        result[key] = blocks.map_blocks(operator.itemgetter(key), dtype=dtype,
-                                        meta=np.empty((0,) * (1 + len(columns)), dtype=dtype),
-                                        name=f"invmap-{key}", **extra)
+    result = _result_arrays(blocks, rows, manifold.dimension)
+    result["fields"] = {}
+    for name in names:
+        components = available[name]
+        result["fields"][name] = _select(blocks, rows, lambda block, name=name: block["fields"][name], np.float64,
+                                         () if components == 1 else (components,), f"invmap-field-{name}")
     return result

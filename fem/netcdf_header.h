@@ -1,0 +1,17 @@
+// A check of a classic netCDF file's header (the format of most Exodus II
+// files) before the netCDF library opens it: the library allocates what the
+// header claims (an attribute of 3 GB in a 1 kB file) before noticing that
+// the file cannot hold it.
+#pragma once
+
+#include <string>
+
+namespace invmap::fem {
+
+/// Walks the header of the classic netCDF file at `path` (CDF-1, CDF-2 or
+/// CDF-5; other files, such as netCDF-4's HDF5, pass unchecked) and returns
+/// what is wrong when a count or a length it declares does not fit in the
+/// file, else an empty string.
+std::string CheckNetcdfHeader(const std::string& path);
+
+}  // namespace invmap::fem

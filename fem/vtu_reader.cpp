@@ -1,0 +1,162 @@
+#include "fem/vtu_reader.h"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "fem/file_checks.h"
+#include "fem/lagrange_cells.h"
+#include "fem/vtk_cells.h"
+#include "fem/vtk_messages.h"
+#include "io/input_error.h"
+
+namespace invmap::fem {
+namespace {
+
+/// Node coordinates, 3 per point, checked finite.
+std::vector<double> ReadNodes(vtkUnstructuredGrid* grid, const std::string& path) {
+  const vtkIdType n = grid->GetNumberOfPoints();
+  std::vector<double> nodes(3 * static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i) {
+    grid->GetPoint(i, nodes.data() + 3 * i);
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(nodes[3 * i + k])) {
+        throw io::InputError(path, 0, "point " + std::to_string(i) + " has a coordinate that is not finite");
+      }
+    }
+  }
+  return nodes;
+}
+
+/// The numeric point data arrays as node fields over the builder's patch.
+std::vector<NodeField> ReadPointFields(vtkUnstructuredGrid* grid, const LagrangePatchBuilder& builder) {
+  std::vector<NodeField> fields;
+  std::set<std::string> names;
+  vtkPointData* data = grid->GetPointData();
+  const vtkIdType n = grid->GetNumberOfPoints();
+  for (int a = 0; a < data->GetNumberOfArrays(); ++a) {
+    vtkDataArray* array = data->GetArray(a);  // null for non-numeric arrays
+    if (array == nullptr || array->GetName() == nullptr || array->GetNumberOfTuples() != n) continue;
+    const std::string name = array->GetName();
+    if (name.empty() || !names.insert(name).second) continue;
+    const int components = array->GetNumberOfComponents();
+    if (components < 1) continue;
+    std::vector<double> nodal(static_cast<std::size_t>(n) * components);
+    for (vtkIdType i = 0; i < n; ++i) array->GetTuple(i, nodal.data() + i * components);
+    NodeField& field = fields.emplace_back();
+    field.name = name;
+    field.components = components;
+    field.patchValues.push_back(builder.ConvertField(nodal, components));
+  }
+  return fields;
+}
+
+/// Checks the sizes the file's XML declares (points, cells, components of
+/// each piece and array) against the file's size before VTK allocates them:
+/// VTK sizes its arrays by what the header says. Scans up to the appended
+/// data (all headers come before it), or the whole file.
+void CheckDeclaredSizes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code error;
+  const double bytes = static_cast<double>(std::filesystem::file_size(path, error));
+  // Compressed data can hold far more values than bytes; a thousandfold is
+  // generous for real meshes and still bounds a corrupt header's claim.
+  const double limit = 1000.0 * bytes + 1e6;
+  static const char* kCounts[] = {"NumberOfPoints=\"", "NumberOfCells=\"", "NumberOfComponents=\""};
+  std::string window;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    // Keep the tail of the previous chunk: a match may straddle the boundary.
+    window = window.substr(window.size() > 64 ? window.size() - 64 : 0) + std::string(chunk, in.gcount());
+    for (const char* key : kCounts) {
+      for (std::size_t at = window.find(key); at != std::string::npos; at = window.find(key, at + 1)) {
+        const std::size_t start = at + std::strlen(key);
+        const std::size_t end = window.find('"', start);
+        if (end == std::string::npos) break;
+        const double count = std::strtod(window.substr(start, end - start).c_str(), nullptr);
+        if (!(count <= limit)) {
+          throw io::InputError(path, 0, std::string(key).substr(0, std::strlen(key) - 2) + " " +
+                                            window.substr(start, end - start) + " does not fit a file of this size");
+        }
+      }
+    }
+    if (window.find("<AppendedData") != std::string::npos) return;
+  }
+}
+
+}  // namespace
+
+FieldGeometry ReadVtu(const std::string& path) {
+  RequireReadableFile(path);
+  CheckDeclaredSizes(path);
+  ScopedVtkMessages messages;
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  if (!messages.FirstError().empty() || reader->GetErrorCode() != 0 || grid == nullptr) {
+    const std::string why = messages.FirstError().empty() ? "VTK's XML reader failed" : messages.FirstError();
+    throw io::InputError(path, 0, "not a readable VTK unstructured grid: " + why);
+  }
+  const vtkIdType numCells = grid->GetNumberOfCells();
+  if (numCells == 0) throw io::InputError(path, 0, "no cells");
+
+  const std::vector<double> nodes = ReadNodes(grid, path);
+  const vtkIdType numNodes = grid->GetNumberOfPoints();
+  vtkDataArray* degrees = grid->GetCellData()->GetHigherOrderDegrees();
+  VtkCellConversions conversions;
+  bool anyVolume = false;
+  std::vector<std::int64_t> elementNodes;
+  LagrangePatchBuilder builder(nodes);
+  for (vtkIdType c = 0; c < numCells; ++c) {
+    const int vtkType = grid->GetCellType(c);
+    const std::string where = "cell " + std::to_string(c) + " (" + VtkCellTypeName(vtkType) + ")";
+    CellType type;
+    if (!VtkCellTypeToInvmap(vtkType, &type)) {
+      throw io::InputError(path, 0, where + ": invmap does not read this cell type (it reads lines, triangles, "
+                                            "quadrilaterals, tetrahedra, hexahedra and wedges: linear, quadratic, "
+                                            "Lagrange and Bezier)");
+    }
+    vtkIdType count = 0;
+    const vtkIdType* points = nullptr;
+    grid->GetCellPoints(c, count, points);
+    for (vtkIdType j = 0; j < count; ++j) {
+      if (points[j] < 0 || points[j] >= numNodes) {
+        throw io::InputError(path, 0, where + ": point id " + std::to_string(points[j]) + " out of range [0, " +
+                                          std::to_string(numNodes) + ")");
+      }
+    }
+    int orders[3] = {-1, -1, -1};
+    if (degrees != nullptr && degrees->GetNumberOfComponents() == 3 && c < degrees->GetNumberOfTuples()) {
+      for (int k = 0; k < 3; ++k) orders[k] = static_cast<int>(degrees->GetComponent(c, k));
+    }
+    const VtkCellConversion* conversion = conversions.Find(grid, c, orders);
+    if (conversion == nullptr || conversion->converter.numNodes() != count) {
+      throw io::InputError(path, 0, where + ": " + std::to_string(count) +
+                                        " points, whose VTK shape functions are not a polynomial of degree 8 or "
+                                        "less (a rational or malformed cell)");
+    }
+    elementNodes.assign(points, points + count);
+    builder.AddElement(conversion->type, conversion->degree, conversion->converter, elementNodes.data());
+    anyVolume = anyVolume || ParamDimOf(conversion->type) == 3;
+  }
+
+  FieldGeometry out;
+  out.geometry.dimension = GeometryDimension(nodes, anyVolume);
+  out.geometry.patches.push_back(builder.MakePatch(out.geometry.dimension));
+  out.fields = ReadPointFields(grid, builder);
+  return out;
+}
+
+}  // namespace invmap::fem

@@ -1,0 +1,194 @@
+// Fields at inverted points (include/invmap/fields.h).
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <limits>
+#include <new>
+#include <set>
+#include <string>
+
+#include "engine/cell_store.h"
+#include "common/parallel.h"
+#include "fields/cell_basis.h"
+#include "invmap/fields.h"
+
+namespace invmap {
+namespace {
+
+using kernels::CellShape;
+
+/// Points (control points or vertices) of a patch.
+std::size_t NumPoints(const Geometry& geometry, const Patch& patch) {
+  return geometry.dimension > 0 ? patch.points.size() / static_cast<std::size_t>(geometry.dimension) : 0;
+}
+
+/// The shape of a Bezier patch or of cell `c` of a BezierCells patch.
+CellShape ShapeOf(const Patch& patch, std::int64_t c) {
+  std::array<int, kernels::kMaxFactors> degrees{0, 0, 0};
+  if (patch.kind == Patch::Kind::BezierCells) {
+    for (int f = 0; f < 3; ++f) degrees[f] = patch.cellDegrees[3 * static_cast<std::size_t>(c) + f];
+    return CellShape(static_cast<kernels::CellType>(patch.cellTypes[static_cast<std::size_t>(c)]), degrees);
+  }
+  for (std::size_t f = 0; f < patch.degrees.size() && f < 3; ++f) degrees[f] = patch.degrees[f];
+  return CellShape(static_cast<kernels::CellType>(patch.cell), degrees);
+}
+
+/// Evaluates the fields at one found point. Returns false when the point's
+/// patch or cell does not exist in the geometry.
+class PointProbe {
+ public:
+  PointProbe(const Geometry& geometry, const std::vector<const NodeField*>& fields)
+      : geometry_(geometry), fields_(fields) {}
+
+  bool Evaluate(std::int32_t patchIndex, std::int64_t cell, const double* params, double* out) {
+    if (patchIndex < 0 || static_cast<std::size_t>(patchIndex) >= geometry_.patches.size()) return false;
+    const Patch& patch = geometry_.patches[static_cast<std::size_t>(patchIndex)];
+    if (patch.kind == Patch::Kind::BSpline) {
+      Fill(out, std::numeric_limits<double>::quiet_NaN());
+      return true;
+    }
+    std::int64_t first = 0;
+    CellShape shape;
+    if (patch.kind == Patch::Kind::BezierCells) {
+      if (cell < 0 || static_cast<std::size_t>(cell) >= patch.cellTypes.size()) return false;
+      shape = ShapeOf(patch, cell);
+      first = patch.cellOffsets[static_cast<std::size_t>(cell)];
+    } else if (patch.kind == Patch::Kind::Bezier) {
+      if (cell != 0) return false;
+      shape = ShapeOf(patch, 0);
+    } else {
+      const engine::MeshCellLayout layout = engine::LayoutOf(patch.cell);
+      if (cell < 0 || static_cast<std::size_t>(cell + 1) * layout.vertices > patch.cells.size()) return false;
+      shape = CellShape(static_cast<kernels::CellType>(patch.cell), {1, 1, 1});
+      for (int k = 0; k < layout.vertices; ++k) {
+        meshPoints_[k] = patch.cells[static_cast<std::size_t>(cell) * layout.vertices + layout.bezierFromFe[k]];
+      }
+    }
+    const double* weights = patch.weights.empty() ? nullptr : patch.weights.data() + first;
+    const int count = fields::EvaluateCellBasis(shape, params, weights, basis_);
+    for (const NodeField* field : fields_) {
+      const std::vector<double>& values = field->patchValues[static_cast<std::size_t>(patchIndex)];
+      const int n = field->components;
+      for (int j = 0; j < n; ++j) out[j] = values.empty() ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+      if (!values.empty()) {
+        for (int k = 0; k < count; ++k) {
+          const std::size_t point =
+              patch.kind == Patch::Kind::Mesh ? static_cast<std::size_t>(meshPoints_[k]) : first + k;
+          const double* v = values.data() + point * n;
+          for (int j = 0; j < n; ++j) out[j] += basis_[k] * v[j];
+        }
+      }
+      out += n;
+    }
+    return true;
+  }
+
+  void Fill(double* out, double value) const {
+    for (const NodeField* field : fields_) {
+      for (int j = 0; j < field->components; ++j) *out++ = value;
+    }
+  }
+
+ private:
+  const Geometry& geometry_;
+  const std::vector<const NodeField*>& fields_;
+  double basis_[fields::kMaxCellBasis];
+  std::int64_t meshPoints_[8];
+};
+
+}  // namespace
+
+std::string CheckFields(const Geometry& geometry, const std::vector<NodeField>& fields) {
+  std::set<std::string> names;
+  for (const NodeField& field : fields) {
+    const std::string where = "field '" + field.name + "': ";
+    if (field.name.empty()) return "a field has an empty name";
+    if (!names.insert(field.name).second) return where + "defined twice";
+    if (field.components < 1) return where + "components must be at least 1";
+    if (field.patchValues.size() != geometry.patches.size()) {
+      return where + std::to_string(field.patchValues.size()) + " patch arrays for " +
+             std::to_string(geometry.patches.size()) + " patches";
+    }
+    for (std::size_t p = 0; p < geometry.patches.size(); ++p) {
+      const std::vector<double>& values = field.patchValues[p];
+      if (values.empty()) continue;
+      const Patch& patch = geometry.patches[p];
+      if (patch.kind == Patch::Kind::BSpline) return where + "patch " + std::to_string(p) + ": a B-spline patch has no nodes";
+      const std::size_t expected = NumPoints(geometry, patch) * static_cast<std::size_t>(field.components);
+      if (values.size() != expected) {
+        return where + "patch " + std::to_string(p) + ": " + std::to_string(values.size()) + " values, expected " +
+               std::to_string(expected);
+      }
+    }
+  }
+  return {};
+}
+
+int FieldWidth(const std::vector<const NodeField*>& fields) {
+  int width = 0;
+  for (const NodeField* field : fields) width += field->components;
+  return width;
+}
+
+std::vector<std::string> FieldColumnNames(const std::vector<const NodeField*>& fields) {
+  std::vector<std::string> names;
+  for (const NodeField* field : fields) {
+    if (field->components == 1) {
+      names.push_back(field->name);
+      continue;
+    }
+    for (int j = 0; j < field->components; ++j) names.push_back(field->name + "_" + std::to_string(j));
+  }
+  return names;
+}
+
+Error ProbeFields(const Geometry& geometry, const std::vector<const NodeField*>& fields, const Results& results,
+                  std::vector<double>* values, std::string* message, int threads) {
+  try {
+    const std::size_t n = results.status.size();
+    const std::size_t width = static_cast<std::size_t>(FieldWidth(fields));
+    for (const NodeField* field : fields) {
+      if (field == nullptr || field->components < 1 || field->patchValues.size() != geometry.patches.size()) {
+        if (message != nullptr) *message = "ProbeFields: a field does not fit the geometry (see CheckFields)";
+        return Error::InvalidArgument;
+      }
+    }
+    values->assign(n * width, std::numeric_limits<double>::quiet_NaN());
+    // Points are independent: blocks in parallel, each with its own scratch;
+    // the first point (in input order) the geometry lacks a cell for is reported.
+    std::atomic<std::int64_t> firstBad{static_cast<std::int64_t>(n)};
+    ForEachBlock(
+        ExecutionPolicy::Par, static_cast<std::int64_t>(n), 4096,
+        [&](std::int64_t begin, std::int64_t end) {
+          auto probe = std::make_unique<PointProbe>(geometry, fields);
+          for (std::int64_t i = begin; i < end; ++i) {
+            if (results.status[i] != Status::Found) continue;
+            if (!probe->Evaluate(results.patch[i], results.cell[i], &results.params[3 * i],
+                                 values->data() + i * width)) {
+              std::int64_t expected = firstBad.load();
+              while (i < expected && !firstBad.compare_exchange_weak(expected, i)) {
+              }
+              return;
+            }
+          }
+        },
+        threads);
+    const std::int64_t bad = firstBad.load();
+    if (bad < static_cast<std::int64_t>(n)) {
+      if (message != nullptr) {
+        *message = "ProbeFields: point " + std::to_string(bad) + " is in patch " + std::to_string(results.patch[bad]) +
+                   ", cell " + std::to_string(results.cell[bad]) + ", which the geometry does not have";
+      }
+      return Error::InvalidArgument;
+    }
+    return Error::Ok;
+  } catch (const std::bad_alloc&) {
+    if (message != nullptr) *message = "out of memory";
+    return Error::OutOfMemory;
+  } catch (const std::exception& e) {
+    if (message != nullptr) *message = e.what();
+    return Error::Internal;
+  }
+}
+
+}  // namespace invmap
