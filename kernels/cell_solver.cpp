@@ -580,19 +580,14 @@ void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLa
   }
 }
 
-bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
-                             const double* cornerLambda) const {
+bool CellSolver::InsideStart(const double* initialRef, const double* lambdaIn, bool haveLambda, double* start) const {
   const int pd = cell_.shape.paramDim();
-  double start[3];
   double lambda[4];
-  if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
-  if (cornerLambda || CornerBarycentric(point, lambda)) {
+  if (haveLambda) std::copy(lambdaIn, lambdaIn + 4, lambda);
+  if (haveLambda) {
     // Beyond the control points' hull (with a margin far above the distance
     // tolerance): outside the cell, no solve needed.
-    if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) {
-      result->iterations = 0;
-      return false;
-    }
+    if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) return false;
     // The point's place in the straight tetrahedron of the corners: exact
     // for a straight cell, close for the mildly curved cells of meshes, and
     // better than the previous point's answer (measured on order-2 meshes).
@@ -605,6 +600,20 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
     std::copy(initialRef, initialRef + pd, start);
   } else {
     ReferenceCenter(cell_.shape, start);
+  }
+  return true;
+}
+
+bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
+                             const double* cornerLambda) const {
+  const int pd = cell_.shape.paramDim();
+  double start[3];
+  double lambda[4];
+  if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
+  const bool haveLambda = cornerLambda || CornerBarycentric(point, lambda);
+  if (!InsideStart(initialRef, lambda, haveLambda, start)) {
+    result->iterations = 0;
+    return false;
   }
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplex(point, result);

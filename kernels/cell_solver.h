@@ -111,6 +111,13 @@ class CellSolver {
   /// cell, and depends on its own point and start only.
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
 
+  /// SolveInside for every lane of `queries` (initialRef as SolveInside's):
+  /// inside[l] says whether lane l's point is inside, and then `results`
+  /// holds its answer (the other lanes' entries are not meaningful). The
+  /// local solves of polynomial tetrahedra run in SIMD lanes
+  /// (kernels/newton_lanes.h); other cells solve lane by lane.
+  void SolveInsideLane(const QueryLane& queries, const ResultLane& results, bool* inside) const;
+
   /// Tetrahedra: the smallest barycentric coordinate of `point` relative to
   /// the cell's corner control points (its vertices): positive inside the
   /// straight tetrahedron they span, the likeliest to hold the point when the
@@ -166,6 +173,10 @@ class CellSolver {
   /// certificate as Solve's; lanes that leave the lanes, and cells they do
   /// not cover, are solved by Solve (kernels/cell_solver_lanes.cpp).
   void SolveCurvedLanes(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+  /// SolveInside's start for a point whose corner barycentrics are
+  /// `lambda` (when haveLambda), else `initialRef`, else the centre; false
+  /// when `lambda` puts the point beyond the control points' hull (not inside).
+  bool InsideStart(const double* initialRef, const double* lambda, bool haveLambda, double* start) const;
   /// Writes lane l of `results` from one cell's answer.
   void WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const;
 

@@ -102,4 +102,85 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
   }
 }
 
+void CellSolver::SolveInsideLane(const QueryLane& queries, const ResultLane& results, bool* inside) const {
+  const int pd = cell_.shape.paramDim();
+  const int ad = cell_.ambientDim;
+  const bool warm = queries.initialRef[0] != nullptr;
+  const bool lanesCover = !affine_ && !charts_ && isFullRank() && InsideLanesCover(cell_);
+  constexpr int kChunk = 64;
+  double point[3][kChunk], ref[3][kChunk], closest[3][kChunk], squaredDistance[kChunk], lambdas[kChunk][4];
+  InsideOutcome outcome[kChunk];
+  int iterations[kChunk], lane[kChunk];
+  bool haveLambda[kChunk];
+  for (int first = 0; first < queries.count; first += kChunk) {
+    const int end = std::min(queries.count, first + kChunk);
+    int n = 0;
+    for (int l = first; l < end; ++l) {
+      double p[3] = {0, 0, 0}, initial[3] = {0, 0, 0}, start[3] = {0, 0, 0};
+      bool finite = true;
+      for (int k = 0; k < ad; ++k) {
+        p[k] = queries.coord[k][l];
+        finite = finite && std::isfinite(p[k]);
+      }
+      if (warm) {
+        for (int i = 0; i < pd; ++i) initial[i] = queries.initialRef[i][l];
+      }
+      CellSolveResult r;
+      if (!finite || !lanesCover) {
+        inside[l] = finite && SolveInside(p, warm ? initial : nullptr, &r);
+        if (inside[l]) WriteLane(l, r, results);
+        continue;
+      }
+      double* lambda = lambdas[n];
+      haveLambda[n] = CornerBarycentric(p, lambda);
+      if (!InsideStart(warm ? initial : nullptr, lambda, haveLambda[n], start)) {
+        inside[l] = false;
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        point[k][n] = p[k];
+        ref[k][n] = start[k];
+      }
+      lane[n++] = l;
+    }
+    if (n == 0) continue;
+    InsideLanes lanes;
+    lanes.count = n;
+    for (int k = 0; k < 3; ++k) {
+      lanes.point[k] = point[k];
+      lanes.ref[k] = ref[k];
+      lanes.closest[k] = closest[k];
+    }
+    lanes.squaredDistance = squaredDistance;
+    lanes.outcome = outcome;
+    lanes.iterations = iterations;
+    SolveInsideLanes(cell_, size_, lanes);
+    for (int j = 0; j < n; ++j) {
+      const int l = lane[j];
+      CellSolveResult r;
+      if (outcome[j] == InsideOutcome::Handover) {
+        // The scalar inside solve decides, from its own start.
+        const double p[3] = {point[0][j], point[1][j], point[2][j]};
+        double initial[3] = {0, 0, 0};
+        if (warm) {
+          for (int i = 0; i < pd; ++i) initial[i] = queries.initialRef[i][l];
+        }
+        inside[l] = SolveInside(p, warm ? initial : nullptr, &r, haveLambda[j] ? lambdas[j] : nullptr);
+        if (inside[l]) WriteLane(l, r, results);
+        continue;
+      }
+      inside[l] = outcome[j] == InsideOutcome::Inside;
+      if (!inside[l]) continue;
+      for (int k = 0; k < 3; ++k) {
+        r.ref[k] = ref[k][j];
+        r.closest[k] = closest[k][j];
+      }
+      r.distance = std::sqrt(squaredDistance[j]);
+      r.iterations = iterations[j];
+      r.status = PointStatus::Converged;
+      WriteLane(l, r, results);
+    }
+  }
+}
+
 }  // namespace invmap::kernels

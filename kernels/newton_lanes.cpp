@@ -16,6 +16,9 @@ void ProvesConvexLanesAvx2(const CurvatureBounds& bounds, int count, const doubl
                            bool* proved);
 void ProvesConvexLanesAvx512(const CurvatureBounds& bounds, int count, const double* const point[3],
                              const double* level, bool* proved);
+void SolveInsideLanesSse2(const CellView& view, double size, const InsideLanes& lanes);
+void SolveInsideLanesAvx2(const CellView& view, double size, const InsideLanes& lanes);
+void SolveInsideLanesAvx512(const CellView& view, double size, const InsideLanes& lanes);
 }  // namespace lanes
 
 bool LaneIsaAvailable(LaneIsa isa) {
@@ -69,6 +72,23 @@ void SolveNewtonLanes(const CellView& cell, double size, const NewtonLanes& lane
       return lanes::SolveNewtonLanesAvx2(cell, size, lanes);
     case LaneIsa::Sse2:
       return lanes::SolveNewtonLanesSse2(cell, size, lanes);
+  }
+}
+
+bool InsideLanesCover(const CellView& cell) {
+  return cell.shape.type() == CellType::Tet && cell.ambientDim == 3 && cell.weights == nullptr &&
+         cell.shape.factor(0).degree >= 1;
+}
+
+void SolveInsideLanes(const CellView& cell, double size, const InsideLanes& lanes, LaneIsa isa) {
+  if (lanes.count <= 0) return;
+  switch (isa) {
+    case LaneIsa::Avx512:
+      return lanes::SolveInsideLanesAvx512(cell, size, lanes);
+    case LaneIsa::Avx2:
+      return lanes::SolveInsideLanesAvx2(cell, size, lanes);
+    case LaneIsa::Sse2:
+      return lanes::SolveInsideLanesSse2(cell, size, lanes);
   }
 }
 

@@ -73,6 +73,35 @@ bool NewtonLanesCover(const CellView& cell);
 /// must be finite.
 void SolveNewtonLanes(const CellView& cell, double size, const NewtonLanes& lanes, LaneIsa isa = BestLaneIsa());
 
+/// How a lane's inside solve (SolveInsideLanes) ended.
+enum class InsideOutcome : std::uint8_t {
+  Inside,     ///< Converged within the distance tolerance of the point: `ref`, `closest` set.
+  NotInside,  ///< Converged farther than that: the point is not in the cell.
+  Handover,   ///< Left the lanes: the scalar inside solve decides (from the lane's start).
+};
+
+/// Lanes of SolveInsideLanes, structure of arrays of `count` entries.
+struct InsideLanes {
+  int count = 0;
+  const double* point[3] = {nullptr, nullptr, nullptr};
+  /// In: the starts (inside the domain); out: the answers of Inside lanes.
+  double* ref[3] = {nullptr, nullptr, nullptr};
+  double* closest[3] = {nullptr, nullptr, nullptr};  ///< Out (Inside lanes).
+  double* squaredDistance = nullptr;                 ///< Out (Inside and NotInside lanes).
+  InsideOutcome* outcome = nullptr;
+  int* iterations = nullptr;
+};
+
+/// True for the cells SolveInsideLanes covers: polynomial tetrahedra in 3D.
+bool InsideLanesCover(const CellView& cell);
+
+/// The inside solve of CellSolver::SolveInside for every lane on `cell`
+/// (InsideLanesCover(cell)): LocalSolve's full-rank Newton steps -J^-1 r
+/// (7.3.2.1) from each lane's start, with its tolerances for a cell of length
+/// scale `size`; a step that would leave the domain or fail Armijo's test at
+/// once hands the lane over. Query points must be finite.
+void SolveInsideLanes(const CellView& cell, double size, const InsideLanes& lanes, LaneIsa isa = BestLaneIsa());
+
 /// Lower bounds of the squared distance from `count` points to a cell, from
 /// the nets of DistanceNets (NN = |N|^2, NW_k = N_k W and WW = W^2, built
 /// around `center`): per point d = p - center and

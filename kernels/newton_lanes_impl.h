@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "kernels/newton_lanes.h"
+#include "kernels/simplex_index.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::kernels::lanes {
@@ -535,6 +536,235 @@ void SolveNewtonLanesFor(const CellView& view, double size, const NewtonLanes& l
   SolveForWeights<A, 1, 3>(view, size, lanes);
 }
 
+/// A polynomial tetrahedron's map and Jacobian at one point per lane, from
+/// products of powers of the barycentric coordinates: the value from the
+/// control points, each derivative from the degree p - 1 net of differences
+/// p (P_{b + e_i} - P_{b + e_0}), both with their multinomials folded in.
+template <class A, int FixedDegree>
+class TetLanes {
+ public:
+  static constexpr int kMaxSize = SimplexBasisSize(3, FixedDegree > 0 ? FixedDegree : kMaxDegree);
+
+  explicit TetLanes(const CellView& view) : degree_(FixedDegree > 0 ? FixedDegree : view.shape.factor(0).degree) {
+    const SimplexIndex& index = SimplexIndex::Get(3, degree_);
+    size_ = index.size();
+    for (int a = 0; a < size_; ++a) {
+      multi_[a] = index.multi(a);
+      for (int k = 0; k < 3; ++k) value_[a][k] = index.multinomial(a) * view.points[a * 3 + k];
+    }
+    const SimplexIndex& lower = SimplexIndex::Get(3, degree_ - 1);
+    lowerSize_ = lower.size();
+    for (int b = 0; b < lowerSize_; ++b) {
+      lowerMulti_[b] = lower.multi(b);
+      std::array<int, 4> up0 = lower.multi(b);
+      ++up0[0];
+      const double* p0 = view.points + 3 * index.Position(up0);
+      for (int i = 0; i < 3; ++i) {
+        std::array<int, 4> up = lower.multi(b);
+        ++up[i + 1];
+        const double* pi = view.points + 3 * index.Position(up);
+        for (int k = 0; k < 3; ++k) slope_[b][i][k] = degree_ * lower.multinomial(b) * (pi[k] - p0[k]);
+      }
+    }
+  }
+
+  /// x[k] and d1[k][i] at free coordinates s (lanes).
+  void Evaluate(const Batch<A>* s, Batch<A>* x, Batch<A> (*d1)[3]) const {
+    using B = Batch<A>;
+    const int p = FixedDegree > 0 ? FixedDegree : degree_;
+    B power[4][(FixedDegree > 0 ? FixedDegree : kMaxDegree) + 1];
+    const B lambda[4] = {B(1.0) - s[0] - s[1] - s[2], s[0], s[1], s[2]};
+    for (int k = 0; k < 4; ++k) {
+      power[k][0] = B(1.0);
+      for (int e = 1; e <= p; ++e) power[k][e] = power[k][e - 1] * lambda[k];
+    }
+    for (int k = 0; k < 3; ++k) {
+      x[k] = B(0.0);
+      for (int i = 0; i < 3; ++i) d1[k][i] = B(0.0);
+    }
+    for (int a = 0; a < size_; ++a) {
+      const std::array<int, 4>& m = multi_[a];
+      const B basis = power[0][m[0]] * power[1][m[1]] * power[2][m[2]] * power[3][m[3]];
+      for (int k = 0; k < 3; ++k) x[k] += basis * B(value_[a][k]);
+    }
+    for (int b = 0; b < lowerSize_; ++b) {
+      const std::array<int, 4>& m = lowerMulti_[b];
+      const B basis = power[0][m[0]] * power[1][m[1]] * power[2][m[2]] * power[3][m[3]];
+      for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) d1[k][i] += basis * B(slope_[b][i][k]);
+      }
+    }
+  }
+
+ private:
+  int degree_;
+  int size_ = 0, lowerSize_ = 0;
+  std::array<int, 4> multi_[kMaxSize], lowerMulti_[kMaxSize];
+  double value_[kMaxSize][3];
+  double slope_[kMaxSize][3][3];
+};
+
+/// Determinant of the 3 x 3 matrix with columns a, b, c (kernels/cramer.h's).
+template <class A>
+Batch<A> Determinant3Lanes(const Batch<A>* a, const Batch<A>* b, const Batch<A>* c) {
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+/// SolveInsideLanes for lanes [first, first + W).
+template <class A, int FixedDegree>
+void InsideBlock(const TetLanes<A, FixedDegree>& cell, double size, const InsideLanes& lanes, int first) {
+  using B = Batch<A>;
+  using M = Mask<A>;
+  constexpr int W = static_cast<int>(B::size);
+  const int valid = std::min(W, lanes.count - first);
+  alignas(64) double buffer[W];
+  const auto load = [&](const double* data) {
+    for (int l = 0; l < W; ++l) buffer[l] = data[first + std::min(l, valid - 1)];
+    return B::load_aligned(buffer);
+  };
+  const B zero(0.0), one(1.0), sizeB(size);
+  B point[3], ref[3];
+  for (int k = 0; k < 3; ++k) {
+    point[k] = load(lanes.point[k]);
+    ref[k] = load(lanes.ref[k]);
+  }
+  for (int l = 0; l < W; ++l) buffer[l] = l < valid ? 1.0 : 0.0;
+  M live = B::load_aligned(buffer) != zero;
+  M converged(false), handover(false), stale(false);
+  B iterations = zero;
+  B x[3], d1[3][3], xTrial[3], d1Trial[3][3];
+  cell.Evaluate(ref, x, d1);
+  const B cubeTolerance(kSingularTolerance * size * size * size);
+  for (int iter = 0; iter < kLaneMaxIterations && xsimd::any(live); ++iter) {
+    iterations = xsimd::select(live, iterations + one, iterations);
+    B r[3], f = zero;
+    for (int k = 0; k < 3; ++k) {
+      r[k] = x[k] - point[k];
+      f += r[k] * r[k];
+    }
+    // Full rank: stationary where r itself is as small as the tests ask.
+    const B root = xsimd::sqrt(f);
+    const M stationary = root <= B(kGradientTolerance) * (sizeB + root);
+    converged = converged | (live & stationary);
+    live = live & !stationary;
+    if (!xsimd::any(live)) break;
+    // -J^-1 r by Cramer's rule (FullRankStep).
+    B column[3][3], minusR[3];
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 3; ++k) column[i][k] = d1[k][i];
+    }
+    for (int k = 0; k < 3; ++k) minusR[k] = -r[k];
+    const B det = Determinant3Lanes<A>(column[0], column[1], column[2]);
+    B step[3];
+    step[0] = Determinant3Lanes<A>(minusR, column[1], column[2]) / det;
+    step[1] = Determinant3Lanes<A>(column[0], minusR, column[2]) / det;
+    step[2] = Determinant3Lanes<A>(column[0], column[1], minusR) / det;
+    M ok = (xsimd::abs(det) > cubeTolerance) & xsimd::isfinite(step[0]) & xsimd::isfinite(step[1]) &
+           xsimd::isfinite(step[2]);
+    B slope = zero, length2 = zero, jac2 = zero;
+    for (int i = 0; i < 3; ++i) {
+      B grad = zero;
+      for (int k = 0; k < 3; ++k) {
+        grad += d1[k][i] * r[k];
+        jac2 += d1[k][i] * d1[k][i];
+      }
+      slope += B(2.0) * grad * step[i];
+      length2 += step[i] * step[i];
+    }
+    ok = ok & (slope < zero);
+    // A step that leaves the tetrahedron: the scalar solve takes over.
+    const B lambda0 = one - ref[0] - ref[1] - ref[2];
+    const B trial0 = lambda0 - step[0] - step[1] - step[2];
+    M inside = trial0 >= zero;
+    for (int i = 0; i < 3; ++i) inside = inside & (ref[i] + step[i] >= zero);
+    ok = ok & inside;
+    handover = handover | (live & !ok);
+    live = live & ok;
+    if (!xsimd::any(live)) break;
+    const B length = xsimd::sqrt(length2);
+    const B shrink = xsimd::select(jac2 > sizeB * sizeB, sizeB / xsimd::sqrt(jac2), one);
+    B magnitude = sizeB;
+    for (int k = 0; k < 3; ++k) magnitude = xsimd::max(magnitude, xsimd::abs(point[k]) + xsimd::abs(r[k]));
+    const B rError = B(kLaneMapRounding) * magnitude;
+    const B fNoise = B(2.0) * root * rError + rError * rError;
+    const M final = live & (-slope <= fNoise) & (length <= B(kLaneFinalStep) * shrink);
+    for (int i = 0; i < 3; ++i) ref[i] = xsimd::select(final, ref[i] + step[i], ref[i]);
+    converged = converged | final;
+    stale = stale | final;
+    live = live & !final;
+    const M negligible = live & ((length <= B(kStepTolerance) * shrink) | (-slope <= fNoise));
+    handover = handover | negligible;
+    live = live & !negligible;
+    if (!xsimd::any(live)) continue;
+    B trial[3];
+    for (int i = 0; i < 3; ++i) trial[i] = xsimd::select(live, ref[i] + step[i], ref[i]);
+    cell.Evaluate(trial, xTrial, d1Trial);
+    B fTrial = zero;
+    for (int k = 0; k < 3; ++k) {
+      const B d = xTrial[k] - point[k];
+      fTrial += d * d;
+    }
+    const M accepted = live & (fTrial <= f + B(kLaneSufficientDecrease) * slope) & (fTrial < f);
+    handover = handover | (live & !accepted);
+    live = accepted;
+    for (int i = 0; i < 3; ++i) ref[i] = xsimd::select(accepted, trial[i], ref[i]);
+    for (int k = 0; k < 3; ++k) {
+      x[k] = xsimd::select(accepted, xTrial[k], x[k]);
+      for (int i = 0; i < 3; ++i) d1[k][i] = xsimd::select(accepted, d1Trial[k][i], d1[k][i]);
+    }
+  }
+  handover = handover | live;
+  converged = converged & !handover;
+  if (xsimd::any(stale & converged)) {
+    cell.Evaluate(ref, xTrial, d1Trial);
+    for (int k = 0; k < 3; ++k) x[k] = xsimd::select(stale, xTrial[k], x[k]);
+  }
+  B f = zero;
+  for (int k = 0; k < 3; ++k) {
+    const B d = x[k] - point[k];
+    f += d * d;
+  }
+  const B tau(kDistanceTolerance * size);
+  const M inside = converged & (f <= tau * tau);
+  alignas(64) double out[W];
+  const auto store = [&](const B& v, double* to) {
+    v.store_aligned(out);
+    for (int l = 0; l < valid; ++l) to[first + l] = out[l];
+  };
+  for (int i = 0; i < 3; ++i) store(ref[i], lanes.ref[i]);
+  for (int k = 0; k < 3; ++k) store(x[k], lanes.closest[k]);
+  store(f, lanes.squaredDistance);
+  iterations.store_aligned(out);
+  for (int l = 0; l < valid; ++l) lanes.iterations[first + l] = static_cast<int>(out[l]);
+  xsimd::select(inside, B(2.0), xsimd::select(converged, one, zero)).store_aligned(out);
+  for (int l = 0; l < valid; ++l) {
+    lanes.outcome[first + l] = out[l] == 2.0   ? InsideOutcome::Inside
+                               : out[l] == 1.0 ? InsideOutcome::NotInside
+                                               : InsideOutcome::Handover;
+  }
+}
+
+template <class A, int FixedDegree>
+void SolveInsideTyped(const CellView& view, double size, const InsideLanes& lanes) {
+  const TetLanes<A, FixedDegree> cell(view);
+  constexpr int W = static_cast<int>(Batch<A>::size);
+  for (int first = 0; first < lanes.count; first += W) InsideBlock(cell, size, lanes, first);
+}
+
+/// SolveInsideLanes for architecture A: quadratic and cubic tetrahedra
+/// with loops of constant length.
+template <class A>
+void SolveInsideLanesFor(const CellView& view, double size, const InsideLanes& lanes) {
+  switch (view.shape.factor(0).degree) {
+    case 2:
+      return SolveInsideTyped<A, 2>(view, size, lanes);
+    case 3:
+      return SolveInsideTyped<A, 3>(view, size, lanes);
+    default:
+      return SolveInsideTyped<A, 0>(view, size, lanes);
+  }
+}
+
 /// NetLowerBoundLanes for architecture A: the coefficients' loop outside,
 /// a block of lanes inside, so each coefficient is read once per block.
 template <class A>
@@ -659,6 +889,9 @@ void CurvatureLanes::Prove(const CurvatureBounds& bounds, int count, const doubl
   }                                                                                                             \
   void NetLowerBoundLanes##Suffix(const NetLanes& nets, int count, const double* const point[3], double* lower) { \
     NetLowerBoundLanesFor<Arch>(nets, count, point, lower);                                                     \
+  }                                                                                                             \
+  void SolveInsideLanes##Suffix(const CellView& view, double size, const InsideLanes& lanes) {                  \
+    SolveInsideLanesFor<Arch>(view, size, lanes);                                                               \
   }                                                                                                             \
   void ProvesConvexLanes##Suffix(const CurvatureBounds& bounds, int count, const double* const point[3],        \
                                  const double* level, bool* proved) {                                           \

@@ -443,5 +443,100 @@ TEST(NewtonLanes, CurvatureCertificateOfAllLanesIsTheScalarOne) {
   EXPECT_GT(refused, 0);
 }
 
+/// Inside solves of polynomial tetrahedra in lanes: a lane reported inside
+/// is inside (the brute-force reference puts the point on the cell, and the
+/// answer maps to it); the points made inside are found; the same bits on
+/// every instruction set.
+TEST(NewtonLanes, InsideSolvesOfTetrahedra) {
+  std::mt19937_64 rng(71);
+  for (int degree : {2, 3, 4}) {
+    SCOPED_TRACE("tet degree " + std::to_string(degree));
+    for (int cellIndex = 0; cellIndex < 3; ++cellIndex) {
+      const RefCell cell = RandomCurvedCell(CellType::Tet, degree, false, 3, rng);
+      ASSERT_TRUE(kernels::InsideLanesCover(cell.view()));
+      const CellSolver solver(cell.view());
+      BruteForceReference reference(cell);
+      const LaneInput in = MakeInput(cell, 50, rng);
+      QueryLane queries;
+      queries.count = in.count();
+      for (int k = 0; k < 3; ++k) queries.coord[k] = in.coord[k].data();
+      std::vector<double> ref[3], closest[3], distance(in.count());
+      std::vector<PointStatus> status(in.count());
+      std::vector<int> iterations(in.count());
+      ResultLane results;
+      for (int k = 0; k < 3; ++k) {
+        ref[k].resize(in.count());
+        closest[k].resize(in.count());
+        results.ref[k] = ref[k].data();
+        results.closest[k] = closest[k].data();
+      }
+      results.distance = distance.data();
+      results.status = status.data();
+      results.iterations = iterations.data();
+      std::vector<char> inside(in.count());
+      solver.SolveInsideLane(queries, results, reinterpret_cast<bool*>(inside.data()));
+      int made = 0, found = 0;
+      for (int l = 0; l < in.count(); ++l) {
+        const double p[3] = {in.coord[0][l], in.coord[1][l], in.coord[2][l]};
+        SCOPED_TRACE("cell " + std::to_string(cellIndex) + " lane " + std::to_string(l) + "\n" + Describe(cell));
+        if (kKinds[l % 10] == QueryKind::Inside) {
+          ++made;
+          found += inside[l] ? 1 : 0;
+        }
+        if (!inside[l]) continue;
+        EXPECT_LE(reference.Closest(p).distance, kRelTol * cell.size());
+        double r[3] = {ref[0][l], ref[1][l], ref[2][l]}, x[3];
+        EXPECT_TRUE(InReferenceDomain(cell.type, r, 1e-12));
+        RefEvaluate(cell, r, x);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(x[k], p[k], kRelTol * cell.size());
+        EXPECT_LE(distance[l], 1e-11 * cell.size());
+      }
+      EXPECT_GE(found, made * 9 / 10) << "of the points made inside the cell";
+    }
+  }
+}
+
+TEST(NewtonLanes, InsideSolvesGiveTheSameBitsOnEveryInstructionSet) {
+  std::mt19937_64 rng(73);
+  for (int degree : {2, 3, 5}) {
+    const RefCell cell = RandomCurvedCell(CellType::Tet, degree, false, 3, rng);
+    const CellSolver solver(cell.view());
+    const LaneInput in = MakeInput(cell, 37, rng);
+    std::vector<std::vector<double>> runs;
+    for (LaneIsa isa : AvailableIsas()) {
+      std::vector<double> ref[3], closest[3], f(in.count());
+      std::vector<kernels::InsideOutcome> outcome(in.count());
+      std::vector<int> iterations(in.count());
+      kernels::InsideLanes lanes;
+      lanes.count = in.count();
+      for (int k = 0; k < 3; ++k) {
+        ref[k] = in.start[k];
+        // Starts inside the domain, as SolveInsideLane gives them.
+        for (double& v : ref[k]) v = 0.05 + 0.2 * v;
+        closest[k].resize(in.count());
+        lanes.point[k] = in.coord[k].data();
+        lanes.ref[k] = ref[k].data();
+        lanes.closest[k] = closest[k].data();
+      }
+      lanes.squaredDistance = f.data();
+      lanes.outcome = outcome.data();
+      lanes.iterations = iterations.data();
+      kernels::SolveInsideLanes(cell.view(), cell.size(), lanes, isa);
+      std::vector<double> flat;
+      for (int l = 0; l < in.count(); ++l) {
+        flat.push_back(static_cast<double>(outcome[l]));
+        flat.push_back(iterations[l]);
+        for (int k = 0; k < 3; ++k) flat.push_back(ref[k][l]);
+        if (outcome[l] != kernels::InsideOutcome::Handover) flat.push_back(f[l]);
+      }
+      runs.push_back(flat);
+    }
+    for (std::size_t r = 1; r < runs.size(); ++r) {
+      ASSERT_EQ(runs[r].size(), runs[0].size());
+      for (std::size_t i = 0; i < runs[0].size(); ++i) EXPECT_TRUE(Same(runs[r][i], runs[0][i])) << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace invmap::testing
