@@ -60,9 +60,9 @@ def measure(args, triangles, points, rows):
         rows.append(dict(row, tool="invmap", note=f"skipped: about {estimate:.1f} GB"))
         rows.append(dict(row, tool="Embree", note="skipped with invmap"))
         return
-    pts = ensure(os.path.join(args.work_dir, f"near_{triangles}_{points}.npy"),
-                 [invmap, "generate", "points", "-g", mesh, "--kind", "near", "-n", str(points), "--seed", "5",
-                  "-o", os.path.join(args.work_dir, f"near_{triangles}_{points}.npy")])
+    name = os.path.join(args.work_dir, f"near_{triangles}_{points}_{args.spread}.npy")
+    pts = ensure(name, [invmap, "generate", "points", "-g", mesh, "--kind", "near", "--spread", str(args.spread),
+                        "-n", str(points), "--seed", "5", "-o", name])
     out = os.path.join(args.work_dir, "results.npy")
     wall, peak, _ = run_timed([invmap, "invert", "-q", "-g", mesh, "-p", pts, "-o", out,
                                "--threads", str(args.threads)], args.threads)
@@ -132,6 +132,8 @@ def main():
     parser.add_argument("--points", default="1000,10000,100000,1000000,10000000,100000000",
                         help="point counts of the second sweep")
     parser.add_argument("--mesh-for-points", type=int, default=1000000, help="triangles of the second sweep")
+    parser.add_argument("--spread", type=float, default=0.001,
+                        help="near points: largest offset relative to the mesh's size (a scan's noise)")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--max-memory-gb", type=float, default=16.0)
     parser.add_argument("--keep-points", action="store_true", help="keep the generated point files")
@@ -152,8 +154,8 @@ def main():
         writer.writeheader()
         writer.writerows(rows + by_points)
     write_markdown(args.out + ".md", rows + by_points, " ".join(["/usr/bin/python3"] + sys.argv))
-    plot(args.out + "_triangles.png", rows, "triangles", f"{args.points_per_mesh} near points, "
-         f"{args.threads} thread(s)")
+    plot(args.out + "_triangles.png", rows, "triangles", f"{args.points_per_mesh} near points (spread "
+         f"{args.spread}), {args.threads} thread(s)")
     plot(args.out + "_points.png", by_points, "points", f"mesh of about {args.mesh_for_points} triangles, "
          f"{args.threads} thread(s)")
 
