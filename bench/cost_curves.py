@@ -29,14 +29,17 @@ def parse_list(text):
 
 def run_timed(command, threads):
     """Runs `command` under GNU time (pinned to `threads` cores with taskset
-    when fewer than all); returns (wall seconds, peak MB, stdout)."""
+    when fewer than all); returns (wall seconds, CPU seconds, peak MB,
+    stdout). On a shared machine the wall time grows with the others' load;
+    the CPU time (user + system) of a one-thread run does not."""
     if threads < os.cpu_count():
         command = ["taskset", "-c", ",".join(str(c) for c in range(threads))] + command
-    result = subprocess.run(["/usr/bin/time", "-f", "TIME %e %M"] + command, capture_output=True, text=True)
+    result = subprocess.run(["/usr/bin/time", "-f", "TIME %e %U %S %M"] + command, capture_output=True, text=True)
     if result.returncode != 0:
         raise RuntimeError(" ".join(command) + " failed:\n" + result.stderr[-2000:])
-    match = re.search(r"TIME ([0-9.]+) ([0-9]+)", result.stderr)
-    return float(match.group(1)), int(match.group(2)) / 1024.0, result.stdout
+    match = re.search(r"TIME ([0-9.]+) ([0-9.]+) ([0-9.]+) ([0-9]+)", result.stderr)
+    wall, user, system, peak = match.groups()
+    return float(wall), float(user) + float(system), int(peak) / 1024.0, result.stdout
 
 
 def ensure(path, command):
@@ -64,13 +67,13 @@ def measure(args, triangles, points, rows):
     pts = ensure(name, [invmap, "generate", "points", "-g", mesh, "--kind", "near", "--spread", str(args.spread),
                         "-n", str(points), "--seed", "5", "-o", name])
     out = os.path.join(args.work_dir, "results.npy")
-    wall, peak, _ = run_timed([invmap, "invert", "-q", "-g", mesh, "-p", pts, "-o", out,
-                               "--threads", str(args.threads)], args.threads)
+    wall, cpu, peak, _ = run_timed([invmap, "invert", "-q", "-g", mesh, "-p", pts, "-o", out,
+                                    "--threads", str(args.threads)], args.threads)
     os.remove(out)
-    rows.append(dict(row, tool="invmap", wall_s=wall, peak_mb=peak, note=""))
-    wall, peak, stdout = run_timed([embree, mesh, pts], args.threads)
+    rows.append(dict(row, tool="invmap", wall_s=wall, cpu_s=cpu, peak_mb=peak, note=""))
+    wall, cpu, peak, stdout = run_timed([embree, mesh, pts], args.threads)
     fields = dict(kv.split("=") for kv in stdout.split())
-    rows.append(dict(row, tool="Embree", wall_s=wall, peak_mb=peak, build_s=float(fields["build_s"]),
+    rows.append(dict(row, tool="Embree", wall_s=wall, cpu_s=cpu, peak_mb=peak, build_s=float(fields["build_s"]),
                      query_s=float(fields["query_s"]), note=""))
     if not args.keep_points:
         os.remove(pts)
@@ -79,6 +82,8 @@ def measure(args, triangles, points, rows):
 def write_markdown(path, rows, command):
     with open(path, "w") as md:
         md.write("Command: `" + command + "`\n\n")
+        md.write("Times are CPU seconds (user + system) of the whole command, end to end; peak memory is the "
+                 "resident set's.\n\n")
         md.write("| triangles | points | threads | invmap s | Embree s | invmap / Embree time | "
                  "invmap MB | Embree MB | invmap / Embree memory |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         pairs = {}
@@ -86,11 +91,11 @@ def write_markdown(path, rows, command):
             pairs.setdefault((r["triangles"], r["points"], r["threads"]), {})[r["tool"]] = r
         for (tri, pts, thr), pair in sorted(pairs.items()):
             a, b = pair.get("invmap", {}), pair.get("Embree", {})
-            if "wall_s" not in a or "wall_s" not in b:
+            if "cpu_s" not in a or "cpu_s" not in b:
                 md.write(f"| {tri} | {pts} | {thr} | {a.get('note', '')} | | | | | |\n")
                 continue
-            md.write(f"| {tri} | {pts} | {thr} | {a['wall_s']:.2f} | {b['wall_s']:.2f} | "
-                     f"{a['wall_s'] / b['wall_s']:.2f} | {a['peak_mb']:.0f} | {b['peak_mb']:.0f} | "
+            md.write(f"| {tri} | {pts} | {thr} | {a['cpu_s']:.2f} | {b['cpu_s']:.2f} | "
+                     f"{a['cpu_s'] / max(b['cpu_s'], 0.01):.2f} | {a['peak_mb']:.0f} | {b['peak_mb']:.0f} | "
                      f"{a['peak_mb'] / b['peak_mb']:.2f} |\n")
 
 
@@ -104,12 +109,12 @@ def plot(path, rows, x, fixed_label):
         return
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
     for tool, style in (("invmap", "o-"), ("Embree", "s--")):
-        series = sorted((r[x], r) for r in rows if r["tool"] == tool and "wall_s" in r)
+        series = sorted((r[x], r) for r in rows if r["tool"] == tool and "cpu_s" in r)
         if not series:
             continue
-        left.plot([s[0] for s in series], [s[1]["wall_s"] for s in series], style, label=tool)
+        left.plot([s[0] for s in series], [s[1]["cpu_s"] for s in series], style, label=tool)
         right.plot([s[0] for s in series], [s[1]["peak_mb"] for s in series], style, label=tool)
-    for axis, label in ((left, "end-to-end time (s)"), (right, "peak memory (MB)")):
+    for axis, label in ((left, "end-to-end CPU time (s)"), (right, "peak memory (MB)")):
         axis.set_xscale("log")
         axis.set_yscale("log")
         axis.set_xlabel(x)
@@ -148,7 +153,7 @@ def main():
     for points in parse_list(args.points):
         measure(args, args.mesh_for_points, points, by_points)
         print(by_points[-2], by_points[-1], sep="\n", flush=True)
-    keys = ["tool", "triangles", "points", "threads", "wall_s", "peak_mb", "build_s", "query_s", "note"]
+    keys = ["tool", "triangles", "points", "threads", "wall_s", "cpu_s", "peak_mb", "build_s", "query_s", "note"]
     with open(args.out + ".csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         writer.writeheader()
