@@ -129,14 +129,6 @@ void ChooseSplit(const CellShape& shape, double* slot, const double* paramScale,
   }
 }
 
-/// A part of a cell whose squared distance stays at or above this level
-/// cannot beat a best squared distance `best2` by more than tau (the
-/// distance tolerance times the cell's size); `slack` covers the rounding of
-/// the nets' coefficients.
-double ExclusionLevel(double best2, double tau, double slack) {
-  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
-}
-
 /// True for polynomial cells and rational ones whose weights vary by at most
 /// 5%: beyond that the curvature bounds of a rational cell, which bound the
 /// Hessians of NN, NW and WW separately, lose the cancellations between
@@ -184,6 +176,14 @@ class SlotPool {
 };
 
 }  // namespace
+
+/// A part of a cell whose squared distance stays at or above this level
+/// cannot beat a best squared distance `best2` by more than tau (the
+/// distance tolerance times the cell's size); `slack` covers the rounding of
+/// the nets' coefficients.
+double CellSolver::ExclusionLevel(double best2, double tau, double slack) {
+  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
+}
 
 CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
   ComputeControlBox(cell, boxLo_, boxHi_);
@@ -574,7 +574,12 @@ void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLa
         results.closest[k][lane] = x;
       }
       if (results.distance) results.distance[lane] = std::sqrt(dist2[l]);
-      if (results.status) results.status[lane] = onBoundary[l] ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+      const bool farther = queries.bound2 && dist2[l] >= queries.bound2[lane];
+      if (results.status) {
+        results.status[lane] = farther      ? PointStatus::Farther
+                               : onBoundary[l] ? PointStatus::ProjectedToBoundary
+                                               : PointStatus::Converged;
+      }
       if (results.iterations) results.iterations[lane] = 0;
     }
   }

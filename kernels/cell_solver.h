@@ -54,6 +54,9 @@ struct QueryLane {
   /// Optional: initial reference coordinates per lane (warm start), same
   /// layout; nullptr starts from the cell's center.
   const double* initialRef[3] = {nullptr, nullptr, nullptr};
+  /// Optional: per lane, the squared distance of the best point found
+  /// elsewhere (Solve's bound2; +infinity for none); nullptr for no bounds.
+  const double* bound2 = nullptr;
 };
 
 /// Output arrays of a QueryLane, each of length count (ref and closest as
@@ -177,6 +180,9 @@ class CellSolver {
   /// `lambda` (when haveLambda), else `initialRef`, else the centre; false
   /// when `lambda` puts the point beyond the control points' hull (not inside).
   bool InsideStart(const double* initialRef, const double* lambda, bool haveLambda, double* start) const;
+  /// The level below which a part of the cell must reach to beat a best
+  /// squared distance `best2` by more than tau; `slack`: the nets' rounding.
+  static double ExclusionLevel(double best2, double tau, double slack);
   /// Writes lane l of `results` from one cell's answer.
   void WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const;
 

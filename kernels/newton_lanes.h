@@ -42,6 +42,11 @@ enum class LaneOutcome : std::uint8_t {
   Kkt,
   /// Left the lanes: `ref` is the iterate to continue from in the scalar solve.
   Handover,
+  /// Stopped at `ref`, where the tangent plane of W^2 (|x - p|^2 - level)
+  /// stays positive over the whole domain (TangentPlaneLowerBound with the
+  /// lane's exclusionLevel): the cell cannot beat the level if that function
+  /// is also convex, which the caller confirms (LocalSolve's exclusion).
+  AboveLevel,
 };
 
 /// Lanes of one call, structure of arrays; every array has `count` entries.
@@ -63,6 +68,10 @@ struct NewtonLanes {
   /// In: instead of `ref`, start at the Greville parameters of the control
   /// point nearest to each point (as the scalar solve's cold start).
   bool startAtNearestControlPoint = false;
+  /// In (optional, surfaces): per lane, the level of LocalSolve's exclusion
+  /// test (LocalSolveOptions::exclusionLevel), tried at each iterate until
+  /// it first holds; -infinity for none.
+  const double* exclusionLevel = nullptr;
 };
 
 /// True for the cells SolveNewtonLanes covers (see the top of this file).

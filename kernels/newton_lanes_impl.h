@@ -97,8 +97,10 @@ struct JetLanes {
   Batch<A> x[AD];
   Batch<A> d1[AD][PD];
   Batch<A> d2[AD][kSecond];
+  Batch<A> logWeightSlope[PD];  ///< (dW/du_i) / W; 0 for a polynomial cell.
 
   void SelectFrom(const Mask<A>& take, const JetLanes& other) {
+    for (int i = 0; i < PD; ++i) logWeightSlope[i] = xsimd::select(take, other.logWeightSlope[i], logWeightSlope[i]);
     for (int k = 0; k < AD; ++k) {
       x[k] = xsimd::select(take, other.x[k], x[k]);
       for (int i = 0; i < PD; ++i) d1[k][i] = xsimd::select(take, other.d1[k][i], d1[k][i]);
@@ -194,6 +196,7 @@ class LineCellLanes {
     }
     constexpr int kSecond = PD * (PD + 1) / 2;
     if constexpr (!Rational) {
+      for (int i = 0; i < PD; ++i) out->logWeightSlope[i] = Batch<A>(0.0);
       for (int k = 0; k < AD; ++k) {
         out->x[k] = s0[k];
         for (int i = 0; i < PD; ++i) out->d1[k][i] = s1[i][k];
@@ -202,6 +205,7 @@ class LineCellLanes {
     } else {
       // Quotient rule, as EvaluateMap's.
       const Batch<A> invW = Batch<A>(1.0) / s0[AD];
+      for (int i = 0; i < PD; ++i) out->logWeightSlope[i] = s1[i][AD] * invW;
       for (int k = 0; k < AD; ++k) {
         out->x[k] = s0[k] * invW;
         for (int i = 0; i < PD; ++i) out->d1[k][i] = (s1[i][k] - out->x[k] * s1[i][AD]) * invW;
@@ -230,6 +234,47 @@ template <class A>
 Batch<A> PlainNorm(Batch<A> length2, Mask<A>* outOfRange) {
   *outOfRange = *outOfRange | !(length2 > Batch<A>(1e-300) && length2 < Batch<A>(1e300));
   return xsimd::sqrt(length2);
+}
+
+/// TangentPlaneLowerBound (kernels/tangent_plane.h) for lanes of a cell of
+/// line factors: the least value over the unit box of the tangent plane of
+/// W^2 (|x - p|^2 - level) at `ref`, less its rounding; -infinity where it
+/// is not positive.
+template <class A, int PD, int AD>
+Batch<A> TangentPlaneLowerBoundLanes(const JetLanes<A, PD, AD>& jet, const Batch<A>* point, const Batch<A>* ref,
+                                     const Batch<A>& level, double size) {
+  using B = Batch<A>;
+  const B zero(0.0), minusInfinity(-std::numeric_limits<double>::infinity());
+  B r[AD], f = zero;
+  for (int k = 0; k < AD; ++k) {
+    r[k] = jet.x[k] - point[k];
+    f += r[k] * r[k];
+  }
+  const B excess = f - level;
+  B slope[PD];
+  for (int i = 0; i < PD; ++i) {
+    slope[i] = zero;
+    for (int k = 0; k < AD; ++k) slope[i] += B(2.0) * jet.d1[k][i] * r[k];
+    slope[i] += B(2.0) * jet.logWeightSlope[i] * excess;
+  }
+  // A linear function's least value over an interval is at an end.
+  B least = excess;
+  for (int i = 0; i < PD; ++i) {
+    least -= slope[i] * ref[i];
+    least += xsimd::min(zero, slope[i]);
+  }
+  B magnitude(size), columns = zero, weightSlope = zero;
+  for (int k = 0; k < AD; ++k) {
+    magnitude = xsimd::max(magnitude, xsimd::max(xsimd::abs(point[k]), xsimd::abs(jet.x[k]) + B(size)));
+  }
+  for (int i = 0; i < PD; ++i) {
+    for (int k = 0; k < AD; ++k) columns += xsimd::abs(jet.d1[k][i]);
+    weightSlope += B(2.0) * xsimd::abs(jet.logWeightSlope[i]);
+  }
+  const B delta = B(kLaneMapRounding) * magnitude;
+  const B rounding = (B(2.0) * delta * (xsimd::sqrt(f) + columns) + delta * delta) * (B(1.0) + weightSlope);
+  const B bound = least - rounding;
+  return xsimd::select((excess > zero) & (least > zero) & xsimd::isfinite(bound), bound, minusInfinity);
 }
 
 /// The local solve of lanes [first, first + W) (see SolveNewtonLanes):
@@ -295,7 +340,13 @@ void SolveBlock(const LineCellLanes<A, PD, AD, Rational, FixedDegree>& cell, dou
       heldHi[i] = heldHi[i] & !(-grad[i] < zero);
     }
   }
-  M live(true), kkt(false), handover(false), jetStale(false);
+  M live(true), kkt(false), handover(false), jetStale(false), aboveLevel(false);
+  M exclusionPending(false);
+  B level(0.0);
+  if (lanes.exclusionLevel) {
+    level = load(lanes.exclusionLevel);
+    exclusionPending = level > B(-std::numeric_limits<double>::infinity());
+  }
   // Lanes of the padded tail take no part.
   for (int l = valid; l < W; ++l) buffer[l] = 0.0;
   for (int l = 0; l < valid; ++l) buffer[l] = 1.0;
@@ -304,6 +355,14 @@ void SolveBlock(const LineCellLanes<A, PD, AD, Rational, FixedDegree>& cell, dou
   const B perLengthSize(kGradientTolerance), floorLength(kThinDirection * size), sizeB(size);
   for (int iter = 0; iter < kLaneMaxIterations && xsimd::any(live); ++iter) {
     iterations = xsimd::select(live, iterations + one, iterations);
+    if (xsimd::any(live & exclusionPending)) {
+      // LocalSolve's exclusion: tried at each iterate until it first holds.
+      const M above = live & exclusionPending & (TangentPlaneLowerBoundLanes(jet, point, ref, level, size) > zero);
+      aboveLevel = aboveLevel | above;
+      exclusionPending = exclusionPending & !above;
+      live = live & !above;
+      if (!xsimd::any(live)) break;
+    }
     B r[AD], grad[PD];
     const B f = residual(jet, r);
     gradient(r, grad);
@@ -487,8 +546,12 @@ void SolveBlock(const LineCellLanes<A, PD, AD, Rational, FixedDegree>& cell, dou
   store(f, lanes.squaredDistance);
   iterations.store_aligned(out);
   for (int l = 0; l < valid; ++l) lanes.iterations[first + l] = static_cast<int>(out[l]);
-  xsimd::select(kkt, one, zero).store_aligned(out);
-  for (int l = 0; l < valid; ++l) lanes.outcome[first + l] = out[l] != 0.0 ? LaneOutcome::Kkt : LaneOutcome::Handover;
+  xsimd::select(kkt, one, xsimd::select(aboveLevel, B(2.0), zero)).store_aligned(out);
+  for (int l = 0; l < valid; ++l) {
+    lanes.outcome[first + l] = out[l] == 1.0   ? LaneOutcome::Kkt
+                               : out[l] == 2.0 ? LaneOutcome::AboveLevel
+                                               : LaneOutcome::Handover;
+  }
   M held(false);
   for (int i = 0; i < PD; ++i) held = held | heldLo[i] | heldHi[i];
   xsimd::select(held, one, zero).store_aligned(out);

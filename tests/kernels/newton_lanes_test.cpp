@@ -23,6 +23,7 @@
 #include "kernels/curvature_bounds.h"
 #include "kernels/distance_net.h"
 #include "kernels/newton_lanes.h"
+#include "kernels/tangent_plane.h"
 #include "tests/support/reference_cell.h"
 
 namespace invmap::testing {
@@ -341,6 +342,123 @@ TEST(NewtonLanes, SolveLaneMatchesBruteForce) {
       }
     }
   }
+}
+
+/// SolveLane with a bound per lane (a neighbour that must beat the best so
+/// far): just above the true minimum the answer comes back right; just below
+/// it, Farther or a right answer; far below it, Farther (for most lanes at
+/// once, by the nets' bounds or the tangent-plane exclusion in lanes).
+TEST(NewtonLanes, BoundedLanesAreFartherOnlyWhenTheCellCannotBeatTheBound) {
+  std::mt19937_64 rng(79);
+  for (const Combination& c : CoveredCombinations()) {
+    SCOPED_TRACE(Name(c));
+    const RefCell cell = RandomCurvedCell(c.type, c.degree, c.rational, c.ambientDim, rng);
+    const CellSolver solver(cell.view());
+    BruteForceReference reference(cell);
+    const LaneInput in = MakeInput(cell, 60, rng);
+    std::vector<double> expect(in.count());
+    for (int l = 0; l < in.count(); ++l) {
+      const double p[3] = {in.coord[0][l], in.coord[1][l], in.coord[2][l]};
+      expect[l] = reference.Closest(p).distance;
+    }
+    const double size = cell.size();
+    // Offsets of the bound from the true distance, in units of the size.
+    for (double offset : {1e-6, -1e-6, -0.5}) {
+      SCOPED_TRACE("bound offset " + std::to_string(offset));
+      std::vector<double> bound2(in.count());
+      for (int l = 0; l < in.count(); ++l) {
+        const double b = std::max(0.0, expect[l] + offset * size);
+        bound2[l] = b * b;
+      }
+      QueryLane queries;
+      queries.count = in.count();
+      for (int k = 0; k < cell.ambientDim; ++k) queries.coord[k] = in.coord[k].data();
+      for (int i = 0; i < cell.paramDim(); ++i) queries.initialRef[i] = in.start[i].data();
+      queries.bound2 = bound2.data();
+      std::vector<double> ref[3], closest[3], distance(in.count());
+      std::vector<PointStatus> status(in.count());
+      std::vector<int> iterations(in.count());
+      ResultLane results;
+      for (int k = 0; k < 3; ++k) {
+        ref[k].resize(in.count());
+        closest[k].resize(in.count());
+        results.ref[k] = ref[k].data();
+        results.closest[k] = closest[k].data();
+      }
+      results.distance = distance.data();
+      results.status = status.data();
+      results.iterations = iterations.data();
+      SolveWorkspace ws;
+      solver.SolveLane(queries, results, &ws);
+      for (int l = 0; l < in.count(); ++l) {
+        SCOPED_TRACE("lane " + std::to_string(l) + "\n" + Describe(cell));
+        if (offset > 0) {
+          EXPECT_NE(status[l], PointStatus::Farther);
+        } else if (expect[l] < 1e-4 * size) {
+          continue;  // the bound is 0 or near it: either answer is right
+        }
+        if (status[l] == PointStatus::Farther) continue;
+        EXPECT_TRUE(status[l] == PointStatus::Converged || status[l] == PointStatus::ProjectedToBoundary);
+        EXPECT_NEAR(distance[l], expect[l], kRelTol * size);
+      }
+      if (offset == -0.5) {
+        int farther = 0, eligible = 0;
+        for (int l = 0; l < in.count(); ++l) {
+          if (expect[l] + offset * size <= 0.0) continue;
+          ++eligible;
+          farther += status[l] == PointStatus::Farther ? 1 : 0;
+        }
+        EXPECT_EQ(farther, eligible);
+      }
+    }
+  }
+}
+
+/// The tangent-plane exclusion in lanes stops a lane only where the scalar
+/// test (kernels/tangent_plane.h) at the same iterate holds too, and it does
+/// stop lanes whose level is far below their distance.
+TEST(NewtonLanes, TangentPlaneExclusionAgreesWithTheScalarTest) {
+  std::mt19937_64 rng(83);
+  int stopped = 0;
+  for (const Combination& c : CoveredCombinations()) {
+    if (c.type != CellType::Quad) continue;
+    SCOPED_TRACE(Name(c));
+    const RefCell cell = RandomCurvedCell(c.type, c.degree, c.rational, c.ambientDim, rng);
+    BruteForceReference reference(cell);
+    const LaneInput in = MakeInput(cell, 40, rng);
+    std::vector<double> level(in.count());
+    for (int l = 0; l < in.count(); ++l) {
+      const double p[3] = {in.coord[0][l], in.coord[1][l], in.coord[2][l]};
+      const double below = std::max(0.0, reference.Closest(p).distance - 0.3 * cell.size());
+      level[l] = below * below;
+    }
+    LaneRun run(in.count());
+    NewtonLanes lanes;
+    lanes.count = in.count();
+    for (int k = 0; k < 3; ++k) {
+      lanes.point[k] = in.coord[k].data();
+      lanes.closest[k] = run.closest[k].data();
+      run.ref[k] = in.start[k];
+      lanes.ref[k] = run.ref[k].data();
+    }
+    lanes.squaredDistance = run.squaredDistance.data();
+    lanes.onBoundary = reinterpret_cast<bool*>(run.onBoundary.data());
+    lanes.outcome = run.outcome.data();
+    lanes.iterations = run.iterations.data();
+    lanes.exclusionLevel = level.data();
+    kernels::SolveNewtonLanes(cell.view(), cell.size(), lanes);
+    for (int l = 0; l < in.count(); ++l) {
+      if (run.outcome[l] != LaneOutcome::AboveLevel) continue;
+      ++stopped;
+      const double p[3] = {in.coord[0][l], in.coord[1][l], in.coord[2][l]};
+      const double ref[3] = {run.ref[0][l], run.ref[1][l], 0.0};
+      kernels::MapJet jet;
+      kernels::EvaluateMap(cell.view(), ref, kernels::JetOrder::First, &jet);
+      EXPECT_GT(kernels::TangentPlaneLowerBound(cell.shape(), 3, jet, p, ref, level[l], cell.size()), 0.0)
+          << "lane " << l;
+    }
+  }
+  EXPECT_GT(stopped, 0);
 }
 
 /// The nets' lower bounds for all lanes: the scalar bound's value bit for
