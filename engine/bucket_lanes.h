@@ -1,0 +1,60 @@
+// The points of a bucket on a geometry of curves and surfaces, solved cell
+// by cell in SIMD lanes (CellSolver::SolveLane) instead of point by point:
+//  1. each point's cell and start are predicted from the bucket's first
+//     answer (engine/warm_start.h), and each predicted cell is solved for
+//     all the points predicted in it;
+//  2. each point's traversal of the 4-ary tree, cut at that answer's
+//     distance, lists the other cells that could be nearer, without
+//     solving them;
+//  3. each listed cell is solved for all the points that listed it, each
+//     lane bounded by its point's best distance so far (the nets' lower
+//     bounds and the tangent-plane exclusion drop most lanes at once).
+// A cell that could beat a point's final answer has a lower bound below it,
+// so below the distance the traversal was cut at: every such cell is
+// listed, and each point's answer is the certified global minimum.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "engine/bvh_build.h"
+#include "engine/cell_store.h"
+#include "engine/simplex_items.h"
+#include "engine/warm_start.h"
+#include "engine/wide_bvh.h"
+
+namespace invmap::engine {
+
+/// Per-bucket answers and scratch, reused across buckets (one per thread).
+struct BucketLanes {
+  /// Per point: its answer's cell (-1: none within the gap tolerance) and answer.
+  std::vector<std::int64_t> cell;
+  std::vector<kernels::CellSolveResult> result;
+  /// Per point: Newton iterations over every cell solved for it.
+  std::vector<int> iterations;
+
+  // Scratch.
+  std::vector<std::pair<std::int64_t, int>> pairs;  ///< (subdivision or cell, point)
+  std::vector<double> pairStarts;                   ///< 3 per pair of step 1
+  std::vector<char> handled;                        ///< per point
+  std::vector<std::pair<double, std::int64_t>> stack;
+  std::vector<std::int32_t> stackFirst, stackCount;
+  std::vector<double> coord[3], start[3], bound2, ref[3], closest[3], distance;
+  std::vector<kernels::PointStatus> status;
+  std::vector<int> laneIterations;
+  kernels::SolveWorkspace workspace;
+};
+
+/// Solves points 1 .. count - 1 of a bucket (coord[k][0 .. count), finite;
+/// point 0 is the caller's, answered `first`) of a geometry without volume
+/// cells. `maxDistance`: the gap tolerance. Answers land in lanes->cell and
+/// lanes->result (entry 0 untouched): cell -1 when nothing is within the gap
+/// tolerance, -2 for a point left to the per-point search (its predicted
+/// cell was not a curved cell, or it listed too many others). They depend on
+/// the bucket alone.
+void SolveBucketInLanes(const CellStore& store, const WideBvh& wide, const Bvh& bvh, const SimplexItems& simplices,
+                        const double* const coord[3], int count, const WarmStart& first, double maxDistance,
+                        BucketLanes* lanes);
+
+}  // namespace invmap::engine
