@@ -188,9 +188,10 @@ void SolveBucketInLanes(const CellStore& store, const WideBvh& wide, const Bvh& 
   handled.assign(count, 1);
   for (int j = 1; j < count; ++j) {
     const double p[3] = {coord[0][j], coord[1][j], dim > 2 ? coord[2][j] : 0.0};
-    std::int64_t cell;
+    std::int64_t cell = -1;
     double ref[3] = {0, 0, 0};
-    PredictStart(store, first, p, &cell, ref);
+    const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+    if (finite) PredictStart(store, first, p, &cell, ref);
     if (cell < 0 || store.inRegion(cell) || store.solver(cell).isAffineSimplex()) {
       handled[j] = 0;
       continue;

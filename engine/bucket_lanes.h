@@ -46,12 +46,12 @@ struct BucketLanes {
   kernels::SolveWorkspace workspace;
 };
 
-/// Solves points 1 .. count - 1 of a bucket (coord[k][0 .. count), finite;
-/// point 0 is the caller's, answered `first`) of a geometry without volume
+/// Solves points 1 .. count - 1 of a bucket (coord[k][0 .. count); point 0
+/// is the caller's, answered `first`) of a geometry without volume
 /// cells. `maxDistance`: the gap tolerance. Answers land in lanes->cell and
 /// lanes->result (entry 0 untouched): cell -1 when nothing is within the gap
-/// tolerance, -2 for a point left to the per-point search (its predicted
-/// cell was not a curved cell, or it listed too many others). They depend on
+/// tolerance, -2 for a point left to the per-point search (not finite, its
+/// predicted cell not a curved cell, or it listed too many others). They depend on
 /// the bucket alone.
 void SolveBucketInLanes(const CellStore& store, const WideBvh& wide, const Bvh& bvh, const SimplexItems& simplices,
                         const double* const coord[3], int count, const WarmStart& first, double maxDistance,
