@@ -8,7 +8,9 @@
 
 #include "io/file_io.h"
 #include "io/input_error.h"
+#include "io/las_reader.h"
 #include "io/npy.h"
+#include "io/pcd_reader.h"
 
 namespace invmap::io {
 namespace {
@@ -283,7 +285,11 @@ PointFormat PointFormatOf(const std::string& path, InputError::Kind kind) {
   if (ext == ".xyz" || ext == ".txt" || ext == ".csv") return PointFormat::Text;
   if (ext == ".ply") return PointFormat::Ply;
   if (ext == ".npy") return PointFormat::Npy;
-  throw InputError(path, 0, "unknown point file extension '" + ext + "' (expected .xyz, .txt, .csv, .ply or .npy)",
+  if (ext == ".las") return PointFormat::Las;
+  if (ext == ".pcd") return PointFormat::Pcd;
+  if (ext == ".laz") throw InputError(path, 0, LazRefusal(), kind);
+  throw InputError(path, 0,
+                   "unknown point file extension '" + ext + "' (expected .xyz, .txt, .csv, .ply, .npy, .las or .pcd)",
                    kind);
 }
 
@@ -322,6 +328,10 @@ std::unique_ptr<PointReader> OpenPointReader(const std::string& path, const Poin
       return std::make_unique<PlyPointReader>(path, options);
     case PointFormat::Npy:
       return std::make_unique<NpyPointReader>(path, options);
+    case PointFormat::Las:
+      return OpenLasPointReader(path, options);
+    case PointFormat::Pcd:
+      return OpenPcdPointReader(path, options);
   }
   return nullptr;
 }

@@ -1,8 +1,8 @@
-// Streaming input of query points (FORMATS.md section 3): text (.xyz, .txt,
-// .csv), PLY and npy files are read sequentially in chunks, so inputs larger
-// than memory work and memory stays bounded by the chunk size. Each chunk
-// also carries the points' records verbatim so that `trim` can write kept
-// points back unchanged with all their attributes.
+// Streaming input of query points (docs/formats.md, point files): text
+// (.xyz, .txt, .csv), PLY, npy, LAS and PCD files are read sequentially in
+// chunks, so inputs larger than memory work and memory stays bounded by the
+// chunk size. Each chunk also carries the points' records verbatim so that
+// `trim` can write kept points back unchanged with all their attributes.
 #pragma once
 
 #include <cstddef>
@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "io/input_error.h"
+#include "io/las_format.h"
+#include "io/pcd_format.h"
 #include "io/ply.h"
 
 namespace invmap::io {
@@ -21,17 +23,24 @@ enum class PointFormat : std::uint8_t {
   Text,  ///< .xyz, .txt, .csv
   Ply,   ///< .ply
   Npy,   ///< .npy
+  Las,   ///< .las
+  Pcd,   ///< .pcd
 };
 
 /// Format family of `path` from its extension (case-insensitive). Throws
 /// InputError of kind `kind` naming the file when the extension is none of
-/// .xyz .txt .csv .ply .npy.
+/// .xyz .txt .csv .ply .npy .las .pcd (.laz with the reason it is refused).
 PointFormat PointFormatOf(const std::string& path, InputError::Kind kind = InputError::Kind::Input);
 
 /// A chunk size for ReadChunk: large enough that per-chunk costs vanish,
 /// small enough that a chunk with its raw records and results stays in the
 /// low hundreds of MB whatever the input size.
 inline constexpr std::size_t kDefaultChunkPoints = std::size_t{1} << 21;
+
+/// Most record bytes a LAS or PCD reader puts in one chunk: wide records
+/// (extra bytes, feature descriptors) make chunks of fewer points, so that
+/// a chunk's memory does not grow with the record size.
+inline constexpr std::size_t kMaxChunkRecordBytes = std::size_t{128} << 20;
 
 /// A run of consecutive points of the input.
 struct PointChunk {
@@ -44,7 +53,9 @@ struct PointChunk {
   /// Optional (PointReadOptions::keepRaw): the points' records verbatim,
   /// concatenated: text, each line with its terminator ("\n" added to a
   /// last line without one); PLY, each record (binary bytes, or the ascii
-  /// line); npy, each row's bytes.
+  /// line); npy, each row's bytes; LAS, each point data record; PCD, each
+  /// ascii line or binary record (binary_compressed: the point's values of
+  /// every field but the "_" padding, in field order).
   std::string raw;
   /// Optional (with raw): count + 1 offsets; point i's record is
   /// raw[rawOffsets[i], rawOffsets[i + 1]).
@@ -66,6 +77,10 @@ struct PointFileLayout {
   std::string npyDescr;
   /// npy: the number of columns (shape[1]), 2 or 3.
   int npyColumns = 0;
+  /// LAS: the header's facts and where the records lie.
+  LasLayout las;
+  /// PCD: the header, its fields and encoding.
+  PcdLayout pcd;
 };
 
 /// Options of OpenPointReader.
@@ -136,6 +151,8 @@ class PointReader {
 ///    skipped (and dropped by trim).
 ///  - .npy: float32 or float64 ('<f4' '<f8' '>f4' '>f8' '=f4' '=f8'),
 ///    C order, shape (N, 2) or (N, 3), format versions 1 to 3.
+///  - .las: see OpenLasPointReader (io/las_reader.h); .laz is refused.
+///  - .pcd: see OpenPcdPointReader (io/pcd_reader.h).
 /// Throws InputError for missing, unreadable or malformed files, and for
 /// headers that claim more data than the file holds (checked before
 /// anything is reserved); std::invalid_argument for a forcedDim other

@@ -3,7 +3,9 @@
 #include <stdexcept>
 
 #include "io/input_error.h"
+#include "io/las_trim.h"
 #include "io/npy.h"
+#include "io/pcd_trim.h"
 
 namespace invmap::io {
 namespace {
@@ -17,6 +19,10 @@ const char* FormatName(PointFormat format) {
       return "PLY (.ply)";
     case PointFormat::Npy:
       return "npy (.npy)";
+    case PointFormat::Las:
+      return "LAS (.las)";
+    case PointFormat::Pcd:
+      return "PCD (.pcd)";
   }
   return "";
 }
@@ -70,8 +76,16 @@ TrimWriter::TrimWriter(const std::string& path, const PointFileLayout& layout)
       }
       break;
     }
+    case PointFormat::Las:
+      las_ = std::make_unique<LasTrimWriter>(layout.las, &out_);
+      break;
+    case PointFormat::Pcd:
+      pcd_ = std::make_unique<PcdTrimWriter>(layout.pcd, &out_);
+      break;
   }
 }
+
+TrimWriter::~TrimWriter() = default;
 
 void TrimWriter::WriteChunk(const PointChunk& chunk, const unsigned char* keep) {
   if (finished_) throw std::logic_error("TrimWriter::WriteChunk after Finish");
@@ -83,7 +97,14 @@ void TrimWriter::WriteChunk(const PointChunk& chunk, const unsigned char* keep) 
     // Runs of kept points are copied in one piece.
     std::size_t end = i + 1;
     while (end < chunk.count && keep[end] != 0) ++end;
-    out_.Write(chunk.raw.data() + chunk.rawOffsets[i], chunk.rawOffsets[end] - chunk.rawOffsets[i]);
+    const char* records = chunk.raw.data() + chunk.rawOffsets[i];
+    const std::size_t bytes = chunk.rawOffsets[end] - chunk.rawOffsets[i];
+    if (pcd_) {
+      pcd_->Write(records, bytes, end - i, &out_);
+    } else {
+      out_.Write(records, bytes);
+    }
+    if (las_) las_->Tally(records, end - i);
     written_ += static_cast<std::int64_t>(end - i);
     i = end - 1;
   }
@@ -96,6 +117,10 @@ void TrimWriter::Finish() {
   } else if (format_ == PointFormat::Npy) {
     const std::string header = FixedNpyHeader(npyDescr_, written_, npyColumns_);
     out_.WriteAt(0, header.data(), header.size());
+  } else if (las_) {
+    las_->Finish(&out_);
+  } else if (pcd_) {
+    pcd_->Finish(&out_);
   }
   out_.Commit();
   finished_ = true;

@@ -30,6 +30,7 @@
 #include "python/geometry_state.h"
 #include "python/grid_binding.h"
 #include "python/numpy_points.h"
+#include "python/point_files_binding.h"
 
 namespace py = pybind11;
 
@@ -450,4 +451,5 @@ Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
         py::arg("knots"), py::arg("weights"),
         "One B-spline patch from control points in file order, u fastest (see invmap.from_bspline).");
   RegisterGrid(m);
+  RegisterPointFiles(m);
 }

@@ -13,7 +13,7 @@ jobs=$(nproc)
 packages=(build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev libeigen3-dev libtbb-dev
           libembree-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev gmsh
           python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
-          libvtk9-dev libexodusii-dev libnetcdf-dev libgmsh-dev libxsimd-dev)
+          libvtk9-dev libexodusii-dev libnetcdf-dev libgmsh-dev liblzf-dev pcl-tools libxsimd-dev)
 
 install_missing() {
   local missing=()
@@ -74,13 +74,13 @@ case "$mode" in
     # The parsers under libFuzzer (clang, ASan/UBSan), a bounded time each.
     CC=clang CXX=clang++ configure_and_build "$root/build/fuzz" RelWithDebInfo -DINVMAP_BUILD_FUZZ=ON \
       -DINVMAP_SANITIZE=ON -DINVMAP_BUILD_TESTS=OFF -DINVMAP_BUILD_BENCH=OFF -DINVMAP_BUILD_PYTHON=OFF \
-      --target fuzz_geometry fuzz_points fuzz_fem
+      --target fuzz_geometry fuzz_points fuzz_fem fuzz_las fuzz_pcd
     echo "== Release suite"
     ctest --test-dir "$root/build/release" -j "$jobs" --output-on-failure --timeout 900
     echo "== Debug + ASan/UBSan suite"
     ctest --test-dir "$root/build/asan" -j "$jobs" --output-on-failure --timeout 900 -L sanitize
     echo "== Fuzzing the parsers (${INVMAP_FUZZ_SECONDS:-20} s each)"
-    for target in fuzz_geometry fuzz_points fuzz_fem; do
+    for target in fuzz_geometry fuzz_points fuzz_fem fuzz_las fuzz_pcd; do
       corpus="$root/build/fuzz/corpus/$target"
       mkdir -p "$corpus"
       # VTK 9.1's XML reader leaks a few hundred bytes on some malformed

@@ -18,10 +18,10 @@ import os
 
 import numpy as np
 
-from ._invmap import FileError, InputError, Manifold, __version__, from_mesh
+from ._invmap import FileError, InputError, Manifold, __version__, from_mesh, read_points
 from . import _invmap
 
-__all__ = ["FileError", "InputError", "Manifold", "from_bspline", "from_mesh", "grid", "load"]
+__all__ = ["FileError", "InputError", "Manifold", "from_bspline", "from_mesh", "grid", "load", "read_points"]
 
 # Public names live in `invmap`, not in the private extension module: this
 # is also where pickle looks classes up (manifolds and exceptions travel

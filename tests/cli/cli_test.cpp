@@ -16,45 +16,12 @@
 #include <string>
 #include <vector>
 
+#include "tests/cli/cli_fixture.h"
+
 namespace {
 
 namespace fs = std::filesystem;
-
-/// A fresh directory per test, removed afterwards.
-class CliTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("invmap_cli_" + std::string(info->name()) + "_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-
-  /// Runs invmap with `args`; returns the exit code, stdout and stderr in `out`.
-  int Run(const std::string& args, std::string* out = nullptr) const {
-    const std::string log = Path("run.log");
-    const std::string command = std::string(INVMAP_CLI_PATH) + " " + args + " > " + log + " 2>&1 < /dev/null";
-    const int status = std::system(command.c_str());
-    if (out) *out = ReadFile(log);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-
-  static std::string ReadFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-
-  void WriteFile(const std::string& name, const std::string& text) const {
-    std::ofstream(Path(name), std::ios::binary) << text;
-  }
-
-  fs::path dir_;
-};
+using invmap::testing::CliTest;
 
 /// The rows of a result CSV, split into fields (header excluded).
 std::vector<std::vector<std::string>> CsvRows(const std::string& text, std::string* header) {

@@ -181,8 +181,8 @@ TEST(TextPoints, RejectsBadInput) {
   const std::string sub = dir.Path("sub.xyz");
   std::filesystem::create_directory(sub);
   ExpectInputError([&] { OpenPointReader(sub); }, sub, 0, "is a directory");
-  ExpectInputError([&] { OpenPointReader(dir.Write("p.las", "x")); }, dir.Path("p.las"), 0,
-                   "unknown point file extension '.las'");
+  ExpectInputError([&] { OpenPointReader(dir.Write("p.e57", "x")); }, dir.Path("p.e57"), 0,
+                   "unknown point file extension '.e57'");
 }
 
 // ---------------------------------------------------------------------------
@@ -508,7 +508,7 @@ TEST(TrimWriter, RejectsAnotherFormatOrMissingRawRecords) {
   const auto reader = OpenPointReader(input);
   ExpectInputError([&] { TrimWriter writer(dir.Path("out.csv"), reader->layout()); }, dir.Path("out.csv"), 0,
                    "trim writes the input's format, PLY", InputError::Kind::Output);
-  ExpectInputError([&] { TrimWriter writer(dir.Path("out.las"), reader->layout()); }, dir.Path("out.las"), 0,
+  ExpectInputError([&] { TrimWriter writer(dir.Path("out.e57"), reader->layout()); }, dir.Path("out.e57"), 0,
                    "unknown point file extension", InputError::Kind::Output);
   const auto noRaw = OpenPointReader(input, PointReadOptions{0, false});
   PointChunk chunk;
