@@ -98,6 +98,25 @@ void CellArgs(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_EvaluateMap)->Apply(CellArgs);
 BENCHMARK(BM_SolveCell)->Apply(CellArgs);
 
+/// SolveLane's output arrays for `count` lanes and the ResultLane pointing at them.
+struct LaneResults {
+  explicit LaneResults(int count) : distance(count), status(count), iterations(count) {
+    for (int k = 0; k < 3; ++k) {
+      ref[k].resize(count);
+      closest[k].resize(count);
+      out.ref[k] = ref[k].data();
+      out.closest[k] = closest[k].data();
+    }
+    out.distance = distance.data();
+    out.status = status.data();
+    out.iterations = iterations.data();
+  }
+  std::vector<double> ref[3], closest[3], distance;
+  std::vector<invmap::kernels::PointStatus> status;
+  std::vector<int> iterations;
+  invmap::kernels::ResultLane out;
+};
+
 /// Points near the cell (the engine's common case: a bucket's points that
 /// share a candidate cell): the map at random reference points, moved by up
 /// to 2% of the cell's size in a random direction; as structure of arrays.
@@ -134,19 +153,9 @@ void BM_SolveNearPoints(benchmark::State& state) {
   invmap::kernels::QueryLane query;
   query.count = points.count();
   for (int k = 0; k < 3; ++k) query.coord[k] = points.coord[k].data();
-  std::vector<double> ref[3], closest[3], distance(query.count);
-  std::vector<invmap::kernels::PointStatus> status(query.count);
-  std::vector<int> iterations(query.count);
-  invmap::kernels::ResultLane result;
-  for (int k = 0; k < 3; ++k) {
-    ref[k].resize(query.count);
-    closest[k].resize(query.count);
-    result.ref[k] = ref[k].data();
-    result.closest[k] = closest[k].data();
-  }
-  result.distance = distance.data();
-  result.status = status.data();
-  result.iterations = iterations.data();
+  LaneResults output(query.count);
+  const invmap::kernels::ResultLane& result = output.out;
+  std::vector<double>& distance = output.distance;
   for (auto _ : state) {
     if (lanes) {
       solver.SolveLane(query, result, &ws);
@@ -197,19 +206,8 @@ void BM_SolveInsidePoints(benchmark::State& state) {
   invmap::kernels::QueryLane query;
   query.count = points.count();
   for (int k = 0; k < 3; ++k) query.coord[k] = points.coord[k].data();
-  std::vector<double> ref[3], closest[3], distance(query.count);
-  std::vector<invmap::kernels::PointStatus> status(query.count);
-  std::vector<int> iterations(query.count);
-  invmap::kernels::ResultLane result;
-  for (int k = 0; k < 3; ++k) {
-    ref[k].resize(query.count);
-    closest[k].resize(query.count);
-    result.ref[k] = ref[k].data();
-    result.closest[k] = closest[k].data();
-  }
-  result.distance = distance.data();
-  result.status = status.data();
-  result.iterations = iterations.data();
+  LaneResults output(query.count);
+  const invmap::kernels::ResultLane& result = output.out;
   bool inside[64];
   for (auto _ : state) {
     if (lanes) {

@@ -37,6 +37,37 @@ using Batch = xsimd::batch<double, A>;
 template <class A>
 using Mask = xsimd::batch_bool<double, A>;
 
+/// The lanes [first, first + W) of a call: loads that repeat the last lane
+/// into a partial block's tail (which takes no part), stores of the lanes
+/// that exist.
+template <class A>
+struct Block {
+  static constexpr int W = static_cast<int>(Batch<A>::size);
+  Block(int firstLane, int count) : first(firstLane), valid(std::min(W, count - firstLane)) {}
+
+  Batch<A> Load(const double* data) {
+    for (int l = 0; l < W; ++l) buffer[l] = data[first + std::min(l, valid - 1)];
+    return Batch<A>::load_aligned(buffer);
+  }
+  /// The W values of `v` (valid until the next call).
+  const double* Values(const Batch<A>& v) {
+    v.store_aligned(buffer);
+    return buffer;
+  }
+  void Store(const Batch<A>& v, double* to) {
+    Values(v);
+    for (int l = 0; l < valid; ++l) to[first + l] = buffer[l];
+  }
+  /// True in the lanes that exist.
+  Mask<A> Existing() {
+    for (int l = 0; l < W; ++l) buffer[l] = l < valid ? 1.0 : 0.0;
+    return Batch<A>::load_aligned(buffer) != Batch<A>(0.0);
+  }
+
+  int first, valid;
+  alignas(64) double buffer[W];
+};
+
 /// Bernstein polynomials of one line factor at t (a lane each) with their
 /// first and second derivatives, by the recurrences of EvaluateFactorBasis.
 /// FixedDegree > 0 makes every loop's length a constant.
@@ -287,20 +318,13 @@ void SolveBlock(const LineCellLanes<A, PD, AD, Rational, FixedDegree>& cell, dou
                 int first) {
   using B = Batch<A>;
   using M = Mask<A>;
-  constexpr int W = static_cast<int>(B::size);
-  const int valid = std::min(W, lanes.count - first);
-  // Loads with the last lane repeated into a partial block's tail.
-  alignas(64) double buffer[W];
-  const auto load = [&](const double* data) {
-    for (int l = 0; l < W; ++l) buffer[l] = data[first + std::min(l, valid - 1)];
-    return B::load_aligned(buffer);
-  };
+  Block<A> block(first, lanes.count);
   B point[AD], ref[PD];
-  for (int k = 0; k < AD; ++k) point[k] = load(lanes.point[k]);
+  for (int k = 0; k < AD; ++k) point[k] = block.Load(lanes.point[k]);
   if (lanes.startAtNearestControlPoint) {
     cell.NearestControlPointStart(point, ref);
   } else {
-    for (int i = 0; i < PD; ++i) ref[i] = load(lanes.ref[i]);
+    for (int i = 0; i < PD; ++i) ref[i] = block.Load(lanes.ref[i]);
   }
   for (int i = 0; i < PD; ++i) ref[i] = xsimd::min(xsimd::max(ref[i], B(0.0)), B(1.0));
   const B zero(0.0), one(1.0);
@@ -344,13 +368,10 @@ void SolveBlock(const LineCellLanes<A, PD, AD, Rational, FixedDegree>& cell, dou
   M exclusionPending(false);
   B level(0.0);
   if (lanes.exclusionLevel) {
-    level = load(lanes.exclusionLevel);
+    level = block.Load(lanes.exclusionLevel);
     exclusionPending = level > B(-std::numeric_limits<double>::infinity());
   }
-  // Lanes of the padded tail take no part.
-  for (int l = valid; l < W; ++l) buffer[l] = 0.0;
-  for (int l = 0; l < valid; ++l) buffer[l] = 1.0;
-  live = B::load_aligned(buffer) != zero;
+  live = block.Existing();  // lanes of the padded tail take no part
   B iterations = zero;
   const B perLengthSize(kGradientTolerance), floorLength(kThinDirection * size), sizeB(size);
   for (int iter = 0; iter < kLaneMaxIterations && xsimd::any(live); ++iter) {
@@ -536,26 +557,21 @@ void SolveBlock(const LineCellLanes<A, PD, AD, Rational, FixedDegree>& cell, dou
   }
   kkt = kkt & passes & !extreme;
 
-  alignas(64) double out[W];
-  const auto store = [&](const B& v, double* to) {
-    v.store_aligned(out);
-    for (int l = 0; l < valid; ++l) to[first + l] = out[l];
-  };
-  for (int i = 0; i < PD; ++i) store(ref[i], lanes.ref[i]);
-  for (int k = 0; k < AD; ++k) store(jet.x[k], lanes.closest[k]);
-  store(f, lanes.squaredDistance);
-  iterations.store_aligned(out);
-  for (int l = 0; l < valid; ++l) lanes.iterations[first + l] = static_cast<int>(out[l]);
-  xsimd::select(kkt, one, xsimd::select(aboveLevel, B(2.0), zero)).store_aligned(out);
-  for (int l = 0; l < valid; ++l) {
-    lanes.outcome[first + l] = out[l] == 1.0   ? LaneOutcome::Kkt
-                               : out[l] == 2.0 ? LaneOutcome::AboveLevel
-                                               : LaneOutcome::Handover;
+  for (int i = 0; i < PD; ++i) block.Store(ref[i], lanes.ref[i]);
+  for (int k = 0; k < AD; ++k) block.Store(jet.x[k], lanes.closest[k]);
+  block.Store(f, lanes.squaredDistance);
+  const double* counted = block.Values(iterations);
+  for (int l = 0; l < block.valid; ++l) lanes.iterations[first + l] = static_cast<int>(counted[l]);
+  const double* outcome = block.Values(xsimd::select(kkt, one, xsimd::select(aboveLevel, B(2.0), zero)));
+  for (int l = 0; l < block.valid; ++l) {
+    lanes.outcome[first + l] = outcome[l] == 1.0   ? LaneOutcome::Kkt
+                               : outcome[l] == 2.0 ? LaneOutcome::AboveLevel
+                                                   : LaneOutcome::Handover;
   }
   M held(false);
   for (int i = 0; i < PD; ++i) held = held | heldLo[i] | heldHi[i];
-  xsimd::select(held, one, zero).store_aligned(out);
-  for (int l = 0; l < valid; ++l) lanes.onBoundary[first + l] = out[l] != 0.0;
+  const double* onBoundary = block.Values(xsimd::select(held, one, zero));
+  for (int l = 0; l < block.valid; ++l) lanes.onBoundary[first + l] = onBoundary[l] != 0.0;
 }
 
 template <class A, int PD, int AD, bool Rational, int FixedDegree>
@@ -678,21 +694,14 @@ template <class A, int FixedDegree>
 void InsideBlock(const TetLanes<A, FixedDegree>& cell, double size, const InsideLanes& lanes, int first) {
   using B = Batch<A>;
   using M = Mask<A>;
-  constexpr int W = static_cast<int>(B::size);
-  const int valid = std::min(W, lanes.count - first);
-  alignas(64) double buffer[W];
-  const auto load = [&](const double* data) {
-    for (int l = 0; l < W; ++l) buffer[l] = data[first + std::min(l, valid - 1)];
-    return B::load_aligned(buffer);
-  };
+  Block<A> block(first, lanes.count);
   const B zero(0.0), one(1.0), sizeB(size);
   B point[3], ref[3];
   for (int k = 0; k < 3; ++k) {
-    point[k] = load(lanes.point[k]);
-    ref[k] = load(lanes.ref[k]);
+    point[k] = block.Load(lanes.point[k]);
+    ref[k] = block.Load(lanes.ref[k]);
   }
-  for (int l = 0; l < W; ++l) buffer[l] = l < valid ? 1.0 : 0.0;
-  M live = B::load_aligned(buffer) != zero;
+  M live = block.Existing();
   M converged(false), handover(false), stale(false);
   B iterations = zero;
   B x[3], d1[3][3], xTrial[3], d1Trial[3][3];
@@ -789,21 +798,16 @@ void InsideBlock(const TetLanes<A, FixedDegree>& cell, double size, const Inside
   }
   const B tau(kDistanceTolerance * size);
   const M inside = converged & (f <= tau * tau);
-  alignas(64) double out[W];
-  const auto store = [&](const B& v, double* to) {
-    v.store_aligned(out);
-    for (int l = 0; l < valid; ++l) to[first + l] = out[l];
-  };
-  for (int i = 0; i < 3; ++i) store(ref[i], lanes.ref[i]);
-  for (int k = 0; k < 3; ++k) store(x[k], lanes.closest[k]);
-  store(f, lanes.squaredDistance);
-  iterations.store_aligned(out);
-  for (int l = 0; l < valid; ++l) lanes.iterations[first + l] = static_cast<int>(out[l]);
-  xsimd::select(inside, B(2.0), xsimd::select(converged, one, zero)).store_aligned(out);
-  for (int l = 0; l < valid; ++l) {
-    lanes.outcome[first + l] = out[l] == 2.0   ? InsideOutcome::Inside
-                               : out[l] == 1.0 ? InsideOutcome::NotInside
-                                               : InsideOutcome::Handover;
+  for (int i = 0; i < 3; ++i) block.Store(ref[i], lanes.ref[i]);
+  for (int k = 0; k < 3; ++k) block.Store(x[k], lanes.closest[k]);
+  block.Store(f, lanes.squaredDistance);
+  const double* counted = block.Values(iterations);
+  for (int l = 0; l < block.valid; ++l) lanes.iterations[first + l] = static_cast<int>(counted[l]);
+  const double* outcome = block.Values(xsimd::select(inside, B(2.0), xsimd::select(converged, one, zero)));
+  for (int l = 0; l < block.valid; ++l) {
+    lanes.outcome[first + l] = outcome[l] == 2.0   ? InsideOutcome::Inside
+                               : outcome[l] == 1.0 ? InsideOutcome::NotInside
+                                                   : InsideOutcome::Handover;
   }
 }
 
@@ -833,14 +837,11 @@ void SolveInsideLanesFor(const CellView& view, double size, const InsideLanes& l
 template <class A>
 void NetLowerBoundLanesFor(const NetLanes& nets, int count, const double* const point[3], double* lowerBound) {
   using B = Batch<A>;
-  constexpr int W = static_cast<int>(B::size);
-  alignas(64) double buffer[W];
-  for (int first = 0; first < count; first += W) {
-    const int valid = std::min(W, count - first);
+  for (int first = 0; first < count; first += Block<A>::W) {
+    Block<A> block(first, count);
     B twoD[3], local2(0.0);
     for (int k = 0; k < nets.ambientDim; ++k) {
-      for (int l = 0; l < W; ++l) buffer[l] = point[k][first + std::min(l, valid - 1)] - nets.center[k];
-      const B d = B::load_aligned(buffer);
+      const B d = block.Load(point[k]) - B(nets.center[k]);
       local2 += d * d;
       twoD[k] = B(2.0) * d;
     }
@@ -852,8 +853,7 @@ void NetLowerBoundLanesFor(const NetLanes& nets, int count, const double* const 
       for (int k = 0; k < nets.ambientDim; ++k) q = q - twoD[k] * B(nets.nw[k][i]);
       least = xsimd::min(least, nets.rational ? q / wwi : q);
     }
-    least.store_aligned(buffer);
-    for (int l = 0; l < valid; ++l) lowerBound[first + l] = buffer[l];
+    block.Store(least, lowerBound);
   }
 }
 
@@ -897,22 +897,16 @@ void CurvatureLanes::Prove(const CurvatureBounds& bounds, int count, const doubl
                            const double* level, bool* proved) {
   using B = lanes::Batch<A>;
   using M = lanes::Mask<A>;
-  constexpr int W = static_cast<int>(B::size);
-  alignas(64) double buffer[W];
   const int pd = bounds.paramDim_;
   const int ad = bounds.ambientDim_;
-  for (int first = 0; first < count; first += W) {
-    const int valid = std::min(W, count - first);
-    const auto load = [&](const double* data) {
-      for (int l = 0; l < W; ++l) buffer[l] = data[first + std::min(l, valid - 1)];
-      return B::load_aligned(buffer);
-    };
+  for (int first = 0; first < count; first += lanes::Block<A>::W) {
+    lanes::Block<A> block(first, count);
     B d[3], distance2(0.0);
     for (int k = 0; k < ad; ++k) {
-      d[k] = load(point[k]) - B(bounds.center_[k]);
+      d[k] = block.Load(point[k]) - B(bounds.center_[k]);
       distance2 += d[k] * d[k];
     }
-    const B weightFactor = distance2 - load(level);
+    const B weightFactor = distance2 - block.Load(level);
     B lo[2][2], hi[2][2];
     for (int a = 0; a < pd; ++a) {
       for (int b = a; b < pd; ++b) {
@@ -937,8 +931,8 @@ void CurvatureLanes::Prove(const CurvatureBounds& bounds, int count, const doubl
     }
     const M positive = pd == 1 ? lanes::IntervalMatrixIsPositiveLanes<A, 1>(lo, hi)
                                : lanes::IntervalMatrixIsPositiveLanes<A, 2>(lo, hi);
-    xsimd::select(positive, B(1.0), B(0.0)).store_aligned(buffer);
-    for (int l = 0; l < valid; ++l) proved[first + l] = buffer[l] != 0.0;
+    const double* values = block.Values(xsimd::select(positive, B(1.0), B(0.0)));
+    for (int l = 0; l < block.valid; ++l) proved[first + l] = values[l] != 0.0;
   }
 }
 

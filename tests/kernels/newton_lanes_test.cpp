@@ -93,6 +93,28 @@ LaneInput MakeInput(const RefCell& cell, int count, std::mt19937_64& rng) {
   return in;
 }
 
+/// SolveLane's output arrays for `count` lanes and the ResultLane pointing at them.
+struct LaneResults {
+  explicit LaneResults(int count) : distance(count), status(count), iterations(count) {
+    for (int k = 0; k < 3; ++k) {
+      ref[k].assign(count, -7.0);
+      closest[k].assign(count, -7.0);
+      out.ref[k] = ref[k].data();
+      out.closest[k] = closest[k].data();
+    }
+    out.distance = distance.data();
+    out.status = status.data();
+    out.iterations = iterations.data();
+  }
+  LaneResults(const LaneResults&) = delete;
+  LaneResults& operator=(const LaneResults&) = delete;
+
+  std::vector<double> ref[3], closest[3], distance;
+  std::vector<PointStatus> status;
+  std::vector<int> iterations;
+  ResultLane out;
+};
+
 /// The raw lane outputs of SolveNewtonLanes.
 struct LaneRun {
   explicit LaneRun(int n) : squaredDistance(n), onBoundary(n), outcome(n), iterations(n) {
@@ -283,19 +305,8 @@ TEST(NewtonLanes, SolveLaneMatchesBruteForce) {
         if (warm) {
           for (int i = 0; i < cell.paramDim(); ++i) queries.initialRef[i] = in.start[i].data();
         }
-        std::vector<double> ref[3], closest[3], distance(in.count());
-        std::vector<PointStatus> status(in.count());
-        std::vector<int> iterations(in.count());
-        ResultLane results;
-        for (int k = 0; k < 3; ++k) {
-          ref[k].assign(in.count(), -7.0);
-          closest[k].assign(in.count(), -7.0);
-          results.ref[k] = ref[k].data();
-          results.closest[k] = closest[k].data();
-        }
-        results.distance = distance.data();
-        results.status = status.data();
-        results.iterations = iterations.data();
+        LaneResults lanes(in.count());
+        auto& [ref, closest, distance, status, iterations, results] = lanes;
         SolveWorkspace ws;
         solver.SolveLane(queries, results, &ws);
         for (int l = 0; l < in.count(); ++l) {
@@ -324,20 +335,10 @@ TEST(NewtonLanes, SolveLaneMatchesBruteForce) {
           if (warm) {
             for (int i = 0; i < cell.paramDim(); ++i) one.initialRef[i] = start[i];
           }
-          double oneRef[3][1], oneClosest[3][1], oneDistance[1];
-          PointStatus oneStatus[1];
-          int oneIterations[1];
-          ResultLane oneOut;
-          for (int k = 0; k < 3; ++k) {
-            oneOut.ref[k] = oneRef[k];
-            oneOut.closest[k] = oneClosest[k];
-          }
-          oneOut.distance = oneDistance;
-          oneOut.status = oneStatus;
-          oneOut.iterations = oneIterations;
-          solver.SolveLane(one, oneOut, &ws);
-          EXPECT_TRUE(Same(oneDistance[0], distance[l]));
-          for (int i = 0; i < cell.paramDim(); ++i) EXPECT_TRUE(Same(oneRef[i][0], ref[i][l]));
+          LaneResults alone(1);
+          solver.SolveLane(one, alone.out, &ws);
+          EXPECT_TRUE(Same(alone.distance[0], distance[l]));
+          for (int i = 0; i < cell.paramDim(); ++i) EXPECT_TRUE(Same(alone.ref[i][0], ref[i][l]));
         }
       }
     }
@@ -375,19 +376,8 @@ TEST(NewtonLanes, BoundedLanesAreFartherOnlyWhenTheCellCannotBeatTheBound) {
       for (int k = 0; k < cell.ambientDim; ++k) queries.coord[k] = in.coord[k].data();
       for (int i = 0; i < cell.paramDim(); ++i) queries.initialRef[i] = in.start[i].data();
       queries.bound2 = bound2.data();
-      std::vector<double> ref[3], closest[3], distance(in.count());
-      std::vector<PointStatus> status(in.count());
-      std::vector<int> iterations(in.count());
-      ResultLane results;
-      for (int k = 0; k < 3; ++k) {
-        ref[k].resize(in.count());
-        closest[k].resize(in.count());
-        results.ref[k] = ref[k].data();
-        results.closest[k] = closest[k].data();
-      }
-      results.distance = distance.data();
-      results.status = status.data();
-      results.iterations = iterations.data();
+      LaneResults lanes(in.count());
+      auto& [ref, closest, distance, status, iterations, results] = lanes;
       SolveWorkspace ws;
       solver.SolveLane(queries, results, &ws);
       for (int l = 0; l < in.count(); ++l) {
@@ -578,19 +568,8 @@ TEST(NewtonLanes, InsideSolvesOfTetrahedra) {
       QueryLane queries;
       queries.count = in.count();
       for (int k = 0; k < 3; ++k) queries.coord[k] = in.coord[k].data();
-      std::vector<double> ref[3], closest[3], distance(in.count());
-      std::vector<PointStatus> status(in.count());
-      std::vector<int> iterations(in.count());
-      ResultLane results;
-      for (int k = 0; k < 3; ++k) {
-        ref[k].resize(in.count());
-        closest[k].resize(in.count());
-        results.ref[k] = ref[k].data();
-        results.closest[k] = closest[k].data();
-      }
-      results.distance = distance.data();
-      results.status = status.data();
-      results.iterations = iterations.data();
+      LaneResults lanes(in.count());
+      auto& [ref, closest, distance, status, iterations, results] = lanes;
       std::vector<char> inside(in.count());
       solver.SolveInsideLane(queries, results, reinterpret_cast<bool*>(inside.data()));
       int made = 0, found = 0;
