@@ -21,6 +21,16 @@ void SolveInsideLanesAvx2(const CellView& view, double size, const InsideLanes& 
 void SolveInsideLanesAvx512(const CellView& view, double size, const InsideLanes& lanes);
 }  // namespace lanes
 
+namespace {
+
+/// The definition of one entry point for `isa`.
+template <typename Function>
+Function* Pick(LaneIsa isa, Function* sse2, Function* avx2, Function* avx512) {
+  return isa == LaneIsa::Avx512 ? avx512 : isa == LaneIsa::Avx2 ? avx2 : sse2;
+}
+
+}  // namespace
+
 bool LaneIsaAvailable(LaneIsa isa) {
   // GCC's checks include the operating system's support of the registers.
   switch (isa) {
@@ -65,14 +75,7 @@ bool NewtonLanesCover(const CellView& cell) {
 
 void SolveNewtonLanes(const CellView& cell, double size, const NewtonLanes& lanes, LaneIsa isa) {
   if (lanes.count <= 0) return;
-  switch (isa) {
-    case LaneIsa::Avx512:
-      return lanes::SolveNewtonLanesAvx512(cell, size, lanes);
-    case LaneIsa::Avx2:
-      return lanes::SolveNewtonLanesAvx2(cell, size, lanes);
-    case LaneIsa::Sse2:
-      return lanes::SolveNewtonLanesSse2(cell, size, lanes);
-  }
+  Pick(isa, lanes::SolveNewtonLanesSse2, lanes::SolveNewtonLanesAvx2, lanes::SolveNewtonLanesAvx512)(cell, size, lanes);
 }
 
 bool InsideLanesCover(const CellView& cell) {
@@ -82,40 +85,19 @@ bool InsideLanesCover(const CellView& cell) {
 
 void SolveInsideLanes(const CellView& cell, double size, const InsideLanes& lanes, LaneIsa isa) {
   if (lanes.count <= 0) return;
-  switch (isa) {
-    case LaneIsa::Avx512:
-      return lanes::SolveInsideLanesAvx512(cell, size, lanes);
-    case LaneIsa::Avx2:
-      return lanes::SolveInsideLanesAvx2(cell, size, lanes);
-    case LaneIsa::Sse2:
-      return lanes::SolveInsideLanesSse2(cell, size, lanes);
-  }
+  Pick(isa, lanes::SolveInsideLanesSse2, lanes::SolveInsideLanesAvx2, lanes::SolveInsideLanesAvx512)(cell, size, lanes);
 }
 
 void NetLowerBoundLanes(const NetLanes& nets, int count, const double* const point[3], double* lowerBound,
                         LaneIsa isa) {
   if (count <= 0) return;
-  switch (isa) {
-    case LaneIsa::Avx512:
-      return lanes::NetLowerBoundLanesAvx512(nets, count, point, lowerBound);
-    case LaneIsa::Avx2:
-      return lanes::NetLowerBoundLanesAvx2(nets, count, point, lowerBound);
-    case LaneIsa::Sse2:
-      return lanes::NetLowerBoundLanesSse2(nets, count, point, lowerBound);
-  }
+  Pick(isa, lanes::NetLowerBoundLanesSse2, lanes::NetLowerBoundLanesAvx2, lanes::NetLowerBoundLanesAvx512)(nets, count, point, lowerBound);
 }
 
 void ProvesConvexLanes(const CurvatureBounds& bounds, int count, const double* const point[3], const double* level,
                        bool* proved, LaneIsa isa) {
   if (count <= 0) return;
-  switch (isa) {
-    case LaneIsa::Avx512:
-      return lanes::ProvesConvexLanesAvx512(bounds, count, point, level, proved);
-    case LaneIsa::Avx2:
-      return lanes::ProvesConvexLanesAvx2(bounds, count, point, level, proved);
-    case LaneIsa::Sse2:
-      return lanes::ProvesConvexLanesSse2(bounds, count, point, level, proved);
-  }
+  Pick(isa, lanes::ProvesConvexLanesSse2, lanes::ProvesConvexLanesAvx2, lanes::ProvesConvexLanesAvx512)(bounds, count, point, level, proved);
 }
 
 }  // namespace invmap::kernels

@@ -25,6 +25,7 @@
 
 #include "kernels/cell_solver.h"
 #include "kernels/newton_lanes.h"
+#include "tests/support/lane_output.h"
 #include "tests/support/reference_cell.h"
 
 namespace invmap::testing {
@@ -687,30 +688,6 @@ TEST(CellSolverBound, FartherOnlyWhenTheCellCannotBeatTheBound) {
   }
   EXPECT_EQ(failures, 0);
 }
-
-/// SolveLane's output arrays for `count` lanes (filled with -7 to show
-/// writes) and the ResultLane pointing at them.
-struct LaneOutput {
-  explicit LaneOutput(int count) : distance(count), status(count), iterations(count) {
-    for (int k = 0; k < 3; ++k) {
-      ref[k].assign(count, -7.0);
-      closest[k].assign(count, -7.0);
-      out.ref[k] = ref[k].data();
-      out.closest[k] = closest[k].data();
-    }
-    out.distance = distance.data();
-    out.status = status.data();
-    out.iterations = iterations.data();
-  }
-  LaneOutput(const LaneOutput&) = delete;
-  LaneOutput& operator=(const LaneOutput&) = delete;
-
-  std::vector<double> ref[3], closest[3];
-  std::vector<double> distance;
-  std::vector<PointStatus> status;
-  std::vector<int> iterations;
-  ResultLane out;
-};
 
 TEST(CellSolverLane, MatchesSolvePerLane) {
   std::mt19937_64 rng(81);

@@ -24,6 +24,7 @@
 #include "kernels/distance_net.h"
 #include "kernels/newton_lanes.h"
 #include "kernels/tangent_plane.h"
+#include "tests/support/lane_output.h"
 #include "tests/support/reference_cell.h"
 
 namespace invmap::testing {
@@ -93,27 +94,21 @@ LaneInput MakeInput(const RefCell& cell, int count, std::mt19937_64& rng) {
   return in;
 }
 
-/// SolveLane's output arrays for `count` lanes and the ResultLane pointing at them.
-struct LaneResults {
-  explicit LaneResults(int count) : distance(count), status(count), iterations(count) {
-    for (int k = 0; k < 3; ++k) {
-      ref[k].assign(count, -7.0);
-      closest[k].assign(count, -7.0);
-      out.ref[k] = ref[k].data();
-      out.closest[k] = closest[k].data();
+/// The distance nets of `cell` around the centre of its control points' box
+/// (as CellSolver builds them).
+kernels::DistanceNets NetsAroundBoxCenter(const RefCell& cell) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, center[3] = {0, 0, 0};
+  for (int p = 0; p < cell.numControlPoints(); ++p) {
+    for (int k = 0; k < cell.ambientDim; ++k) {
+      lo[k] = std::min(lo[k], cell.points[p * cell.ambientDim + k]);
+      hi[k] = std::max(hi[k], cell.points[p * cell.ambientDim + k]);
     }
-    out.distance = distance.data();
-    out.status = status.data();
-    out.iterations = iterations.data();
   }
-  LaneResults(const LaneResults&) = delete;
-  LaneResults& operator=(const LaneResults&) = delete;
-
-  std::vector<double> ref[3], closest[3], distance;
-  std::vector<PointStatus> status;
-  std::vector<int> iterations;
-  ResultLane out;
-};
+  for (int k = 0; k < cell.ambientDim; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
+  kernels::DistanceNets nets;
+  nets.Build(cell.view(), center);
+  return nets;
+}
 
 /// The raw lane outputs of SolveNewtonLanes.
 struct LaneRun {
@@ -305,7 +300,7 @@ TEST(NewtonLanes, SolveLaneMatchesBruteForce) {
         if (warm) {
           for (int i = 0; i < cell.paramDim(); ++i) queries.initialRef[i] = in.start[i].data();
         }
-        LaneResults lanes(in.count());
+        LaneOutput lanes(in.count());
         auto& [ref, closest, distance, status, iterations, results] = lanes;
         SolveWorkspace ws;
         solver.SolveLane(queries, results, &ws);
@@ -335,7 +330,7 @@ TEST(NewtonLanes, SolveLaneMatchesBruteForce) {
           if (warm) {
             for (int i = 0; i < cell.paramDim(); ++i) one.initialRef[i] = start[i];
           }
-          LaneResults alone(1);
+          LaneOutput alone(1);
           solver.SolveLane(one, alone.out, &ws);
           EXPECT_TRUE(Same(alone.distance[0], distance[l]));
           for (int i = 0; i < cell.paramDim(); ++i) EXPECT_TRUE(Same(alone.ref[i][0], ref[i][l]));
@@ -376,7 +371,7 @@ TEST(NewtonLanes, BoundedLanesAreFartherOnlyWhenTheCellCannotBeatTheBound) {
       for (int k = 0; k < cell.ambientDim; ++k) queries.coord[k] = in.coord[k].data();
       for (int i = 0; i < cell.paramDim(); ++i) queries.initialRef[i] = in.start[i].data();
       queries.bound2 = bound2.data();
-      LaneResults lanes(in.count());
+      LaneOutput lanes(in.count());
       auto& [ref, closest, distance, status, iterations, results] = lanes;
       SolveWorkspace ws;
       solver.SolveLane(queries, results, &ws);
@@ -458,16 +453,7 @@ TEST(NewtonLanes, NetLowerBoundsOfAllLanes) {
   for (const Combination& c : CoveredCombinations()) {
     SCOPED_TRACE(Name(c));
     const RefCell cell = RandomCurvedCell(c.type, c.degree, c.rational, c.ambientDim, rng);
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, center[3] = {0, 0, 0};
-    for (int p = 0; p < cell.numControlPoints(); ++p) {
-      for (int k = 0; k < cell.ambientDim; ++k) {
-        lo[k] = std::min(lo[k], cell.points[p * cell.ambientDim + k]);
-        hi[k] = std::max(hi[k], cell.points[p * cell.ambientDim + k]);
-      }
-    }
-    for (int k = 0; k < cell.ambientDim; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
-    kernels::DistanceNets nets;
-    nets.Build(cell.view(), center);
+    const kernels::DistanceNets nets = NetsAroundBoxCenter(cell);
     kernels::NetLanes netLanes;
     netLanes.size = nets.size();
     netLanes.ambientDim = cell.ambientDim;
@@ -518,16 +504,7 @@ TEST(NewtonLanes, CurvatureCertificateOfAllLanesIsTheScalarOne) {
       // Mildly curved cells (a B-spline surface's spans) and strongly curved ones.
       RefCell cell = RandomCurvedCell(c.type, c.degree, false, c.ambientDim, rng);
       for (double& x : cell.points) x += bend * (std::uniform_real_distribution<double>(-1, 1)(rng));
-      double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, center[3] = {0, 0, 0};
-      for (int p = 0; p < cell.numControlPoints(); ++p) {
-        for (int k = 0; k < cell.ambientDim; ++k) {
-          lo[k] = std::min(lo[k], cell.points[p * cell.ambientDim + k]);
-          hi[k] = std::max(hi[k], cell.points[p * cell.ambientDim + k]);
-        }
-      }
-      for (int k = 0; k < cell.ambientDim; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
-      kernels::DistanceNets nets;
-      nets.Build(cell.view(), center);
+      const kernels::DistanceNets nets = NetsAroundBoxCenter(cell);
       const kernels::CurvatureBounds bounds(nets, kernels::HessianStencil::Get(nets.shape()));
       const LaneInput in = MakeInput(cell, 41, rng);
       std::vector<double> level(in.count());
@@ -568,7 +545,7 @@ TEST(NewtonLanes, InsideSolvesOfTetrahedra) {
       QueryLane queries;
       queries.count = in.count();
       for (int k = 0; k < 3; ++k) queries.coord[k] = in.coord[k].data();
-      LaneResults lanes(in.count());
+      LaneOutput lanes(in.count());
       auto& [ref, closest, distance, status, iterations, results] = lanes;
       std::vector<char> inside(in.count());
       solver.SolveInsideLane(queries, results, reinterpret_cast<bool*>(inside.data()));
