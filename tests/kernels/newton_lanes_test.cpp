@@ -399,6 +399,37 @@ TEST(NewtonLanes, BoundedLanesAreFartherOnlyWhenTheCellCannotBeatTheBound) {
   }
 }
 
+/// Cells at the ends of the supported range (coordinates near 1e100, a
+/// cell 1e-95 across): the lanes answer as the scalar solve does (a lane
+/// whose squares leave the normal range hands over to it).
+TEST(NewtonLanes, ExtremeScalesAnswerAsTheScalarSolve) {
+  std::mt19937_64 rng(89);
+  for (double scale : {1e95, 1e-95}) {
+    for (const Combination& c : CoveredCombinations()) {
+      if (c.degree != 3) continue;
+      SCOPED_TRACE(Name(c) + " scale " + std::to_string(scale));
+      RefCell cell = RandomCurvedCell(c.type, c.degree, c.rational, c.ambientDim, rng);
+      LaneInput in = MakeInput(cell, 24, rng);
+      for (double& x : cell.points) x *= scale;
+      for (auto& axis : in.coord) {
+        for (double& x : axis) x *= scale;
+      }
+      const CellSolver solver(cell.view());
+      QueryLane queries;
+      queries.count = in.count();
+      for (int k = 0; k < cell.ambientDim; ++k) queries.coord[k] = in.coord[k].data();
+      LaneOutput lanes(in.count());
+      SolveWorkspace ws;
+      solver.SolveLane(queries, lanes.out, &ws);
+      for (int l = 0; l < in.count(); ++l) {
+        const double p[3] = {in.coord[0][l], in.coord[1][l], in.coord[2][l]};
+        const kernels::CellSolveResult r = solver.Solve(p, nullptr, &ws);
+        EXPECT_NEAR(lanes.distance[l], r.distance, kRelTol * solver.size()) << "lane " << l;
+      }
+    }
+  }
+}
+
 /// The tangent-plane exclusion in lanes stops a lane only where the scalar
 /// test (kernels/tangent_plane.h) at the same iterate holds too, and it does
 /// stop lanes whose level is far below their distance.
