@@ -26,9 +26,14 @@ struct InvertOptions {
   bool color = false;
   /// trim: keep the points within maxDistance ("near") or beyond it ("far").
   bool keepFar = false;
+  /// invert: every local minimum of each point's distance (RunInvertAllMinima).
+  bool allMinima = false;
 };
 
 int RunInvert(const InvertOptions& options);
+/// invert --all-minima: every local minimum of each point's distance, one
+/// row each (docs/distance.md).
+int RunInvertAllMinima(const InvertOptions& options);
 int RunTrim(const InvertOptions& options);
 int RunInfo(const std::string& geometry);
 
@@ -81,5 +86,10 @@ struct ProbeOptions {
 int RunProbe(const ProbeOptions& options);
 /// Adds the `probe` subcommand and its options to `app`.
 CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options);
+
+/// `invmap distance` (docs/distance.md): AddDistanceCommand registers
+/// the subcommand and its options on `app`; RunDistance runs it once parsed.
+CLI::App* AddDistanceCommand(CLI::App* app);
+int RunDistance();
 
 }  // namespace invmap::cli

@@ -114,6 +114,7 @@ struct TrimSink {
 }  // namespace
 
 int RunInvert(const InvertOptions& options) {
+  if (options.allMinima) return RunInvertAllMinima(options);
   Stream(options, false, "invert", ResultSink{options, nullptr});
   return 0;
 }

@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
   AddInvertOptions(invertCommand, &invert, false);
   invertCommand->add_flag("--color", invert.color, ".ply output: colour the points by distance (viridis)");
+  invertCommand->add_flag("--all-minima", invert.allMinima, "every local minimum of each point's distance (.csv, .npy)");
 
   invmap::cli::InvertOptions trim;
   std::string keep = "near";
@@ -100,6 +101,7 @@ int main(int argc, char** argv) {
 
   invmap::cli::ProbeOptions probe;
   CLI::App* probeCommand = invmap::cli::AddProbeCommand(&app, &probe);
+  CLI::App* distanceCommand = invmap::cli::AddDistanceCommand(&app);
 
   try {
     app.parse(argc, argv);
@@ -116,6 +118,7 @@ int main(int argc, char** argv) {
     }
     if (*infoCommand) return invmap::cli::RunInfo(infoGeometry);
     if (*probeCommand) return invmap::cli::RunProbe(probe);
+    if (*distanceCommand) return invmap::cli::RunDistance();
     if (*generateCommand) {
       if (generate.what == "points" && generate.geometry.empty()) {
         std::fprintf(stderr, "invmap generate points: --geometry is required\n");

@@ -13,6 +13,7 @@
 #include "engine/bvh_build.h"
 #include "engine/cell_store.h"
 #include "engine/invert_batch.h"
+#include "engine/manifold_access.h"
 #include "engine/simplex_items.h"
 #include "engine/wide_bvh.h"
 #include "invmap/invmap.h"
@@ -233,6 +234,9 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
   }
   return Error::Ok;
 }
+
+const engine::CellStore& ManifoldAccess::Store(const Manifold& m) { return m.impl_->store; }
+const engine::Bvh& ManifoldAccess::Tree(const Manifold& m) { return m.impl_->bvh; }
 
 const char* Version() { return INVMAP_VERSION; }  // project(VERSION) of CMakeLists.txt
 

@@ -159,6 +159,9 @@ class CellSolver {
   /// True when the map is affine (then the squared distance is convex and
   /// one local solve is the global answer).
   bool isAffine() const { return affine_; }
+  /// The distance nets of a curved cell (built around the control box's
+  /// centre); empty (size 0) for an affine cell, which needs none.
+  const DistanceNets& nets() const { return nets_; }
   /// Heap memory of the precomputed nets and bounds, in bytes.
   std::size_t NetMemoryBytes() const { return nets_.MemoryBytes() + (curvature_ ? sizeof(CurvatureBounds) : 0); }
   /// True when the cell is a volume (paramDim == ambientDim).

@@ -55,4 +55,10 @@ constexpr int kHardSearch = 64;
 constexpr int kHardSeeds = 256;
 constexpr int kMaxDepth = 64;
 
+/// Pair search (kernels/pair_search.h): the most pairs of subdomains
+/// examined for one pair of cells. Each costs more than a cell search's
+/// subdomain (two sides' nets, a joint bound); only valleys of equal
+/// distances across both cells' parameters (parallel cylinders) come near it.
+constexpr int kMaxPairSubdomains = 1024;
+
 }  // namespace invmap::kernels

@@ -30,52 +30,14 @@
 #include "python/geometry_state.h"
 #include "python/grid_binding.h"
 #include "python/numpy_points.h"
+#include "python/distance_binding.h"
 #include "python/point_files_binding.h"
+#include "python/py_manifold.h"
 
 namespace py = pybind11;
 
 namespace invmap::python {
 namespace {
-
-/// A built manifold together with the serialized geometry it was built from,
-/// which is what pickling sends (workers rebuild from it, not from a file).
-class PyManifold {
- public:
-  /// Builds `geometry`; a malformed one throws InputError
-  /// "<nameForMessages>: <reason>", worded as the command line words it.
-  /// Pure C++: callers may release the GIL around it.
-  PyManifold(const Geometry& geometry, const std::string& nameForMessages)
-      : state_(SerializeGeometry(geometry)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
-    BuildResult built = Manifold::Build(geometry);
-    if (!built.error.empty()) throw InputError(nameForMessages + ": " + built.error);
-    manifold_ = std::move(built.manifold);
-    for (std::size_t p = 0; p < patches_; ++p) cells_ += manifold_.NumCells(static_cast<int>(p));
-  }
-
-  /// The same with the node fields of the geometry's file (kept for probe).
-  PyManifold(FieldGeometry&& model, const std::string& nameForMessages) : PyManifold(model.geometry, nameForMessages) {
-    if (model.fields.empty()) return;
-    state_ = SerializeModel(state_, model.fields);
-    fields_ = std::make_shared<const FieldGeometry>(std::move(model));
-  }
-
-  const Manifold& manifold() const { return manifold_; }
-  /// The geometry and its node fields; null without fields.
-  const FieldGeometry* fields() const { return fields_.get(); }
-  /// SerializeGeometry of the geometry, with the fields (SerializeModel): the pickled state.
-  const std::string& state() const { return state_; }
-  int dimension() const { return dimension_; }
-  std::size_t patches() const { return patches_; }
-  std::int64_t cells() const { return cells_; }
-
- private:
-  Manifold manifold_;
-  std::string state_;
-  std::shared_ptr<const FieldGeometry> fields_;
-  int dimension_;
-  std::size_t patches_;
-  std::int64_t cells_ = 0;
-};
 
 /// True when `path` names a regular file this process can open, i.e. when a
 /// read failure is about the content (InputError), not the file (FileError).
@@ -451,5 +413,6 @@ Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
         py::arg("knots"), py::arg("weights"),
         "One B-spline patch from control points in file order, u fastest (see invmap.from_bspline).");
   RegisterGrid(m);
+  RegisterDistance(m);
   RegisterPointFiles(m);
 }

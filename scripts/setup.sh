@@ -14,6 +14,8 @@ packages=(build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev 
           libembree-dev libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev gmsh
           python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
           libvtk9-dev libexodusii-dev libnetcdf-dev libgmsh-dev liblzf-dev pcl-tools libxsimd-dev)
+# The distance benchmark's peers (bench/peers/distance_peers.cpp): FCL and OpenCascade's BRepExtrema.
+packages+=(libfcl-dev libocct-modeling-algorithms-dev)
 
 install_missing() {
   local missing=()

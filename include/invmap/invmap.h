@@ -148,6 +148,7 @@ struct ManifoldInfo {
 };
 
 class Manifold;
+struct ManifoldAccess;
 
 /// Result of Manifold::Build: a manifold, or an error message naming the
 /// patch and field that is wrong.
@@ -189,6 +190,7 @@ class Manifold {
                std::string* message = nullptr) const;
 
  private:
+  friend struct ManifoldAccess;  // the engine's own systems (distance queries) read the built parts
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

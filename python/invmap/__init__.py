@@ -18,15 +18,17 @@ import os
 
 import numpy as np
 
-from ._invmap import FileError, InputError, Manifold, __version__, from_mesh, read_points
+from ._invmap import (DistanceTracker, FileError, InputError, Manifold, PointTracker, __version__, distance,
+                      from_mesh, read_points)
 from . import _invmap
 
-__all__ = ["FileError", "InputError", "Manifold", "from_bspline", "from_mesh", "grid", "load", "read_points"]
+__all__ = ["DistanceTracker", "FileError", "InputError", "Manifold", "PointTracker", "distance", "from_bspline",
+           "from_mesh", "grid", "load", "read_points"]
 
 # Public names live in `invmap`, not in the private extension module: this
 # is also where pickle looks classes up (manifolds and exceptions travel
 # between Dask processes).
-for _public in (FileError, InputError, Manifold):
+for _public in (DistanceTracker, FileError, InputError, Manifold, PointTracker):
     _public.__module__ = __name__
 del _public
 

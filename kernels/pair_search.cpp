@@ -1,0 +1,718 @@
+#include "kernels/pair_search.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "kernels/cell_bounds.h"
+#include "kernels/pair_certificate.h"
+#include "kernels/pair_local_solve.h"
+#include "kernels/pair_nets.h"
+#include "kernels/simplex_index.h"
+#include "kernels/simplex_pair.h"
+#include "kernels/tolerances.h"
+
+namespace invmap::kernels {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A subdomain pair lives in one slot of the workspace: a header (lower
+/// bound, depth, a KKT point found in it, the vertices of every factor's
+/// sub-simplex on both sides in the cells' reference coordinates), then
+/// A's nets and B's (kernels/pair_nets.h).
+constexpr int kLowerBound = 0;
+constexpr int kDepth = 1;
+constexpr int kHasSeed = 2;    ///< 1 when the slot holds a KKT point of its own.
+constexpr int kSeedValue = 3;  ///< Its squared distance.
+constexpr int kSeedPoint = 4;  ///< Its joint parameters.
+constexpr int kVertices = kSeedPoint + kMaxPairParams;
+constexpr int kHeaderSize = kVertices + 2 * kMaxFactors * 4 * 3;
+
+double* Vertex(double* slot, int side, int factor, int vertex) {
+  return slot + kVertices + ((side * kMaxFactors + factor) * 4 + vertex) * 3;
+}
+
+/// As the cell search's (kernels/cell_solver.cpp): a part of the pair whose
+/// squared distance stays at or above this cannot beat `best2` by more than
+/// tau; `slack` covers the nets' rounding.
+double ExclusionLevel(double best2, double tau, double slack) {
+  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
+}
+
+/// Slots of the workspace, allocated by index (growing the pool moves it).
+class SlotPool {
+ public:
+  SlotPool(PairWorkspace* ws, int slotSize) : ws_(ws), slotSize_(slotSize) { ws_->freeSlots.clear(); }
+  int Allocate() {
+    if (!ws_->freeSlots.empty()) {
+      const int s = ws_->freeSlots.back();
+      ws_->freeSlots.pop_back();
+      return s;
+    }
+    const size_t need = static_cast<size_t>(used_ + 1) * slotSize_;
+    if (ws_->slots.size() < need) ws_->slots.resize(std::max(need, 2 * ws_->slots.size()));
+    return used_++;
+  }
+  void Free(int s) { ws_->freeSlots.push_back(s); }
+  double* operator[](int s) { return ws_->slots.data() + static_cast<size_t>(s) * slotSize_; }
+
+ private:
+  PairWorkspace* ws_;
+  int slotSize_;
+  int used_ = 0;
+};
+
+/// The vertex control points of an affine segment or triangle.
+void SimplexVertices(const PairSide& side, double vertices[3][3]) {
+  const SimplexFactor& factor = side.cell.shape.factor(0);
+  const SimplexIndex& index = SimplexIndex::Get(factor.dim, factor.degree);
+  const int ad = side.cell.ambientDim;
+  for (int v = 0; v <= factor.dim; ++v) {
+    std::array<int, 4> corner{0, 0, 0, 0};
+    corner[v] = factor.degree;
+    const double* p = side.cell.points + static_cast<size_t>(index.Position(corner)) * ad;
+    const double local[3] = {p[0], p[1], ad > 2 ? p[2] : 0.0};
+    side.motion.Apply(local, vertices[v]);
+  }
+}
+
+/// A split by bend is overruled when its edge is shorter than the longest
+/// by more than this factor (squared: 1024^2).
+constexpr double kBendSplitRatio2 = 1024.0 * 1024.0;
+
+/// The pair search over one pair of cells.
+class PairSearch {
+ public:
+  PairSearch(const PairSide& a, const PairSide& b, PairWorkspace* ws)
+      : a_(a), b_(b), layout_(a.cell.shape, b.cell.shape), ws_(ws) {
+    ambientDim_ = a.cell.ambientDim;
+    n_ = layout_.n();
+    tau_ = kDistanceTolerance * std::max(a.size, b.size);
+    options_.size = a.size + b.size;
+    for (int side = 0; side < 2; ++side) {
+      const PairSide& s = side == 0 ? a : b;
+      double center[3];
+      ReferenceCenter(s.cell.shape, center);
+      MapJet jet;
+      EvaluateMap(s.cell, center, JetOrder::First, &jet);
+      for (int i = 0; i < s.cell.shape.paramDim(); ++i) {
+        double length2 = 0.0;
+        for (int k = 0; k < ambientDim_; ++k) length2 += jet.d1[k][i] * jet.d1[k][i];
+        // Parameters the map barely depends on still get split now and then.
+        paramScale_[layout_.offset(side) + i] = std::sqrt(length2) + 1e-3 * s.size;
+      }
+    }
+  }
+
+  PairSolveResult Solve(const double* startA, const double* startB, double bound2);
+  double RootLowerBound();
+
+ private:
+  bool HaveNets() const { return a_.nets && b_.nets; }
+  void SetRoot(double* slot);
+  bool Contains(double* slot, const double* w) const;
+  void Center(double* slot, double* w) const;
+  /// True when the subdomain is closed around a KKT point in it.
+  bool CertifiedAround(double* slot, double pruneLevel);
+  bool CertifyWith(double* slot, const double* w, double value, const PairKkt& kkt, double pruneLevel);
+  void ChooseSplit(double* slot, int* side, int* factor, int* vi, int* vj) const;
+  /// True when the subdomain holds a KKT point (the best, or its own).
+  bool HoldsKktPoint(double* slot) const {
+    return slot[kHasSeed] != 0.0 || (best_.kkt.kkt && Contains(slot, best_.w));
+  }
+  void ChooseSplitByVariation(double* slot, int* side, int* factor, int* vi, int* vj) const;
+  /// Splits along the edge where the joint net bends most next to its
+  /// least coefficient (PairNets::MostBentEdgeAt), as the cell search
+  /// splits where its net bends most (kernels/bernstein_net.h); by length
+  /// where the net is linear there.
+  void ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi, int* vj) const;
+  PairLocalResult Local(const double* start) {
+    PairLocalResult local = PairLocalSolve(a_, b_, layout_, start, options_);
+    iterations_ += local.iterations;
+    return local;
+  }
+  PairSolveResult Finish(const PairLocalResult& best, bool certified, double bound2) const;
+
+  const PairSide& a_;
+  const PairSide& b_;
+  PairLayout layout_;
+  PairWorkspace* ws_;
+  int ambientDim_ = 3;
+  int n_ = 0;
+  double tau_ = 0.0;
+  double slack_ = 0.0;
+  PairLocalOptions options_;
+  double paramScale_[kMaxPairParams] = {};
+  int iterations_ = 0;
+  PairLocalResult best_;
+  double open_ = kInf;  ///< Least bound of the parts a search left open.
+  int examined_ = 0;
+};
+
+void PairSearch::SetRoot(double* slot) {
+  std::fill(slot, slot + kHeaderSize, 0.0);
+  for (int side = 0; side < 2; ++side) {
+    const CellShape& shape = layout_.shape(side);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      for (int v = 1; v <= shape.factor(f).dim; ++v) Vertex(slot, side, f, v)[v - 1] = 1.0;
+    }
+  }
+}
+
+bool PairSearch::Contains(double* slot, const double* w) const {
+  for (int side = 0; side < 2; ++side) {
+    const CellShape& shape = layout_.shape(side);
+    const double* ref = w + layout_.offset(side);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      const int d = fac.dim;
+      const double* v0 = Vertex(slot, side, f, 0);
+      if (d == 1) {
+        const double mu = (ref[fac.offset] - v0[0]) / (Vertex(slot, side, f, 1)[0] - v0[0]);
+        if (mu < -kInsideTolerance || 1.0 - mu < -kInsideTolerance) return false;
+        continue;
+      }
+      Eigen::Matrix3d edges = Eigen::Matrix3d::Identity();
+      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+      for (int k = 1; k <= d; ++k) {
+        for (int i = 0; i < d; ++i) edges(i, k - 1) = Vertex(slot, side, f, k)[i] - v0[i];
+      }
+      for (int i = 0; i < d; ++i) rhs[i] = ref[fac.offset + i] - v0[i];
+      const Eigen::Vector3d mu = edges.partialPivLu().solve(rhs);
+      double sum = 0.0;
+      for (int k = 0; k < d; ++k) {
+        if (mu[k] < -kInsideTolerance) return false;
+        sum += mu[k];
+      }
+      if (1.0 - sum < -kInsideTolerance) return false;
+    }
+  }
+  return true;
+}
+
+void PairSearch::Center(double* slot, double* w) const {
+  for (int side = 0; side < 2; ++side) {
+    const CellShape& shape = layout_.shape(side);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      for (int i = 0; i < fac.dim; ++i) {
+        double sum = 0.0;
+        for (int v = 0; v <= fac.dim; ++v) sum += Vertex(slot, side, f, v)[i];
+        w[layout_.offset(side) + fac.offset + i] = sum / (fac.dim + 1);
+      }
+    }
+  }
+}
+
+bool PairSearch::CertifiedAround(double* slot, double pruneLevel) {
+  if (best_.kkt.kkt && Contains(slot, best_.w) &&
+      CertifyWith(slot, best_.w, best_.squaredDistance, best_.kkt, pruneLevel)) {
+    return true;
+  }
+  if (slot[kHasSeed] == 0.0) return false;
+  const double* w = slot + kSeedPoint;
+  PairJet jet;
+  EvaluatePair(a_, b_, layout_, w, JetOrder::Second, &jet);
+  const PairKkt kkt = CheckPairKkt(layout_, jet, w, ambientDim_, options_.size);
+  return kkt.kkt && CertifyWith(slot, w, slot[kSeedValue], kkt, pruneLevel);
+}
+
+bool PairSearch::CertifyWith(double* slot, const double* w, double value, const PairKkt& kkt, double pruneLevel) {
+  if (value < pruneLevel) {
+    // Only the best point lies below the level, and then within rounding of it.
+    value = std::max(value, 0.0);
+  }
+  const PairNets nets(a_, b_);
+  const double* sideA = slot + kHeaderSize;
+  const double* sideB = sideA + nets.sideLength(0);
+  const int n = n_;
+  double lo[kMaxPairParams * kMaxPairParams], hi[kMaxPairParams * kMaxPairParams];
+  nets.HessianRanges(sideA, sideB, value, true, lo, hi, &ws_->hessianScratch);
+
+  PairCertificateInput input;
+  input.n = n;
+  input.lo = lo;
+  input.hi = hi;
+  // The subdomain's local coordinates t: per factor, ref = V0 + E t with
+  // E's columns the edges V_k - V0. Points go through E^-1, covectors
+  // (normals, gradients) through E^T.
+  Eigen::Matrix3d edges[2][kMaxFactors];
+  for (int side = 0; side < 2; ++side) {
+    const CellShape& shape = layout_.shape(side);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      edges[side][f] = Eigen::Matrix3d::Identity();
+      const double* v0 = Vertex(slot, side, f, 0);
+      for (int k = 1; k <= fac.dim; ++k) {
+        for (int i = 0; i < fac.dim; ++i) edges[side][f](i, k - 1) = Vertex(slot, side, f, k)[i] - v0[i];
+      }
+      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+      for (int i = 0; i < fac.dim; ++i) rhs[i] = w[layout_.offset(side) + fac.offset + i] - v0[i];
+      const Eigen::Vector3d t = edges[side][f].partialPivLu().solve(rhs);
+      for (int i = 0; i < fac.dim; ++i) input.point[layout_.offset(side) + fac.offset + i] = t[i];
+    }
+  }
+  auto toLocal = [&](const double* covector, double* out) {
+    for (int side = 0; side < 2; ++side) {
+      const CellShape& shape = layout_.shape(side);
+      for (int f = 0; f < shape.numFactors(); ++f) {
+        const SimplexFactor& fac = shape.factor(f);
+        const int first = layout_.offset(side) + fac.offset;
+        for (int k = 0; k < fac.dim; ++k) {
+          double sum = 0.0;
+          for (int i = 0; i < fac.dim; ++i) sum += edges[side][f](i, k) * covector[first + i];
+          out[first + k] = sum;
+        }
+      }
+    }
+  };
+  // g = WW (f - value): at w its gradient is WW grad f = 2 WW grad F, F = |z|^2 / 2.
+  const double weight = CellWeightAt(a_.cell, w) * CellWeightAt(b_.cell, w + layout_.offset(1));
+  const double ww = weight * weight;
+  double gradient[kMaxPairParams];
+  for (int i = 0; i < n; ++i) gradient[i] = 2.0 * ww * kkt.gradient[i];
+  double residual[kMaxPairParams];
+  std::copy(gradient, gradient + n, residual);
+  double normal[kMaxPairParams];
+  input.numActive = kkt.numActive;
+  for (int c = 0; c < kkt.numActive; ++c) {
+    layout_.Normal(kkt.active[c], normal);
+    const double mu = 2.0 * ww * kkt.multiplier[c];
+    for (int i = 0; i < n; ++i) residual[i] -= mu * normal[i];
+    toLocal(normal, input.normal[c]);
+    input.multiplier[c] = mu;
+  }
+  toLocal(residual, input.residual);
+
+  // S's vertices in its local coordinates: the products of every factor's
+  // unit simplex vertices.
+  double vertices[64 * kMaxPairParams];
+  int count = 1;
+  std::fill(vertices, vertices + n, 0.0);
+  for (int side = 0; side < 2; ++side) {
+    const CellShape& shape = layout_.shape(side);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      const int first = layout_.offset(side) + fac.offset;
+      const int before = count;
+      for (int v = 1; v <= fac.dim; ++v) {
+        for (int c = 0; c < before; ++c) {
+          double* copy = vertices + static_cast<size_t>(count) * n;
+          std::copy(vertices + static_cast<size_t>(c) * n, vertices + static_cast<size_t>(c + 1) * n, copy);
+          copy[first + v - 1] = 1.0;
+          ++count;
+        }
+      }
+    }
+  }
+  input.numVertices = count;
+  input.vertices = vertices;
+  input.allowed = std::max(0.0, value - pruneLevel) * nets.LeastWeight(sideA, sideB);
+  // The cheap enclosure first, then the joint nets' own ranges.
+  if (ProvesPairBound(input)) return true;
+  nets.HessianRanges(sideA, sideB, value, false, lo, hi, &ws_->hessianScratch);
+  if (ProvesPairBound(input)) return true;
+  // The bounds of the Hessian's entries lose what ties them together: along
+  // a valley of equal distances (parallel cylinders) g does not change in
+  // one direction anywhere, but its bound from the entries' separate ranges
+  // bends both ways. Bounds of the directional second derivatives along the
+  // eigenvectors of the bounds' midpoint (scaled to a unit diagonal) keep it.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPairParams, kMaxPairParams> mid(n, n);
+  double largest = 0.0;
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      if (!std::isfinite(lo[r * n + c]) || !std::isfinite(hi[r * n + c])) return false;
+      mid(r, c) = 0.5 * (lo[r * n + c] + hi[r * n + c]);
+    }
+    largest = std::max(largest, mid(r, r));
+  }
+  if (!(largest > 0.0)) return false;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> scale(n);
+  for (int r = 0; r < n; ++r) scale[r] = 1.0 / std::sqrt(std::max(mid(r, r), 1e-12 * largest));
+  const auto scaled = (scale.asDiagonal() * mid * scale.asDiagonal()).eval();
+  Eigen::SelfAdjointEigenSolver<decltype(mid)> eigen(scaled);
+  const auto directions = (scale.asDiagonal() * eigen.eigenvectors()).eval();
+  double basis[kMaxPairParams * kMaxPairParams];
+  for (int c = 0; c < n; ++c) {
+    for (int r = 0; r < n; ++r) basis[c * n + r] = directions(r, c);
+  }
+  nets.HessianRangesInBasis(sideA, sideB, value, basis, lo, hi, &ws_->hessianScratch);
+  input.basis = basis;
+  return ProvesPairBound(input);
+}
+
+void PairSearch::ChooseSplit(double* slot, int* side, int* factor, int* vi, int* vj) const {
+  double longest = -1.0;
+  for (int s = 0; s < 2; ++s) {
+    const CellShape& shape = layout_.shape(s);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      for (int p = 0; p <= fac.dim; ++p) {
+        for (int q = p + 1; q <= fac.dim; ++q) {
+          double length2 = 0.0;
+          for (int i = 0; i < fac.dim; ++i) {
+            const double e = (Vertex(slot, s, f, p)[i] - Vertex(slot, s, f, q)[i]) *
+                             paramScale_[layout_.offset(s) + fac.offset + i];
+            length2 += e * e;
+          }
+          if (length2 > longest) {
+            longest = length2;
+            *side = s;
+            *factor = f;
+            *vi = p;
+            *vj = q;
+          }
+        }
+      }
+    }
+  }
+}
+
+void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, int* vi, int* vj) const {
+  // Around a KKT point whose certificate failed, the bounds of the
+  // Hessian were too wide: split where the Hessian changes most across the
+  // subdomain (measured in its local coordinates, from the exact Hessians at
+  // a quarter of each edge either side of the centre). Along a valley of
+  // equal distances that is across the valley, never along it, where
+  // splits by length would multiply the subdomains for nothing.
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPairParams, kMaxPairParams>;
+  const int n = n_;
+  double center[kMaxPairParams];
+  Center(slot, center);
+  Matrix edges = Matrix::Zero(n, n);  // local coordinates into reference ones
+  for (int s = 0; s < 2; ++s) {
+    const CellShape& shape = layout_.shape(s);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      const int first = layout_.offset(s) + fac.offset;
+      for (int k = 1; k <= fac.dim; ++k) {
+        for (int i = 0; i < fac.dim; ++i) {
+          edges(first + i, first + k - 1) = Vertex(slot, s, f, k)[i] - Vertex(slot, s, f, 0)[i];
+        }
+      }
+    }
+  }
+  auto hessianAt = [&](const double* w) {
+    PairJet jet;
+    EvaluatePair(a_, b_, layout_, w, JetOrder::Second, &jet);
+    Matrix h(n, n);
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c < n; ++c) {
+        double v = 0.0;
+        for (int k = 0; k < ambientDim_; ++k) v += jet.d1[k][r] * jet.d1[k][c] + jet.z[k] * jet.d2[k][r][c];
+        h(r, c) = v;
+      }
+    }
+    return Matrix(edges.transpose() * h * edges);
+  };
+  // Judged with the Hessian scaled to a unit diagonal, as the certificate
+  // judges it: what matters is the change relative to the curvature.
+  const Matrix atCenter = hessianAt(center);
+  double largest = 0.0;
+  for (int r = 0; r < n; ++r) largest = std::max(largest, std::abs(atCenter(r, r)));
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> unit(n);
+  for (int r = 0; r < n; ++r) unit[r] = 1.0 / std::sqrt(std::max(std::abs(atCenter(r, r)), 1e-12 * largest + 1e-300));
+  double most = -1.0;
+  ChooseSplit(slot, side, factor, vi, vj);
+  for (int s = 0; s < 2; ++s) {
+    const CellShape& shape = layout_.shape(s);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      for (int p = 0; p <= fac.dim; ++p) {
+        for (int q = p + 1; q <= fac.dim; ++q) {
+          double plus[kMaxPairParams], minus[kMaxPairParams];
+          std::copy(center, center + n, plus);
+          std::copy(center, center + n, minus);
+          for (int i = 0; i < fac.dim; ++i) {
+            const double quarter = 0.25 * (Vertex(slot, s, f, q)[i] - Vertex(slot, s, f, p)[i]);
+            plus[layout_.offset(s) + fac.offset + i] += quarter;
+            minus[layout_.offset(s) + fac.offset + i] -= quarter;
+          }
+          const double variation = (unit.asDiagonal() * (hessianAt(plus) - hessianAt(minus)) * unit.asDiagonal()).norm();
+          if (variation > most) {
+            most = variation;
+            *side = s;
+            *factor = f;
+            *vi = p;
+            *vj = q;
+          }
+        }
+      }
+    }
+  }
+}
+
+void PairSearch::ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi,
+                                   int* vj) const {
+  const double* sideA = slot + kHeaderSize;
+  const double* sideB = sideA + nets.sideLength(0);
+  int argA = 0, argB = 0;
+  nets.LowerBound(sideA, sideB, &ws_->scratch, &argA, &argB);
+  if (!nets.MostBentEdgeAt(sideA, sideB, argA, argB, side, factor, vi, vj)) {
+    ChooseSplit(slot, side, factor, vi, vj);
+    return;
+  }
+  // The bend at one coefficient can miss a direction in which the net
+  // still varies (a circle's arc seen from near its axis: the quotients
+  // along it bend little, but their least stays far below the distance).
+  // A direction far shorter than the longest is not split again: the
+  // longest is.
+  auto length2 = [&](int s, int f, int p, int q) {
+    const SimplexFactor& fac = layout_.shape(s).factor(f);
+    double l2 = 0.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      const double e = (Vertex(slot, s, f, p)[i] - Vertex(slot, s, f, q)[i]) * paramScale_[layout_.offset(s) + fac.offset + i];
+      l2 += e * e;
+    }
+    return l2;
+  };
+  int ls = 0, lf = 0, lp = 0, lq = 1;
+  ChooseSplit(slot, &ls, &lf, &lp, &lq);
+  if (length2(*side, *factor, *vi, *vj) * kBendSplitRatio2 < length2(ls, lf, lp, lq)) {
+    *side = ls;
+    *factor = lf;
+    *vi = lp;
+    *vj = lq;
+  }
+}
+
+double PairSearch::RootLowerBound() {
+  const PairNets nets(a_, b_);
+  const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+  if (ws_->slots.size() < static_cast<size_t>(slotSize)) ws_->slots.resize(slotSize);
+  double* sideA = ws_->slots.data() + kHeaderSize;
+  double* sideB = sideA + nets.sideLength(0);
+  nets.BuildRoot(sideA, sideB);
+  return nets.LowerBound(sideA, sideB, &ws_->scratch) - nets.RoundingSlack();
+}
+
+PairSolveResult PairSearch::Finish(const PairLocalResult& best, bool certified, double bound2) const {
+  PairSolveResult result;
+  const int pa = layout_.paramDim(0), pb = layout_.paramDim(1);
+  std::copy(best.w, best.w + pa, result.refA);
+  std::copy(best.w + pa, best.w + pa + pb, result.refB);
+  std::copy(best.x, best.x + 3, result.pointA);
+  std::copy(best.y, best.y + 3, result.pointB);
+  result.distance = std::sqrt(best.squaredDistance);
+  result.iterations = iterations_;
+  result.subdomains = examined_;
+  if (!certified) {
+    // Whatever its distance: some part of the pair may still hold a closer point.
+    result.status = PairStatus::NotCertified;
+    result.openBound2 = std::max(open_, 0.0);
+  } else if (bound2 < kInf && best.squaredDistance >= bound2) {
+    result.status = PairStatus::Farther;
+  } else {
+    result.status = best.onBoundary ? PairStatus::ProjectedToBoundary : PairStatus::Converged;
+  }
+  return result;
+}
+
+PairSolveResult PairSearch::Solve(const double* startA, const double* startB, double bound2) {
+  const bool bounded = bound2 < kInf;
+  double start[kMaxPairParams];
+  if (HaveNets()) {
+    const PairNets nets(a_, b_);
+    slack_ = nets.RoundingSlack();
+    const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+    SlotPool pool(ws_, slotSize);
+    const int root = pool.Allocate();
+    SetRoot(pool[root]);
+    double* sideA = pool[root] + kHeaderSize;
+    double* sideB = sideA + nets.sideLength(0);
+    nets.BuildRoot(sideA, sideB);
+    int argA = 0, argB = 0;
+    pool[root][kLowerBound] = nets.LowerBound(sideA, sideB, &ws_->scratch, &argA, &argB);
+    if (bounded && pool[root][kLowerBound] - slack_ >= bound2) {
+      PairSolveResult far;
+      far.status = PairStatus::Farther;
+      return far;
+    }
+    if (!startA) {
+      // Where the nets come closest: the lattice places of the least joint coefficient.
+      ControlPointLocation(nets.shape(0), argA, start);
+      ControlPointLocation(nets.shape(1), argB, start + layout_.offset(1));
+    }
+  } else if (!startA) {
+    layout_.Center(start);
+  }
+  if (startA) {
+    std::copy(startA, startA + layout_.paramDim(0), start);
+    std::copy(startB, startB + layout_.paramDim(1), start + layout_.offset(1));
+  }
+  best_ = Local(start);
+  // Two affine maps make the squared distance a convex quadratic: a KKT
+  // point is global. A distance within tau of zero cannot be beaten by more.
+  if ((a_.affine && b_.affine && best_.kkt.kkt) || best_.squaredDistance <= tau_ * tau_) {
+    return Finish(best_, true, bound2);
+  }
+  if (!HaveNets()) {
+    open_ = 0.0;
+    return Finish(best_, false, bound2);
+  }
+
+  const PairNets nets(a_, b_);
+  const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+  SlotPool pool(ws_, slotSize);
+  const int root = pool.Allocate();
+  {
+    double* slot = pool[root];
+    SetRoot(slot);
+    double* sideA = slot + kHeaderSize;
+    nets.BuildRoot(sideA, sideA + nets.sideLength(0));
+    slot[kLowerBound] = nets.LowerBound(sideA, sideA + nets.sideLength(0), &ws_->scratch);
+  }
+  auto pruneLevel = [&] { return ExclusionLevel(std::min(best_.squaredDistance, bound2), tau_, slack_); };
+  std::vector<int>& heap = ws_->heap;
+  heap.clear();
+  auto byLowerBound = [&](int x, int y) { return pool[x][kLowerBound] > pool[y][kLowerBound]; };
+  if (pool[root][kLowerBound] < pruneLevel()) heap.push_back(root);
+
+  bool certified = true;
+  int examined = 0, hardSeeds = 0;
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), byLowerBound);
+    const int s = heap.back();
+    heap.pop_back();
+    if (pool[s][kLowerBound] >= pruneLevel()) break;  // every other subdomain is farther still
+    examined_ = ++examined;
+    if (examined > kMaxPairSubdomains) {
+      // The heap's least bound holds for every part left open.
+      certified = false;
+      open_ = std::min(open_, pool[s][kLowerBound] - slack_);
+      break;
+    }
+    if (CertifiedAround(pool[s], pruneLevel())) {
+      pool.Free(s);
+      continue;
+    }
+    double center[kMaxPairParams];
+    Center(pool[s], center);
+    PairJet jet;
+    EvaluatePair(a_, b_, layout_, center, JetOrder::Value, &jet);
+    const double fCenter = PairSquaredDistance(jet, ambientDim_);
+    // As in the cell search: after kHardSearch subdomains every one also
+    // seeds a local solve (a valley of equal distances, a near tie), which
+    // finds the KKT points its centre's value cannot show.
+    const bool seed = examined > kHardSearch && hardSeeds < kHardSeeds;
+    hardSeeds += seed ? 1 : 0;
+    if (fCenter < best_.squaredDistance || seed) {
+      const PairLocalResult local = Local(center);
+      if (local.squaredDistance < best_.squaredDistance) {
+        best_ = local;
+        if (best_.squaredDistance <= tau_ * tau_) break;
+      } else if (local.kkt.kkt && Contains(pool[s], local.w)) {
+        pool[s][kHasSeed] = 1.0;
+        pool[s][kSeedValue] = local.squaredDistance;
+        std::copy(local.w, local.w + n_, pool[s] + kSeedPoint);
+      }
+      if (pool[s][kLowerBound] >= pruneLevel() || CertifiedAround(pool[s], pruneLevel())) {
+        pool.Free(s);
+        continue;
+      }
+    }
+    if (pool[s][kDepth] >= kMaxDepth) {
+      certified = false;
+      open_ = std::min(open_, pool[s][kLowerBound] - slack_);
+      pool.Free(s);
+      continue;
+    }
+    int side = 0, factor = 0, vi = 0, vj = 1;
+    if (HoldsKktPoint(pool[s])) {
+      ChooseSplitByVariation(pool[s], &side, &factor, &vi, &vj);
+    } else {
+      ChooseSplitByBend(pool[s], nets, &side, &factor, &vi, &vj);
+    }
+    for (int child = 0; child < 2; ++child) {
+      const int keep = child == 0 ? vi : vj;
+      const int move = child == 0 ? vj : vi;
+      const int c = pool.Allocate();
+      double* parent = pool[s];
+      double* slot = pool[c];
+      std::copy(parent, parent + kHeaderSize, slot);
+      slot[kDepth] = parent[kDepth] + 1;
+      double* moved = Vertex(slot, side, factor, move);
+      const double* kept = Vertex(slot, side, factor, keep);
+      for (int i = 0; i < 3; ++i) moved[i] = 0.5 * (moved[i] + kept[i]);
+      if (slot[kHasSeed] != 0.0 && !Contains(slot, slot + kSeedPoint)) slot[kHasSeed] = 0.0;
+      const double* parentA = parent + kHeaderSize;
+      const double* parentB = parentA + nets.sideLength(0);
+      double* childA = slot + kHeaderSize;
+      double* childB = childA + nets.sideLength(0);
+      if (side == 0) {
+        nets.Split(0, factor, keep, move, parentA, childA);
+        std::copy(parentB, parentB + nets.sideLength(1), childB);
+      } else {
+        std::copy(parentA, parentA + nets.sideLength(0), childA);
+        nets.Split(1, factor, keep, move, parentB, childB);
+      }
+      slot[kLowerBound] = nets.LowerBound(childA, childB, &ws_->scratch);
+      if (slot[kLowerBound] < pruneLevel()) {
+        heap.push_back(c);
+        std::push_heap(heap.begin(), heap.end(), byLowerBound);
+      } else {
+        pool.Free(c);
+      }
+    }
+    pool.Free(s);
+  }
+  return Finish(best_, certified, bound2);
+}
+
+}  // namespace
+
+bool IsAffineSimplexSide(const PairSide& side) {
+  const CellType type = side.cell.shape.type();
+  return side.affine && (type == CellType::Line || type == CellType::Tri) && side.cell.shape.factor(0).degree >= 1;
+}
+
+PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double* startA, const double* startB,
+                              PairWorkspace* ws, double bound2) {
+  if (IsAffineSimplexSide(a) && IsAffineSimplexSide(b)) {
+    double va[3][3], vb[3][3];
+    SimplexVertices(a, va);
+    SimplexVertices(b, vb);
+    const double* pa[3] = {va[0], va[1], va[2]};
+    const double* pb[3] = {vb[0], vb[1], vb[2]};
+    PairSolveResult result;
+    if (bound2 < kInf) {
+      // Most nearby pairs of two meshes face each other across a gap that
+      // one triangle's normal bounds; only the rest need the closed form.
+      const double gap = SimplexPlaneGap(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3);
+      if (gap * gap >= bound2) {
+        result.distance = gap;
+        result.status = PairStatus::Farther;
+        return result;
+      }
+    }
+    const double d2 = ClosestPointsOfSimplices(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3,
+                                               result.refA, result.refB, result.pointA, result.pointB);
+    result.distance = std::sqrt(d2);
+    bool onBoundary = false;
+    for (int side = 0; side < 2; ++side) {
+      const double* ref = side == 0 ? result.refA : result.refB;
+      const int pd = (side == 0 ? a : b).cell.shape.paramDim();
+      double sum = 0.0;
+      for (int i = 0; i < pd; ++i) {
+        onBoundary = onBoundary || ref[i] <= 0.0;
+        sum += ref[i];
+      }
+      onBoundary = onBoundary || sum >= 1.0;
+    }
+    result.status = bound2 < kInf && d2 >= bound2
+                        ? PairStatus::Farther
+                        : (onBoundary ? PairStatus::ProjectedToBoundary : PairStatus::Converged);
+    return result;
+  }
+  PairSearch search(a, b, ws);
+  return search.Solve(startA, startB, bound2);
+}
+
+double PairNetLowerBound(const PairSide& a, const PairSide& b, PairWorkspace* ws) {
+  if (!a.nets || !b.nets) return 0.0;
+  PairSearch search(a, b, ws);
+  return search.RootLowerBound();
+}
+
+}  // namespace invmap::kernels

@@ -1,0 +1,65 @@
+// The closest points between two cells, certified: a local solve over the
+// joint parameters (kernels/pair_local_solve.h) made global over the pair
+// by a branch and bound over pairs of subdomains, bounded below by the
+// factored Bernstein nets of the squared distance (kernels/pair_nets.h)
+// and closed around KKT points by kernels/pair_certificate.h. Affine
+// segment and triangle pairs are solved in closed form.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "kernels/pair_problem.h"
+
+namespace invmap::kernels {
+
+/// Outcome of one pair's solve.
+enum class PairStatus : std::uint8_t {
+  Converged,            ///< Global minimum over the pair, both points inside their domains.
+  ProjectedToBoundary,  ///< Global minimum over the pair, some point on its domain's boundary.
+  NotCertified,         ///< Best pair found; the search budget ran out first.
+  Farther,              ///< No pair of points is closer than the caller's bound.
+};
+
+struct PairSolveResult {
+  double refA[3] = {0, 0, 0};     ///< Reference coordinates on A (paramDim used).
+  double refB[3] = {0, 0, 0};     ///< On B.
+  double pointA[3] = {0, 0, 0};   ///< A's closest point, common frame.
+  double pointB[3] = {0, 0, 0};   ///< B's.
+  double distance = 0.0;
+  PairStatus status = PairStatus::Farther;
+  int iterations = 0;             ///< Newton iterations of every local solve.
+  int subdomains = 0;             ///< Pairs of subdomains the search examined.
+  /// NotCertified: a lower bound of the squared distance over the parts of
+  /// the pair the search left open (a caller that finds a closer pair
+  /// elsewhere needs no more of this one); +inf otherwise.
+  double openBound2 = std::numeric_limits<double>::infinity();
+};
+
+/// Scratch memory of the pair search; one per thread.
+struct PairWorkspace {
+  std::vector<double> slots;
+  std::vector<int> freeSlots;
+  std::vector<int> heap;
+  std::vector<double> scratch;
+  std::vector<double> hessianScratch;
+};
+
+/// True when the side is an affine segment or triangle (closed form).
+bool IsAffineSimplexSide(const PairSide& side);
+
+/// The global minimum of |x(u) - y(v)| over the pair, within the distance
+/// tolerance (kernels/tolerances.h) of the larger cell's size. `startA`,
+/// `startB` (optional, both or neither) seed the first local solve.
+/// `bound2`: the squared distance of the best pair found elsewhere; a pair
+/// that cannot beat it returns Farther (often without any Newton step).
+/// Curved cells need their DistanceNets (PairSide::nets).
+PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double* startA, const double* startB,
+                              PairWorkspace* ws, double bound2 = std::numeric_limits<double>::infinity());
+
+/// The least squared distance the factored nets allow between the two
+/// cells (less their rounding): a lower bound without any solve.
+double PairNetLowerBound(const PairSide& a, const PairSide& b, PairWorkspace* ws);
+
+}  // namespace invmap::kernels

@@ -1,0 +1,92 @@
+// Moving models: a DistanceTracker's answer for every pose of a trajectory
+// (small steps, a jump to another part of the model, passes through
+// contact) against a fresh query for that pose, and the tracker's errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tests/distance/distance_test_util.h"
+#include "tests/support/distance_geometries.h"
+#include "tests/support/test_geometries.h"
+
+namespace invmap::testing {
+namespace {
+
+/// Poses of B along a path: a wander over [0, 1]^2 at heights above the
+/// surface, turning slowly, with a jump at `jumpAt` and a dip to contact.
+std::vector<PoseRows> Trajectory(int count, int jumpAt, double height) {
+  std::vector<PoseRows> poses;
+  double x = 0.2, y = 0.3, z = height, angle = 0.0;
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < count; ++i) {
+    if (i == jumpAt) {
+      x = 0.85;
+      y = 0.8;
+    }
+    x = std::clamp(x + 0.01 * u(rng), 0.05, 0.95);
+    y = std::clamp(y + 0.01 * u(rng), 0.05, 0.95);
+    // Down to touching and back up between the first third and half.
+    z = i > count / 3 && i < count / 2 ? std::max(0.0, z - 0.02) : std::min(height, z + 0.02);
+    angle += 0.05;
+    poses.push_back(RotationRows({0.3, 0.2, 1.0}, angle, {x, y, z}));
+  }
+  return poses;
+}
+
+TEST(Trajectories, SphereOverASurfaceMatchesFreshQueries) {
+  const auto surface = BuildModel(WavySurface(0.05, 2, 2, 12, false));
+  const auto sphere = BuildModel(NurbsSphere({0, 0, 0}, 0.1));
+  const std::vector<PoseRows> poses = Trajectory(30, 20, 0.25);
+  DistanceTracker tracker(surface->model, sphere->model);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    DistanceResult tracked;
+    std::string message;
+    ASSERT_EQ(tracker.Update(ToPose(poses[i]), &tracked, &message), Error::Ok) << message;
+    const DistanceResult fresh = DistanceQuery(*surface, IdentityRows(), *sphere, poses[i]);
+    SCOPED_TRACE("pose " + std::to_string(i));
+    ASSERT_TRUE(tracked.nearest.found);
+    EXPECT_NEAR(tracked.nearest.distance, fresh.nearest.distance, 1e-10);
+    EXPECT_EQ(tracked.nearest.certified, true);
+    ExpectConsistent(*surface, IdentityRows(), *sphere, poses[i], tracked.nearest, 1e-9);
+  }
+}
+
+TEST(Trajectories, MeshAgainstMeshMatchesFreshQueries) {
+  const auto big = BuildModel(MeshGeometry(WavyHeightField(24, 3)));
+  const auto probe = BuildModel(MeshGeometry(BumpySphereMesh(10, 7, {0, 0, 0}, 0.08)));
+  const std::vector<PoseRows> poses = Trajectory(60, 25, 0.3);
+  DistanceTracker tracker(big->model, probe->model);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    DistanceResult tracked;
+    ASSERT_EQ(tracker.Update(ToPose(poses[i]), &tracked), Error::Ok);
+    const DistanceResult fresh = DistanceQuery(*big, IdentityRows(), *probe, poses[i]);
+    SCOPED_TRACE("pose " + std::to_string(i));
+    EXPECT_NEAR(tracked.nearest.distance, fresh.nearest.distance, 1e-12);
+    ExpectConsistent(*big, IdentityRows(), *probe, poses[i], tracked.nearest, 1e-12);
+  }
+}
+
+TEST(Trajectories, MovingATooAndBadPoses) {
+  const auto a = BuildModel(NurbsSphere({0, 0, 0}, 1.0));
+  const auto b = BuildModel(NurbsSphere({0, 0, 0}, 0.5));
+  DistanceTracker tracker(a->model, b->model);
+  DistanceResult r;
+  ASSERT_EQ(tracker.Update(ToPose(RotationRows({0, 0, 1}, 0.0, {3, 0, 0})), &r), Error::Ok);
+  EXPECT_NEAR(r.nearest.distance, 1.5, 1e-9);
+  ASSERT_EQ(tracker.SetPoseA(ToPose(RotationRows({0, 0, 1}, 0.0, {0.5, 0, 0}))), Error::Ok);
+  ASSERT_EQ(tracker.Update(ToPose(RotationRows({0, 0, 1}, 0.0, {3, 0, 0})), &r), Error::Ok);
+  EXPECT_NEAR(r.nearest.distance, 1.0, 1e-9);
+  // A scaling is no rigid motion; the tracker stays usable.
+  Pose scaled = ToPose(IdentityRows());
+  scaled.m[0] = scaled.m[5] = scaled.m[10] = 2.0;
+  std::string message;
+  EXPECT_EQ(tracker.Update(scaled, &r, &message), Error::InvalidArgument);
+  EXPECT_NE(message.find("rotation"), std::string::npos) << message;
+  ASSERT_EQ(tracker.Update(ToPose(RotationRows({0, 0, 1}, 0.0, {-3, 0, 0})), &r), Error::Ok);
+  EXPECT_NEAR(r.nearest.distance, 2.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace invmap::testing
