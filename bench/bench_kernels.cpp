@@ -86,6 +86,28 @@ void BM_SolveCell(benchmark::State& state) {
   state.counters["newton_iters"] = static_cast<double>(iterations) / static_cast<double>(state.iterations());
 }
 
+/// Building one cell's solver (its distance nets and curvature bounds, the
+/// cost of a geometry's build per cell): cells/s, and the nets' bytes.
+void BM_BuildCell(benchmark::State& state) {
+  const BenchCell cell = MakeCell(TypeArg(state.range(0)), static_cast<int>(state.range(1)), state.range(2) != 0, 0.2);
+  const CellView view = cell.view();
+  std::size_t bytes = CellSolver(view).NetMemoryBytes();  // also builds the shape's shared stencil once
+  for (auto _ : state) {
+    const CellSolver solver(view);
+    benchmark::DoNotOptimize(solver.size());
+  }
+  state.counters["cells/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["net_bytes"] = static_cast<double>(bytes);
+}
+
+// Arguments: cell type (0 line, 1 tri, 2 quad, 3 tet, 4 hex, 5 wedge), degree
+// (1 to 8, the highest the format allows), rational.
+void BuildArgs(benchmark::internal::Benchmark* b) {
+  for (int type = 0; type <= 5; ++type) {
+    for (int degree = 1; degree <= 8; ++degree) b->Args({type, degree, 0});
+  }
+}
+
 // Arguments: cell type (0 line, 1 tri, 2 quad, 3 tet, 4 hex, 5 wedge), degree, rational.
 void CellArgs(benchmark::internal::Benchmark* b) {
   for (int type = 0; type <= 5; ++type) {
@@ -97,6 +119,7 @@ void CellArgs(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_EvaluateMap)->Apply(CellArgs);
 BENCHMARK(BM_SolveCell)->Apply(CellArgs);
+BENCHMARK(BM_BuildCell)->Apply(BuildArgs)->Unit(benchmark::kMicrosecond);
 
 /// SolveLane's output arrays for `count` lanes and the ResultLane pointing at them.
 struct LaneResults {

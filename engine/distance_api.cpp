@@ -194,6 +194,15 @@ DistanceModelBuild DistanceModel::Build(const Manifold& manifold) {
       result.error = "the manifold is empty (not built)";
       return result;
     }
+    if (ManifoldAccess::Store(manifold).hasTrimmedSurfaces()) {
+      // The pair search knows nothing of a trimmed face's region.
+      result.error = "distance between models: not available for trimmed surfaces (CAD faces) yet";
+      return result;
+    }
+    if (ManifoldAccess::HasPouSurfaces(manifold)) {
+      result.error = "partition-of-unity surfaces (pou_manifold patches) have no distance model yet";
+      return result;
+    }
     auto impl = std::make_shared<Impl>();
     impl->manifold = &manifold;
     impl->cells.Build(ManifoldAccess::Store(manifold));

@@ -18,6 +18,7 @@
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
 #include "kernels/cell_minima.h"
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 
 namespace invmap {
@@ -142,7 +143,13 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
   try {
     INVMAP_VERIFY(manifold.valid(), "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
+    INVMAP_VERIFY(!ManifoldAccess::HasPouSurfaces(manifold),
+                  "partition-of-unity surfaces (pou_manifold patches) have no search for every local minimum yet");
     const engine::CellStore& store = ManifoldAccess::Store(manifold);
+    // The per-cell enumeration knows nothing of a trimmed face's region: it
+    // would give minima outside the face and miss those on its edges.
+    INVMAP_VERIFY(!store.hasTrimmedSurfaces(),
+                  "every local minimum: not available for trimmed surfaces (CAD faces) yet");
     const engine::Bvh& bvh = ManifoldAccess::Tree(manifold);
     const int dim = store.dimension();
     INVMAP_VERIFY(points.dim == dim, "points: dimension " << points.dim << ", the geometry's is " << dim);

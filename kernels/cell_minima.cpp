@@ -8,6 +8,7 @@
 #include "kernels/active_set.h"
 #include "kernels/bernstein_net.h"
 #include "kernels/cell_bounds.h"
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
 

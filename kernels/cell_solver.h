@@ -13,6 +13,7 @@
 #include "kernels/distance_net.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
+#include "kernels/trimmed_cell.h"
 
 namespace invmap::kernels {
 
@@ -167,6 +168,13 @@ class CellSolver {
   /// True when the cell is a volume (paramDim == ambientDim).
   bool isFullRank() const { return cell_.shape.paramDim() == cell_.ambientDim; }
 
+  /// Makes the cell one that its trimmed face's loops cross (surfaces of
+  /// line factors only): Solve then answers only points of the face's
+  /// region and returns Farther when the cell holds no candidate there
+  /// (kernels/trimmed_cell.h). `trim` must outlive the solver; null undoes it.
+  void SetTrim(const TrimmedCell* trim) { trim_ = trim; }
+  const TrimmedCell* trim() const { return trim_; }
+
  private:
   /// The branch and bound over subdomains of the reference domain that makes
   /// the local answer `best` global; returns false when the budget ran out.
@@ -183,9 +191,6 @@ class CellSolver {
   /// `lambda` (when haveLambda), else `initialRef`, else the centre; false
   /// when `lambda` puts the point beyond the control points' hull (not inside).
   bool InsideStart(const double* initialRef, const double* lambda, bool haveLambda, double* start) const;
-  /// The level below which a part of the cell must reach to beat a best
-  /// squared distance `best2` by more than tau; `slack`: the nets' rounding.
-  static double ExclusionLevel(double best2, double tau, double slack);
   /// Writes lane l of `results` from one cell's answer.
   void WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const;
 
@@ -228,9 +233,27 @@ class CellSolver {
   /// cells leave the q net of `point` in ws->scratch.
   double SquaredDistanceLowerBound(const double* point, double slack, SolveWorkspace* ws) const;
 
-  /// `slack`: the nets' RoundingSlack at `point`.
+  /// Trimmed cells: KKT points of the cell that lie outside the face's
+  /// region (kept to drop the subdomains around them, see Search).
+  struct Rejected {
+    static constexpr int kCapacity = 4;
+    int count = 0;
+    LocalSolveResult points[kCapacity];
+    void Add(const LocalSolveResult& r) {
+      if (r.kkt && count < kCapacity) points[count++] = r;
+    }
+  };
+
+  /// `slack`: the nets' RoundingSlack at `point`. `rejected`: trimmed cells'
+  /// KKT points outside the region (more are added as found); null otherwise.
   bool Search(const double* point, double bound2, double slack, LocalSolveResult* best, int* iterations,
-              SolveWorkspace* ws) const;
+              SolveWorkspace* ws, Rejected* rejected) const;
+
+  /// Trimmed cells: false when the subdomain in `slot` (its net `q`, `ww`)
+  /// can hold no candidate for the face's closest point: no KKT point of a
+  /// squared distance up to `level2` (the best so far), or none inside the
+  /// region (kernels/kkt_exclusion.h).
+  bool MayHoldTrimmedMinimum(double* slot, const double* q, const double* ww, double level2, double slack) const;
 
   CellView cell_;
   double boxLo_[3] = {0, 0, 0};
@@ -246,9 +269,6 @@ class CellSolver {
   /// Tetrahedra: how far (in corner barycentric coordinates) the control
   /// points, and so the cell, reach beyond the straight corner tetrahedron.
   double cornerHullMargin_ = std::numeric_limits<double>::infinity();
-  /// Barycentric slack of the hull test, far above rounding and the distance
-  /// tolerance relative to the cell's size.
-  static constexpr double kHullSlack = 1e-9;
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
   /// Rational cells whose WW coefficients span more than kUnbalancedWeights.
@@ -263,6 +283,8 @@ class CellSolver {
   /// Curved cells whose weights are nearly equal (null otherwise: most
   /// cells of large meshes are affine, and a pointer keeps their solvers small).
   std::unique_ptr<const CurvatureBounds> curvature_;
+  /// Cells of a trimmed face that its loops cross (see SetTrim); null otherwise.
+  const TrimmedCell* trim_ = nullptr;
 };
 
 }  // namespace invmap::kernels

@@ -15,9 +15,10 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
   const bool warm = queries.initialRef[0] != nullptr;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   // Cells the lanes do not cover, affine maps (one exact step, no
-  // certificate needed) and unbalanced weights (solved in charts) take
-  // Solve's path, lane by lane.
-  const bool lanesCover = !affine_ && !charts_ && NewtonLanesCover(cell_);
+  // certificate needed), unbalanced weights (solved in charts) and trimmed
+  // cells (whose answers the face's region admits) take Solve's path, lane
+  // by lane.
+  const bool lanesCover = !affine_ && !charts_ && !trim_ && NewtonLanesCover(cell_);
   // The lanes run a chunk at a time from arrays on the stack: the finite
   // points that a bound does not exclude at once, gathered.
   constexpr int kChunk = 64;
@@ -149,7 +150,7 @@ void CellSolver::SolveCurvedLanes(const QueryLane& queries, const ResultLane& re
       int total = iterations[j];
       bool certified = true;
       if (best.squaredDistance > tau * tau && !(curvature_ && convex[j])) {
-        certified = Search(p, bound2, nets_.RoundingSlack(p), &best, &total, ws);
+        certified = Search(p, bound2, nets_.RoundingSlack(p), &best, &total, ws, nullptr);
       }
       CellSolveResult r;
       std::copy(best.ref, best.ref + pd, r.ref);

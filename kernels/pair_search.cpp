@@ -33,13 +33,6 @@ double* Vertex(double* slot, int side, int factor, int vertex) {
   return slot + kVertices + ((side * kMaxFactors + factor) * 4 + vertex) * 3;
 }
 
-/// As the cell search's (kernels/cell_solver.cpp): a part of the pair whose
-/// squared distance stays at or above this cannot beat `best2` by more than
-/// tau; `slack` covers the nets' rounding.
-double ExclusionLevel(double best2, double tau, double slack) {
-  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
-}
-
 /// Slots of the workspace, allocated by index (growing the pool moves it).
 class SlotPool {
  public:

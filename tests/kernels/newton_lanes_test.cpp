@@ -70,7 +70,7 @@ std::vector<Combination> CoveredCombinations() {
 
 std::string Name(const Combination& c) {
   std::ostringstream os;
-  os << kernels::CellTypeName(c.type) << " " << c.ambientDim << "d degree " << c.degree
+  os << CellTypeName(c.type) << " " << c.ambientDim << "d degree " << c.degree
      << (c.rational ? " rational" : "");
   return os.str();
 }
