@@ -7,7 +7,9 @@
 #include <utility>
 #include <vector>
 
+#include "engine/bucket_lanes.h"
 #include "engine/nearest_cells.h"
+#include "engine/volume_lanes.h"
 #include "kernels/cell_solver.h"
 #include "kernels/local_solver.h"
 
@@ -45,6 +47,9 @@ struct BucketScratch {
   std::vector<kernels::PointStatus> laneStatus;
   std::vector<std::int64_t> laneBestCell;
   std::vector<kernels::CellSolveResult> laneBest;
+  // The answers of the bucket's points that the curved cells' lanes settled.
+  BucketLanes bucketLanes;
+  VolumeLanes volumeLanes;
 };
 
 }  // namespace invmap::engine

@@ -13,6 +13,41 @@
 #include "engine/warm_start.h"
 
 namespace invmap::engine {
+namespace {
+
+/// Steps of a volume lane's walk through the tetrahedra (as the per-point
+/// search's walk).
+constexpr int kMaxLaneWalk = 8;
+
+/// The lanes for the bucket's points after `from` (answered `warm`) up to `last`.
+void SolveLanesAfter(const SearchIndex& index, const QueryPoints& points, std::int64_t from, std::int64_t last,
+                     const WarmStart& warm, bool curveLanes, double maxDistance, BucketScratch& scratch) {
+  const CellStore& store = index.cells();
+  const double* coord[3] = {points.coord[0] + from, points.coord[1] + from,
+                            store.dimension() == 3 ? points.coord[2] + from : nullptr};
+  const int count = static_cast<int>(last - from);
+  if (curveLanes) {
+    SolveBucketInLanes(store, index.wideBvh(), index.bvh(), index.simplices(), coord, count, warm, maxDistance,
+                       &scratch.bucketLanes);
+  } else {
+    SolveInsideByLanes(store, coord, count, warm.cell, kMaxLaneWalk, &scratch.volumeLanes);
+  }
+}
+
+/// True when the lanes settled point `s` (lane j): its answer is written.
+bool WriteSettledLane(const SearchIndex& index, BucketScratch& scratch, bool curveLanes, const double* p, int j,
+                      double maxDistance, std::int64_t s, WarmStart* warm, Results* sorted) {
+  if (curveLanes ? !scratch.bucketLanes.settled[j] : scratch.volumeLanes.cell[j] < 0) return false;
+  const std::int64_t cell = curveLanes ? scratch.bucketLanes.cell[j] : scratch.volumeLanes.cell[j];
+  const kernels::CellSolveResult& result = curveLanes ? scratch.bucketLanes.result[j] : scratch.volumeLanes.result[j];
+  PointSearch search(index.cells(), index.simplices(), p, scratch, -1, nullptr, maxDistance);
+  search.Seed(cell, result);
+  search.iterations = curveLanes ? scratch.bucketLanes.iterations[j] : result.iterations;
+  WriteFound(index.cells(), search, s, warm, sorted);
+  return true;
+}
+
+}  // namespace
 
 void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int bucketSize, const InversionOptions& options,
                    Results* sorted) {
@@ -64,6 +99,16 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
           // previous point and no bucket list or lanes, so that nothing but
           // the point and the geometry decides its search.
           if (!store.hasVolumeCells() && !pointwise) prepare();
+          // Curved cells' lanes: once a point of the bucket has an answer
+          // on a curved cell, the points after it are solved from that
+          // answer a cell at a time (engine/bucket_lanes.h on curves and
+          // surfaces, where the affine simplex lanes did not take the
+          // bucket; engine/volume_lanes.h for the points inside curved
+          // tetrahedra); what they leave goes on point by point. Which point
+          // starts them depends on the bucket alone.
+          const bool curveLanes = UsesBucketLanes(store, pointwise) && !list.lanesSolved;
+          const bool volumeLanes = UsesVolumeLanes(store, pointwise);
+          std::int64_t lanesFrom = -1;
           WarmStart warm;
           for (std::int64_t s = first; s < last; ++s) {
             double p[3] = {0, 0, 0};
@@ -73,11 +118,22 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
               finite = finite && std::isfinite(p[k]);
             }
             if (!finite) continue;
+            const int lane = static_cast<int>(s - lanesFrom);
+            if (lanesFrom >= 0 && WriteSettledLane(index, scratch, curveLanes, p, lane, maxDistance, s, &warm, sorted)) {
+              continue;
+            }
+            // A point the curve lanes did not settle goes on from the
+            // answer they found in its predicted cell, if any.
+            const std::int64_t laneCell = lanesFrom >= 0 && curveLanes ? scratch.bucketLanes.cell[lane] : -1;
             if (pointwise) warm = WarmStart();
-            std::int64_t startCell;
-            double startRef[3];
-            PredictStart(store, warm, p, &startCell, startRef);
+            std::int64_t startCell = -1;
+            double startRef[3] = {0, 0, 0};
+            if (laneCell < 0) PredictStart(store, warm, p, &startCell, startRef);
             PointSearch search(store, index.simplices(), p, scratch, startCell, startRef, maxDistance);
+            if (laneCell >= 0) {
+              search.Seed(laneCell, scratch.bucketLanes.result[lane]);
+              search.iterations = scratch.bucketLanes.iterations[lane];
+            }
             if (store.hasVolumeCells()) search.TryInsideByWalk(bvh);
             if (!search.inside) {
               if (!prepared && !pointwise) prepare();
@@ -89,6 +145,11 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
               }
             }
             WriteFound(store, search, s, &warm, sorted);
+            if (lanesFrom < 0 && (curveLanes ? StartsBucketLanes(store, index.simplices(), warm.cell)
+                                             : volumeLanes && IsLaneTetrahedron(store, warm.cell))) {
+              lanesFrom = s;
+              SolveLanesAfter(index, points, s, last, warm, curveLanes, maxDistance, scratch);
+            }
           }
         }
       },

@@ -621,25 +621,25 @@ void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLa
         results.closest[k][lane] = x;
       }
       if (results.distance) results.distance[lane] = std::sqrt(dist2[l]);
-      if (results.status) results.status[lane] = onBoundary[l] ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+      const bool farther = queries.bound2 && dist2[l] >= queries.bound2[lane];
+      if (results.status) {
+        results.status[lane] = farther      ? PointStatus::Farther
+                               : onBoundary[l] ? PointStatus::ProjectedToBoundary
+                                               : PointStatus::Converged;
+      }
       if (results.iterations) results.iterations[lane] = 0;
     }
   }
 }
 
-bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
-                             const double* cornerLambda) const {
+bool CellSolver::InsideStart(const double* initialRef, const double* lambdaIn, bool haveLambda, double* start) const {
   const int pd = cell_.shape.paramDim();
-  double start[3];
   double lambda[4];
-  if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
-  if (cornerLambda || CornerBarycentric(point, lambda)) {
+  if (haveLambda) std::copy(lambdaIn, lambdaIn + 4, lambda);
+  if (haveLambda) {
     // Beyond the control points' hull (with a margin far above the distance
     // tolerance): outside the cell, no solve needed.
-    if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) {
-      result->iterations = 0;
-      return false;
-    }
+    if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) return false;
     // The point's place in the straight tetrahedron of the corners: exact
     // for a straight cell, close for the mildly curved cells of meshes, and
     // better than the previous point's answer (measured on order-2 meshes).
@@ -652,6 +652,20 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
     std::copy(initialRef, initialRef + pd, start);
   } else {
     ReferenceCenter(cell_.shape, start);
+  }
+  return true;
+}
+
+bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
+                             const double* cornerLambda) const {
+  const int pd = cell_.shape.paramDim();
+  double start[3];
+  double lambda[4];
+  if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
+  const bool haveLambda = cornerLambda || CornerBarycentric(point, lambda);
+  if (!InsideStart(initialRef, lambda, haveLambda, start)) {
+    result->iterations = 0;
+    return false;
   }
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplex(point, result);
@@ -960,31 +974,23 @@ bool CellSolver::MayHoldTrimmedMinimum(double* slot, const double* q, const doub
 }
 
 void CellSolver::SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const {
-  const int pd = cell_.shape.paramDim();
-  const int ad = cell_.ambientDim;
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplexLane(queries, results);
     return;
   }
-  // Curved cells: Newton iterations differ per lane, so lanes are solved one
-  // after the other.
-  for (int l = 0; l < queries.count; ++l) {
-    double point[3] = {0, 0, 0};
-    for (int k = 0; k < ad; ++k) point[k] = queries.coord[k][l];
-    double init[3];
-    const bool warm = queries.initialRef[0] != nullptr;
-    if (warm) {
-      for (int i = 0; i < pd; ++i) init[i] = queries.initialRef[i][l];
-    }
-    const CellSolveResult r = Solve(point, warm ? init : nullptr, ws);
-    for (int i = 0; i < 3; ++i) {
-      if (results.ref[i]) results.ref[i][l] = i < pd ? r.ref[i] : std::numeric_limits<double>::quiet_NaN();
-      if (results.closest[i]) results.closest[i][l] = i < ad ? r.closest[i] : std::numeric_limits<double>::quiet_NaN();
-    }
-    if (results.distance) results.distance[l] = r.distance;
-    if (results.status) results.status[l] = r.status;
-    if (results.iterations) results.iterations[l] = r.iterations;
+  SolveCurvedLanes(queries, results, ws);
+}
+
+void CellSolver::WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const {
+  const int pd = cell_.shape.paramDim();
+  const int ad = cell_.ambientDim;
+  for (int i = 0; i < 3; ++i) {
+    if (results.ref[i]) results.ref[i][l] = i < pd ? r.ref[i] : std::numeric_limits<double>::quiet_NaN();
+    if (results.closest[i]) results.closest[i][l] = i < ad ? r.closest[i] : std::numeric_limits<double>::quiet_NaN();
   }
+  if (results.distance) results.distance[l] = r.distance;
+  if (results.status) results.status[l] = r.status;
+  if (results.iterations) results.iterations[l] = r.iterations;
 }
 
 }  // namespace invmap::kernels

@@ -55,6 +55,9 @@ struct QueryLane {
   /// Optional: initial reference coordinates per lane (warm start), same
   /// layout; nullptr starts from the cell's center.
   const double* initialRef[3] = {nullptr, nullptr, nullptr};
+  /// Optional: per lane, the squared distance of the best point found
+  /// elsewhere (Solve's bound2; +infinity for none); nullptr for no bounds.
+  const double* bound2 = nullptr;
 };
 
 /// Output arrays of a QueryLane, each of length count (ref and closest as
@@ -104,9 +107,20 @@ class CellSolver {
 
   /// Solves every lane of `queries`; see QueryLane and ResultLane. Affine
   /// segments, triangles and tetrahedra solve all lanes at once in closed
-  /// form (vectorized, kernels/affine_simplex_lanes.h); curved cells solve
-  /// the lanes one after the other (initialRef warm-starts each).
+  /// form (vectorized, kernels/affine_simplex_lanes.h); curved curves and
+  /// surfaces of line factors run their local solves in SIMD lanes
+  /// (kernels/newton_lanes.h) and certify each lane as Solve does; other
+  /// cells solve the lanes one after the other (initialRef warm-starts
+  /// each). Every lane's answer is the certified global minimum over the
+  /// cell, and depends on its own point and start only.
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+
+  /// SolveInside for every lane of `queries` (initialRef as SolveInside's):
+  /// inside[l] says whether lane l's point is inside, and then `results`
+  /// holds its answer (the other lanes' entries are not meaningful). The
+  /// local solves of polynomial tetrahedra run in SIMD lanes
+  /// (kernels/newton_lanes.h); other cells solve lane by lane.
+  void SolveInsideLane(const QueryLane& queries, const ResultLane& results, bool* inside) const;
 
   /// Tetrahedra: the smallest barycentric coordinate of `point` relative to
   /// the cell's corner control points (its vertices): positive inside the
@@ -168,6 +182,17 @@ class CellSolver {
   void SolveAffineSimplex(const double* point, CellSolveResult* result) const;
   /// SolveLane for affine simplices.
   void SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const;
+  /// SolveLane for curved cells: the local solves in SIMD lanes
+  /// (kernels/newton_lanes.h) where they cover the cell, then each lane's
+  /// certificate as Solve's; lanes that leave the lanes, and cells they do
+  /// not cover, are solved by Solve (kernels/cell_solver_lanes.cpp).
+  void SolveCurvedLanes(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+  /// SolveInside's start for a point whose corner barycentrics are
+  /// `lambda` (when haveLambda), else `initialRef`, else the centre; false
+  /// when `lambda` puts the point beyond the control points' hull (not inside).
+  bool InsideStart(const double* initialRef, const double* lambda, bool haveLambda, double* start) const;
+  /// Writes lane l of `results` from one cell's answer.
+  void WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const;
 
   /// Cells of line factors (line, quad, hex): the Greville parameters of the
   /// control point nearest to `point`, a start for the local solve that is

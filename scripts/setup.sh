@@ -15,7 +15,7 @@ packages=(build-essential cmake ninja-build pkg-config clang libclang-rt-14-dev 
           python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
           libvtk9-dev libexodusii-dev libnetcdf-dev libgmsh-dev liblzf-dev pcl-tools
           libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
-          occt-misc)
+          occt-misc libxsimd-dev)
 # The distance benchmark's peers (bench/peers/distance_peers.cpp): FCL and OpenCascade's BRepExtrema.
 packages+=(libfcl-dev libocct-modeling-algorithms-dev)
 
