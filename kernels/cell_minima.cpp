@@ -404,9 +404,6 @@ void MinimaSearch::SolveOnFace(double* slot, int factor, int side, bool strict, 
     for (int k = 0; k < ad_; ++k) points.push_back(homogeneous[static_cast<size_t>(k) * ncp_ + c] / w[c]);
     weights.push_back(w[c]);
   }
-  // Free parameters of the face, in the subdomain's local coordinates.
-  double local[3] = {0, 0, 0};
-  local[factor] = localSide;
   if (faceFactors == 0) {
     // A curve's end: one point.
     double ref[3] = {0, 0, 0};
