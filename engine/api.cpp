@@ -10,6 +10,7 @@
 
 #include "common/check.h"
 #include "common/parallel.h"
+#include "engine/api_errors.h"
 #include "engine/geometry_validation.h"
 #include "engine/invert_batch.h"
 #include "engine/manifold_access.h"
@@ -23,10 +24,6 @@ struct Manifold::Impl {
 };
 
 namespace {
-
-void SetMessage(std::string* message, const std::string& text) {
-  if (message) *message = text;
-}
 
 /// The query coordinates as double structure of arrays (one copy, so the
 /// solve path reads contiguous doubles whatever the caller's layout), copied
@@ -187,7 +184,7 @@ bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], dou
 
 Error Manifold::Invert(const PointsView& points, const InversionOptions& options, Results* results,
                        std::string* message) const {
-  try {
+  return engine::Guarded(message, [&] {
     // Batch-level checks of the arguments, once per call (never per point).
     INVMAP_VERIFY(impl_, "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
@@ -209,17 +206,8 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
     query.count = static_cast<std::int64_t>(points.count);
     for (int k = 0; k < dim; ++k) query.coord[k] = soa.get() + k * points.count;
     engine::InvertBatch(impl_->index, query, options, results);
-  } catch (const std::invalid_argument& e) {
-    SetMessage(message, e.what());
-    return Error::InvalidArgument;
-  } catch (const std::bad_alloc&) {
-    SetMessage(message, "out of memory");
-    return Error::OutOfMemory;
-  } catch (const std::exception& e) {
-    SetMessage(message, std::string("internal error: ") + e.what());
-    return Error::Internal;
-  }
-  return Error::Ok;
+    return Error::Ok;
+  });
 }
 
 const engine::SearchIndex& ManifoldAccess::Index(const Manifold& m) { return m.impl_->index; }

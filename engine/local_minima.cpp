@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "engine/api_errors.h"
 #include "engine/bvh_build.h"
 #include "common/check.h"
 #include "engine/manifold_access.h"
@@ -140,7 +141,7 @@ void WriteRow(const engine::CellStore& store, const Candidate* candidate, Status
 
 Error LocalMinima(const Manifold& manifold, const PointsView& points, const InversionOptions& options,
                   LocalMinimaResults* results, std::string* message) {
-  try {
+  return engine::Guarded(message, [&] {
     INVMAP_VERIFY(manifold.valid(), "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
     INVMAP_VERIFY(!ManifoldAccess::HasPouSurfaces(manifold),
@@ -239,17 +240,8 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
       for (std::size_t m = 0; m < perPoint[i].size(); ++m) WriteRow(store, &perPoint[i][m], Status::Found, first + m, &out);
     }
     results->certified = certified;
-  } catch (const std::invalid_argument& e) {
-    if (message) *message = e.what();
-    return Error::InvalidArgument;
-  } catch (const std::bad_alloc&) {
-    if (message) *message = "out of memory";
-    return Error::OutOfMemory;
-  } catch (const std::exception& e) {
-    if (message) *message = std::string("internal error: ") + e.what();
-    return Error::Internal;
-  }
-  return Error::Ok;
+    return Error::Ok;
+  });
 }
 
 }  // namespace invmap

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/affine_regions.h"
+#include "engine/api_errors.h"
 #include "engine/manifold_access.h"
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
@@ -147,7 +148,7 @@ PointTracker::PointTracker(PointTracker&&) noexcept = default;
 PointTracker& PointTracker::operator=(PointTracker&&) noexcept = default;
 
 Error PointTracker::Update(const double* point, PointAnswer* answer, std::string* message) {
-  try {
+  return engine::Guarded(message, [&] {
     if (!impl_->manifold->valid()) throw std::invalid_argument("the manifold is empty (not built)");
     if (!answer || !point) throw std::invalid_argument("point or answer: null");
     if (ManifoldAccess::HasPouSurfaces(*impl_->manifold)) {
@@ -167,17 +168,8 @@ Error PointTracker::Update(const double* point, PointAnswer* answer, std::string
       }
     }
     impl_->Search(p, answer);
-  } catch (const std::invalid_argument& e) {
-    if (message) *message = e.what();
-    return Error::InvalidArgument;
-  } catch (const std::bad_alloc&) {
-    if (message) *message = "out of memory";
-    return Error::OutOfMemory;
-  } catch (const std::exception& e) {
-    if (message) *message = std::string("internal error: ") + e.what();
-    return Error::Internal;
-  }
-  return Error::Ok;
+    return Error::Ok;
+  });
 }
 
 }  // namespace invmap

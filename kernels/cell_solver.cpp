@@ -13,6 +13,7 @@
 #include "kernels/face_certificate.h"
 #include "kernels/kkt_exclusion.h"
 #include "kernels/layer_newton.h"
+#include "kernels/slot_pool.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
@@ -185,32 +186,6 @@ constexpr double kUnbalancedWeights = 16.0;
 /// Unbalanced cells' search budget and hard seeds, in units of
 /// kMaxSubdomains and kHardSeeds.
 constexpr int kUnbalancedBudget = 8;
-
-/// Slots of the workspace: allocation by index, since growing the pool moves it.
-class SlotPool {
- public:
-  SlotPool(SolveWorkspace* ws, int slotSize) : ws_(ws), slotSize_(slotSize) {
-    ws_->freeSlots.clear();
-    used_ = 0;
-  }
-  int Allocate() {
-    if (!ws_->freeSlots.empty()) {
-      const int s = ws_->freeSlots.back();
-      ws_->freeSlots.pop_back();
-      return s;
-    }
-    const size_t need = static_cast<size_t>(used_ + 1) * slotSize_;
-    if (ws_->nets.size() < need) ws_->nets.resize(std::max(need, 2 * ws_->nets.size()));
-    return used_++;
-  }
-  void Free(int s) { ws_->freeSlots.push_back(s); }
-  double* operator[](int s) { return ws_->nets.data() + static_cast<size_t>(s) * slotSize_; }
-
- private:
-  SolveWorkspace* ws_;
-  int slotSize_;
-  int used_;
-};
 
 }  // namespace
 
@@ -695,7 +670,7 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
   const double tau = kDistanceTolerance * size_;
   // Subdomains whose lower bound reaches this cannot beat the best by more than tau.
   auto pruneLevel = [&] { return ExclusionLevel(std::min(best->squaredDistance, bound2), tau, slack); };
-  SlotPool pool(ws, slotSize);
+  SlotPool pool(&ws->nets, &ws->freeSlots, slotSize);
   if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
   const HessianStencil& stencil = *stencil_;
   const bool faceCertificate = HasFaceCertificate(netShape);

@@ -10,6 +10,7 @@
 #include "kernels/pair_nets.h"
 #include "kernels/simplex_index.h"
 #include "kernels/simplex_pair.h"
+#include "kernels/slot_pool.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::kernels {
@@ -32,29 +33,6 @@ constexpr int kHeaderSize = kVertices + 2 * kMaxFactors * 4 * 3;
 double* Vertex(double* slot, int side, int factor, int vertex) {
   return slot + kVertices + ((side * kMaxFactors + factor) * 4 + vertex) * 3;
 }
-
-/// Slots of the workspace, allocated by index (growing the pool moves it).
-class SlotPool {
- public:
-  SlotPool(PairWorkspace* ws, int slotSize) : ws_(ws), slotSize_(slotSize) { ws_->freeSlots.clear(); }
-  int Allocate() {
-    if (!ws_->freeSlots.empty()) {
-      const int s = ws_->freeSlots.back();
-      ws_->freeSlots.pop_back();
-      return s;
-    }
-    const size_t need = static_cast<size_t>(used_ + 1) * slotSize_;
-    if (ws_->slots.size() < need) ws_->slots.resize(std::max(need, 2 * ws_->slots.size()));
-    return used_++;
-  }
-  void Free(int s) { ws_->freeSlots.push_back(s); }
-  double* operator[](int s) { return ws_->slots.data() + static_cast<size_t>(s) * slotSize_; }
-
- private:
-  PairWorkspace* ws_;
-  int slotSize_;
-  int used_ = 0;
-};
 
 /// The vertex control points of an affine segment or triangle.
 void SimplexVertices(const PairSide& side, double vertices[3][3]) {
@@ -509,7 +487,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     const PairNets nets(a_, b_);
     slack_ = nets.RoundingSlack();
     const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
-    SlotPool pool(ws_, slotSize);
+    SlotPool pool(&ws_->slots, &ws_->freeSlots, slotSize);
     const int root = pool.Allocate();
     SetRoot(pool[root]);
     double* sideA = pool[root] + kHeaderSize;
@@ -547,7 +525,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
 
   const PairNets nets(a_, b_);
   const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
-  SlotPool pool(ws_, slotSize);
+  SlotPool pool(&ws_->slots, &ws_->freeSlots, slotSize);
   const int root = pool.Allocate();
   {
     double* slot = pool[root];
