@@ -13,6 +13,7 @@
 #include "kernels/face_certificate.h"
 #include "kernels/kkt_exclusion.h"
 #include "kernels/layer_newton.h"
+#include "kernels/simplex_subdomain.h"
 #include "kernels/slot_pool.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
@@ -59,30 +60,7 @@ void SubdomainCenter(const CellShape& shape, double* slot, double* ref) {
 bool SubdomainContains(const CellShape& shape, double* slot, const double* ref) {
   for (int f = 0; f < shape.numFactors(); ++f) {
     const SimplexFactor& fac = shape.factor(f);
-    const int d = fac.dim;
-    if (d == 1) {
-      // An interval: the same quotient the padded factorization below
-      // computes, without setting it up (line, quad and hex cells).
-      const double v0 = Vertex(slot, f, 0)[0];
-      const double mu = (ref[fac.offset] - v0) / (Vertex(slot, f, 1)[0] - v0);
-      if (mu < -kInsideTolerance || 1.0 - mu < -kInsideTolerance) return false;
-      continue;
-    }
-    Eigen::Matrix3d edges = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    const double* v0 = Vertex(slot, f, 0);
-    for (int k = 1; k <= d; ++k) {
-      for (int i = 0; i < d; ++i) edges(i, k - 1) = Vertex(slot, f, k)[i] - v0[i];
-    }
-    for (int i = 0; i < d; ++i) rhs[i] = ref[fac.offset + i] - v0[i];
-    // The identity pads the unused dimensions: a fixed-size solve, no heap.
-    const Eigen::Vector3d mu = edges.partialPivLu().solve(rhs);
-    double sum = 0.0;
-    for (int k = 0; k < d; ++k) {
-      if (mu[k] < -kInsideTolerance) return false;
-      sum += mu[k];
-    }
-    if (1.0 - sum < -kInsideTolerance) return false;
+    if (!InSimplexSubdomain(fac.dim, ref + fac.offset, [&](int v) { return Vertex(slot, f, v); })) return false;
   }
   return true;
 }

@@ -10,6 +10,7 @@
 #include "kernels/pair_nets.h"
 #include "kernels/simplex_index.h"
 #include "kernels/simplex_pair.h"
+#include "kernels/simplex_subdomain.h"
 #include "kernels/slot_pool.h"
 #include "kernels/tolerances.h"
 
@@ -137,26 +138,8 @@ bool PairSearch::Contains(double* slot, const double* w) const {
     const double* ref = w + layout_.offset(side);
     for (int f = 0; f < shape.numFactors(); ++f) {
       const SimplexFactor& fac = shape.factor(f);
-      const int d = fac.dim;
-      const double* v0 = Vertex(slot, side, f, 0);
-      if (d == 1) {
-        const double mu = (ref[fac.offset] - v0[0]) / (Vertex(slot, side, f, 1)[0] - v0[0]);
-        if (mu < -kInsideTolerance || 1.0 - mu < -kInsideTolerance) return false;
-        continue;
-      }
-      Eigen::Matrix3d edges = Eigen::Matrix3d::Identity();
-      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-      for (int k = 1; k <= d; ++k) {
-        for (int i = 0; i < d; ++i) edges(i, k - 1) = Vertex(slot, side, f, k)[i] - v0[i];
-      }
-      for (int i = 0; i < d; ++i) rhs[i] = ref[fac.offset + i] - v0[i];
-      const Eigen::Vector3d mu = edges.partialPivLu().solve(rhs);
-      double sum = 0.0;
-      for (int k = 0; k < d; ++k) {
-        if (mu[k] < -kInsideTolerance) return false;
-        sum += mu[k];
-      }
-      if (1.0 - sum < -kInsideTolerance) return false;
+      const auto vertex = [&](int v) { return Vertex(slot, side, f, v); };
+      if (!InSimplexSubdomain(fac.dim, ref + fac.offset, vertex)) return false;
     }
   }
   return true;
@@ -314,30 +297,12 @@ bool PairSearch::CertifyWith(double* slot, const double* w, double value, const 
 }
 
 void PairSearch::ChooseSplit(double* slot, int* side, int* factor, int* vi, int* vj) const {
-  double longest = -1.0;
-  for (int s = 0; s < 2; ++s) {
-    const CellShape& shape = layout_.shape(s);
-    for (int f = 0; f < shape.numFactors(); ++f) {
-      const SimplexFactor& fac = shape.factor(f);
-      for (int p = 0; p <= fac.dim; ++p) {
-        for (int q = p + 1; q <= fac.dim; ++q) {
-          double length2 = 0.0;
-          for (int i = 0; i < fac.dim; ++i) {
-            const double e = (Vertex(slot, s, f, p)[i] - Vertex(slot, s, f, q)[i]) *
-                             paramScale_[layout_.offset(s) + fac.offset + i];
-            length2 += e * e;
-          }
-          if (length2 > longest) {
-            longest = length2;
-            *side = s;
-            *factor = f;
-            *vi = p;
-            *vj = q;
-          }
-        }
-      }
-    }
-  }
+  const PairEdge edge =
+      LongestPairEdge(layout_, paramScale_, [slot](int s, int f, int v) { return Vertex(slot, s, f, v); });
+  *side = edge.side;
+  *factor = edge.factor;
+  *vi = edge.vi;
+  *vj = edge.vj;
 }
 
 void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, int* vi, int* vj) const {

@@ -6,7 +6,6 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
-#include <limits>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -198,18 +197,8 @@ py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape, const p
 InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads, bool pointwise) {
   InversionOptions options;
   options.pointwise = pointwise;
-  if (maxDistance) {
-    if (std::isnan(*maxDistance) || *maxDistance < 0.0) {
-      std::ostringstream message;
-      message << "max_distance: " << *maxDistance << ", expected a number >= 0";
-      throw InputError(message.str());
-    }
-    options.maxDistance = *maxDistance;
-  }
-  if (threads) {
-    if (*threads < 0) throw InputError("threads: " + std::to_string(*threads) + ", expected >= 0 (0: all cores)");
-    options.threads = *threads;
-  }
+  if (maxDistance) options.maxDistance = CheckedMaxDistance(*maxDistance);
+  if (threads) options.threads = CheckedThreads(*threads);
   return options;
 }
 
