@@ -15,12 +15,14 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "fem/file_checks.h"
 #include "fem/lagrange_cells.h"
 #include "fem/vtk_cells.h"
 #include "fem/vtk_messages.h"
 #include "io/input_error.h"
+#include "kernels/cell_shape.h"
 
 namespace invmap::fem {
 namespace {
@@ -198,9 +200,12 @@ FieldGeometry ReadVtu(const std::string& path) {
       cellWeights.resize(static_cast<std::size_t>(count));
       for (vtkIdType j = 0; j < count; ++j) {
         cellWeights[j] = rationalWeights->GetComponent(points[j], 0);
-        if (!(cellWeights[j] > 0.0) || !std::isfinite(cellWeights[j])) {
-          throw io::InputError(path, 0, where + ": point " + std::to_string(points[j]) + " has rational weight " +
-                                            std::to_string(cellWeights[j]) + " (weights must be positive and finite)");
+        const double w = cellWeights[j];
+        if (!(w > 0.0) || !std::isfinite(w) || w > kernels::kMaxWeight || w < 1.0 / kernels::kMaxWeight) {
+          std::ostringstream text;
+          text << where << ": point " << points[j] << " has rational weight " << w
+               << " (weights must be positive, in [1e-50, 1e50])";
+          throw io::InputError(path, 0, text.str());
         }
       }
       builder.AddRationalElement(conversion->type, conversion->degree, conversion->converter, elementNodes.data(),

@@ -359,16 +359,17 @@ TEST(VtuRational, OnlyBezierCellsAreRational) {
   }
 }
 
-// A weight that is not positive is an input error naming the cell and point.
-TEST(VtuRational, NonPositiveWeightNamesTheCellAndPoint) {
+// A weight that is not positive, or outside the range invmap supports, is an
+// input error naming the cell and point.
+TEST(VtuRational, BadWeightNamesTheCellAndPoint) {
   const ScratchDir dir;
-  for (double bad : {0.0, -1.5}) {
+  for (double bad : {0.0, -1.5, 1e-60, 1e60}) {
     const vtkSmartPointer<vtkUnstructuredGrid> grid = MakeRationalGrid({VTK_BEZIER_TRIANGLE, 2});
     grid->GetPointData()->GetRationalWeights()->SetComponent(4, 0, bad);
     const std::string path = dir.Path("bad_weight.vtu");
     ASSERT_TRUE(Write(grid, path, Encoding::Ascii));
     ExpectInputError([&] { fem::ReadVtu(path); },
-                     {path, "cell 0 (VTK_BEZIER_TRIANGLE): point 4 has rational weight", "positive"});
+                     {path, "cell 0 (VTK_BEZIER_TRIANGLE): point 4 has rational weight", "positive, in [1e-50, 1e50]"});
   }
 }
 
