@@ -10,6 +10,11 @@
 #include <vtkPoints.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <random>
+#include <vector>
+
+#include "tests/fem/fem_test_support.h"
+
 namespace invmap::testing {
 
 int HigherOrderPoints(int vtkType, int order) {
@@ -87,6 +92,31 @@ bool Write(vtkUnstructuredGrid* grid, const std::string& path, Encoding encoding
       break;
   }
   return writer->Write() == 1;
+}
+
+void ExpectVtkPointsRoundTrip(const Manifold& manifold, vtkCell* cell, CellType type, unsigned seed, int count) {
+  std::vector<double> basis(static_cast<std::size_t>(cell->GetNumberOfPoints()));
+  std::mt19937 rng(seed);
+  std::vector<double> xyz;
+  std::vector<std::array<double, 3>> expected;
+  for (int trial = 0; trial < count; ++trial) {
+    const std::array<double, 3> r = RandomReferencePoint(type, rng, 0.02);
+    double pcoords[3] = {r[0], r[1], r[2]};
+    double x[3];
+    int subId = 0;
+    cell->EvaluateLocation(subId, pcoords, x, basis.data());
+    xyz.insert(xyz.end(), x, x + 3);
+    expected.push_back(r);
+  }
+  Results results;
+  ASSERT_EQ(manifold.Invert(PointsView::Interleaved(xyz.data(), expected.size(), 3), {}, &results), Error::Ok);
+  const bool volume = type == CellType::Tet || type == CellType::Hex || type == CellType::Wedge;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_EQ(results.status[i], Status::Found);
+    EXPECT_LT(results.distance[i], 1e-10) << "point " << i;
+    if (!volume) continue;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(results.params[3 * i + k], expected[i][k], 1e-9) << "point " << i;
+  }
 }
 
 }  // namespace invmap::testing

@@ -10,6 +10,8 @@
 #include <array>
 #include <string>
 
+#include "invmap/invmap.h"
+
 namespace invmap::testing {
 
 /// Nodes of a Lagrange or Bezier cell of `order`.
@@ -30,5 +32,11 @@ enum class Encoding { Ascii, Binary, BinaryZlib, Appended, AppendedRawZlib };
 
 /// Writes `grid` with VTK's XML writer; true on success.
 bool Write(vtkUnstructuredGrid* grid, const std::string& path, Encoding encoding);
+
+/// Inverts `count` points that VTK's `cell` (of invmap type `type`) maps
+/// random parameters (`seed`, 0.02 inside the reference cell) to, on
+/// `manifold` built from that cell alone; expects each found at distance
+/// below 1e-10 and, in a volume, at those parameters to 1e-9.
+void ExpectVtkPointsRoundTrip(const Manifold& manifold, vtkCell* cell, CellType type, unsigned seed, int count);
 
 }  // namespace invmap::testing

@@ -60,8 +60,6 @@ CellType InvmapType(int vtkType) {
   return type;
 }
 
-bool IsVolume(CellType type) { return type == CellType::Tet || type == CellType::Hex || type == CellType::Wedge; }
-
 /// A weights array named "W" and made the point data's rational weights.
 vtkSmartPointer<vtkDoubleArray> AddRationalWeights(vtkUnstructuredGrid* grid, const std::vector<double>& weights) {
   auto array = vtkSmartPointer<vtkDoubleArray>::New();
@@ -161,33 +159,11 @@ TEST_P(RationalVtuCellTest, ParametersRoundTrip) {
   const ScratchDir dir;
   const std::string path = dir.Path("rational.vtu");
   ASSERT_TRUE(Write(MakeRationalGrid(c), path, Encoding::Appended));
-  const FieldGeometry model = fem::ReadVtu(path);
-  BuildResult built = Manifold::Build(model.geometry);
+  BuildResult built = Manifold::Build(fem::ReadVtu(path).geometry);
   ASSERT_TRUE(built.error.empty()) << built.error;
   const vtkSmartPointer<vtkUnstructuredGrid> vtk = ReadWithVtk(path);
-  vtkCell* cell = vtk->GetCell(0);
-  std::vector<double> basis(static_cast<std::size_t>(cell->GetNumberOfPoints()));
-  const CellType type = InvmapType(c.vtkType);
-  std::mt19937 rng(static_cast<unsigned>(c.vtkType + 5 * c.order));
-  std::vector<double> xyz;
-  std::vector<std::array<double, 3>> expected;
-  for (int trial = 0; trial < 40; ++trial) {
-    const std::array<double, 3> r = RandomReferencePoint(type, rng, 0.02);
-    double pcoords[3] = {r[0], r[1], r[2]};
-    double x[3];
-    int subId = 0;
-    cell->EvaluateLocation(subId, pcoords, x, basis.data());
-    xyz.insert(xyz.end(), x, x + 3);
-    expected.push_back(r);
-  }
-  Results results;
-  ASSERT_EQ(built.manifold.Invert(PointsView::Interleaved(xyz.data(), expected.size(), 3), {}, &results), Error::Ok);
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    ASSERT_EQ(results.status[i], Status::Found);
-    EXPECT_LT(results.distance[i], 1e-10) << "point " << i;
-    if (!IsVolume(type)) continue;
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(results.params[3 * i + k], expected[i][k], 1e-9) << "point " << i;
-  }
+  ExpectVtkPointsRoundTrip(built.manifold, vtk->GetCell(0), InvmapType(c.vtkType),
+                           static_cast<unsigned>(c.vtkType + 5 * c.order), 40);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryBezierType, RationalVtuCellTest, ::testing::ValuesIn(BezierCases()), CaseName);

@@ -214,32 +214,8 @@ TEST_P(VtuCellTest, ParametersRoundTrip) {
   const ScratchDir dir;
   const vtkSmartPointer<vtkUnstructuredGrid> grid = MakeGrid(c, true);
   const ReadBack read = WriteReadAndBuild(grid, dir.Path("cell.vtu"), Encoding::Appended);
-  const Manifold& manifold = read.built.manifold;
-  const CellType type = InvmapType(c.vtkType);
-  const bool volume = type == CellType::Tet || type == CellType::Hex || type == CellType::Wedge;
-  vtkCell* cell = grid->GetCell(0);
-  std::vector<double> weights(static_cast<std::size_t>(cell->GetNumberOfPoints()));
-  std::mt19937 rng(static_cast<unsigned>(c.vtkType + 7 * c.order));
-  std::vector<double> xyz;
-  std::vector<std::array<double, 3>> expected;
-  for (int trial = 0; trial < 50; ++trial) {
-    const std::array<double, 3> r = RandomReferencePoint(type, rng, 0.02);
-    double pcoords[3] = {r[0], r[1], r[2]};
-    double x[3];
-    int subId = 0;
-    cell->EvaluateLocation(subId, pcoords, x, weights.data());
-    xyz.insert(xyz.end(), x, x + 3);
-    expected.push_back(r);
-  }
-  Results results;
-  ASSERT_EQ(manifold.Invert(PointsView::Interleaved(xyz.data(), expected.size(), 3), {}, &results), Error::Ok);
-  const int paramDim = type == CellType::Line ? 1 : (type == CellType::Tri || type == CellType::Quad) ? 2 : 3;
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    ASSERT_EQ(results.status[i], Status::Found);
-    EXPECT_LT(results.distance[i], 1e-10) << "point " << i;
-    if (!volume) continue;
-    for (int k = 0; k < paramDim; ++k) EXPECT_NEAR(results.params[3 * i + k], expected[i][k], 1e-9) << "point " << i;
-  }
+  ExpectVtkPointsRoundTrip(read.built.manifold, grid->GetCell(0), InvmapType(c.vtkType),
+                           static_cast<unsigned>(c.vtkType + 7 * c.order), 50);
 }
 
 class VtuFieldTest : public ::testing::TestWithParam<VtkCase> {};
