@@ -202,7 +202,7 @@ TEST(CubitExtraction, BadBextFilesNameFileAndLine) {
               {"a.bext:1:", "version 3.0"});
   ExpectInputError([&] { fem::ReadCubitBext(dir.Write("b.bext", "hello\n")); }, {"b.bext:1:", "B E X T 2.0"});
   // Bytes that are not text: the binary form, refused as such.
-  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("binary.bext", std::string("\x01\x00\x00\x00BEXT\x02", 9))); },
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("binary.bext", std::string("\x01\x00\x00\x00" "BEXT\x02", 9))); },
                    {"binary.bext:1:", "binary LS-DYNA Bezier extraction form is not read"});
   // Line 6 is the first control point.
   ExpectInputError([&] { fem::ReadCubitBext(dir.Write("c.bext", ReplaceLine(good, 6, "0 0 zero 1"))); },
