@@ -10,6 +10,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListIteratorOfListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
@@ -149,6 +150,7 @@ void PseudoNormals::Build(const TopoDS_Shape& shape, const ConvertedModel& model
     if (!solid.IsNull()) data.solid = solids.Add(solid) - 1;
   }
   for (int s = 1; s <= solids.Extent(); ++s) solids_.push_back(solids(s));
+  MarkSharedFaces(shape, model);
   classifiers_.resize(solids_.size());
 
   // Each vertex's pseudo-normal: the normals of its faces weighted by the
@@ -190,6 +192,37 @@ void PseudoNormals::Build(const TopoDS_Shape& shape, const ConvertedModel& model
         vertexNormals_[v] += angle * n;
       }
     }
+  }
+}
+
+void PseudoNormals::MarkSharedFaces(const TopoDS_Shape& shape, const ConvertedModel& model) {
+  if (solids_.size() < 2) return;
+  // A sub-shape listed under two different solids bounds both.
+  auto sharedKind = [&](TopAbs_ShapeEnum kind) {
+    TopTools_IndexedDataMapOfShapeListOfShape ancestors;
+    TopExp::MapShapesAndAncestors(shape, kind, TopAbs_SOLID, ancestors);
+    TopTools_IndexedMapOfShape shared;
+    for (int k = 1; k <= ancestors.Extent(); ++k) {
+      const TopTools_ListOfShape& solids = ancestors(k);
+      for (TopTools_ListIteratorOfListOfShape it(solids); it.More(); it.Next()) {
+        if (!it.Value().IsSame(solids.First())) {
+          shared.Add(ancestors.FindKey(k));
+          break;
+        }
+      }
+    }
+    return shared;
+  };
+  const TopTools_IndexedMapOfShape faces = sharedKind(TopAbs_FACE), edges = sharedKind(TopAbs_EDGE),
+                                   vertices = sharedKind(TopAbs_VERTEX);
+  for (std::size_t f = 0; f < model.faces.size(); ++f) {
+    const TopoDS_Face& face = model.faces[f].face;
+    bool shared = faces.Contains(face);
+    for (TopExp_Explorer it(face, TopAbs_EDGE); it.More() && !shared; it.Next()) shared = edges.Contains(it.Current());
+    for (TopExp_Explorer it(face, TopAbs_VERTEX); it.More() && !shared; it.Next()) {
+      shared = vertices.Contains(it.Current());
+    }
+    faces_[f].shared = shared;
   }
 }
 
