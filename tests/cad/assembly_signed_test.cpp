@@ -223,6 +223,28 @@ TEST(AssemblySigned, NestedAndFarApartSolids) {
   });
 }
 
+TEST(AssemblySigned, TouchingClosedShellsWithoutSolids) {
+  // Two boxes' shells in a compound, no solid around them: each closed shell
+  // bounds an inside of its own. The classifier takes solids only, so the
+  // closed form is the reference here.
+  TopoDS_Compound shells;
+  BRep_Builder builder;
+  builder.MakeCompound(shells);
+  for (const TopoDS_Shape& box : {Box(0, 0, 0, 10, 10, 5), Box(2, 3, 5, 7, 8, 9)}) {
+    for (TopExp_Explorer it(box, TopAbs_SHELL); it.More(); it.Next()) builder.Add(shells, it.Current());
+  }
+  const std::unique_ptr<cad::Model> model = LoadShape(shells, "assembly_shells");
+  ASSERT_EQ(model->SignedUnsupported(), "");
+  const std::vector<double> points = AssemblyPoints(shells, 12, {{4, 5}, {2 + 1e-6, 5}, {1, 1}}, 5.0);
+  const SignTally tally =
+      CheckAssemblySigns(shells, *model, points, "assembly_shells", HUGE_VAL, [](const double* p) {
+        return InBox(p, 0, 0, 0, 10, 10, 5) || InBox(p, 2, 3, 5, 7, 8, 9);
+      });
+  EXPECT_EQ(tally.wrong, 0);
+  EXPECT_GT(tally.exact, tally.points * 9 / 10);
+  EXPECT_GT(tally.inside, tally.points / 10);
+}
+
 // OpenCascade's sample assemblies whose signs followed the coincident face
 // reported: points around them (and, on the refrigerator, the vertical line
 // through its two solids' shared face at z = 148) against the classifier
