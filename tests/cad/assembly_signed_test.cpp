@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -68,19 +69,6 @@ int ClassifiedInside(const TopoDS_Shape& shape, const double* p, double toleranc
     on = on || classifier.State() == TopAbs_ON;
   }
   return on ? -1 : 0;
-}
-
-/// True when the closest point lies within the model's own precision of an
-/// edge of its face, and the point is that near too: the side there is the
-/// model's to say, not the reference's.
-bool WithinModelPrecisionOfAnEdge(const TopoDS_Face& face, double distance, const double* closest) {
-  const double tolerance = FaceTolerance(face);
-  if (distance >= tolerance) return false;
-  TopoDS_Compound edges;
-  BRep_Builder builder;
-  builder.MakeCompound(edges);
-  for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) builder.Add(edges, it.Current());
-  return OccDistance(edges, closest) <= tolerance;
 }
 
 struct SignTally {
@@ -250,25 +238,35 @@ TEST(AssemblySigned, TouchingClosedShellsWithoutSolids) {
 // through its two solids' shared face at z = 148) against the classifier
 // of each solid, from 1e-4 of the size out (nearer, the classifier's rays
 // miscount on these models' seams).
-TEST(AssemblySigned, SampleAssemblies) {
-  for (const char* file : {"MODERN_Refrigerator_1.brep", "MODERN_Cooker_1_opened.brep", "MODERN_Sink_1.brep",
-                           "Axis_of_bearing.brep", "Motor-c.brep"}) {
-    const std::string path = std::string(INVMAP_OCC_SAMPLES) + "/occ/" + file;
-    ASSERT_TRUE(std::filesystem::exists(path)) << path;
-    const TopoDS_Shape shape = ReadShape(path);
-    cad::LoadResult loaded = cad::Model::Load(path);
-    ASSERT_EQ(loaded.error, "") << path;
-    ASSERT_EQ(loaded.model->SignedUnsupported(), "") << path;
-    std::vector<double> points = PointsAround(shape, 400, 0.03, 0.1, 5);
-    if (std::string(file) == "MODERN_Refrigerator_1.brep") {
-      for (const double z : {147.5, 148.34511, 148.9, 149.5, 149.9, 150.5}) points.insert(points.end(), {14.5869, 9.3163, z});
-    }
-    const SignTally tally = CheckAssemblySigns(shape, *loaded.model, points, file, 1e-4);
-    EXPECT_EQ(tally.wrong, 0) << file;
-    EXPECT_GT(tally.classified, tally.points / 2) << file;
-    EXPECT_GT(tally.inside, tally.points / 20) << file;
+class SampleAssembly : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SampleAssembly, SignsAgainstEachSolidsClassifier) {
+  const std::string file = GetParam();
+  const std::string path = std::string(INVMAP_OCC_SAMPLES) + "/occ/" + file;
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  const TopoDS_Shape shape = ReadShape(path);
+  cad::LoadResult loaded = cad::Model::Load(path);
+  ASSERT_EQ(loaded.error, "") << path;
+  ASSERT_EQ(loaded.model->SignedUnsupported(), "") << path;
+  std::vector<double> points = PointsAround(shape, 400, 0.03, 0.1, 5);
+  if (file == "MODERN_Refrigerator_1.brep") {
+    for (const double z : {147.5, 148.34511, 148.9, 149.5, 149.9, 150.5}) points.insert(points.end(), {14.5869, 9.3163, z});
   }
+  const SignTally tally = CheckAssemblySigns(shape, *loaded.model, points, file, 1e-4);
+  EXPECT_EQ(tally.wrong, 0);
+  EXPECT_GT(tally.classified, tally.points / 2);
+  EXPECT_GT(tally.inside, tally.points / 20);
 }
+
+INSTANTIATE_TEST_SUITE_P(AssemblySigned, SampleAssembly,
+                         ::testing::Values("MODERN_Refrigerator_1.brep", "MODERN_Cooker_1_opened.brep",
+                                           "MODERN_Sink_1.brep", "Axis_of_bearing.brep", "Motor-c.brep"),
+                         [](const ::testing::TestParamInfo<const char*>& param) {
+                           std::string name = param.param;
+                           name = name.substr(0, name.find('.'));
+                           for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace invmap::cadtest

@@ -1,6 +1,9 @@
 #include "tests/cad/sign_points.h"
 
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Compound.hxx>
 #include <Geom_Curve.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -43,6 +46,16 @@ std::vector<double> PointsNearEdgesAndVertices(const TopoDS_Shape& shape, int pe
   const std::vector<double> around = PointsAround(shape, anchors.size(), 0.01, 0.1, seed);
   points.insert(points.end(), around.begin(), around.end());
   return points;
+}
+
+bool WithinModelPrecisionOfAnEdge(const TopoDS_Face& face, double distance, const double* closest) {
+  const double tolerance = FaceTolerance(face);
+  if (distance >= tolerance) return false;
+  TopoDS_Compound edges;
+  BRep_Builder builder;
+  builder.MakeCompound(edges);
+  for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) builder.Add(edges, it.Current());
+  return OccDistance(edges, closest) <= tolerance;
 }
 
 }  // namespace invmap::cadtest

@@ -62,19 +62,7 @@ void CheckSigns(const TopoDS_Shape& solid, const std::string& name, int perFeatu
     ASSERT_EQ(results.status[i], Status::Found);
     EXPECT_EQ(std::abs(signedDistances[i]), results.distance[i]);
     if (results.distance[i] == 0.0) continue;
-    // Nearer an edge than the model's tolerance there, the side is the
-    // model's to say, not the closed form's: a boolean's intersection edge
-    // is a curve within its tolerance of the exact one, and the point may
-    // lie between the two.
-    const TopoDS_Face& face = faces[results.patch[i]];
-    const double tolerance = FaceTolerance(face);
-    if (results.distance[i] < tolerance) {
-      TopoDS_Compound edges;
-      BRep_Builder builder;
-      builder.MakeCompound(edges);
-      for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) builder.Add(edges, it.Current());
-      if (OccDistance(edges, &results.closest[3 * i]) <= tolerance) continue;
-    }
+    if (WithinModelPrecisionOfAnEdge(faces[results.patch[i]], results.distance[i], &results.closest[3 * i])) continue;
     if (inside) {
       ++exact;
       const bool in = inside(&points[3 * i]);
