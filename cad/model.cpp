@@ -164,7 +164,7 @@ void Model::Impl::BuildTopology() {
     openParts.push_back(part);
   }
   normals.Build(shape, model);
-  solidParts.Build(normals.Solids(), model.size);
+  solidParts.Build(normals.Solids(), model);
   TopTools_IndexedDataMapOfShapeListOfShape faceShells;
   TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SHELL, faceShells);
   for (int f = 1; f <= model.faceMap.Extent(); ++f) {

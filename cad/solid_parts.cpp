@@ -2,7 +2,13 @@
 
 #include <BRepBndLib.hxx>
 #include <BRepClass3d_SolidClassifier.hxx>
+#include <BRep_Tool.hxx>
 #include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_MapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <gp_Pnt.hxx>
 
 #include <cmath>
@@ -25,7 +31,9 @@ struct SolidParts::Part {
 SolidParts::SolidParts() = default;
 SolidParts::~SolidParts() = default;
 
-void SolidParts::Build(const std::vector<TopoDS_Shape>& solids, double size) {
+void SolidParts::Build(const std::vector<TopoDS_Shape>& solids, const ConvertedModel& whole) {
+  const double size = whole.size;
+  whole_ = &whole;
   solids_ = solids;
   size_ = size;
   boxes_.assign(solids.size(), Bnd_Box());
@@ -42,11 +50,47 @@ bool SolidParts::MayHold(int solid, const double* closest) const {
   return !boxes_[solid].IsOut(gp_Pnt(closest[0], closest[1], closest[2]));
 }
 
+namespace {
+
+/// The model's faces of `solid` as a model of their own, from their
+/// converted patches (nothing is converted again); false when an edge of
+/// the solid is answered from a face of another solid (they share it), so
+/// that the solid's own patches miss it.
+bool SelectFaces(const ConvertedModel& whole, const TopoDS_Shape& solid, ConvertedModel* part) {
+  part->size = whole.size;
+  part->tolerance = whole.tolerance;
+  for (int k = 0; k < 3; ++k) {
+    part->boundsLo[k] = whole.boundsLo[k];
+    part->boundsHi[k] = whole.boundsHi[k];
+  }
+  part->geometry.dimension = whole.geometry.dimension;
+  TopExp::MapShapes(solid, TopAbs_FACE, part->faceMap);
+  TopTools_MapOfShape held;
+  for (int f = 1; f <= part->faceMap.Extent(); ++f) {
+    const int at = whole.faceMap.FindIndex(part->faceMap(f)) - 1;
+    if (at < 0) return false;
+    FaceRecord record = whole.faces[at];
+    record.face = TopoDS::Face(part->faceMap(f));  // its sense in this solid
+    for (const TopoDS_Edge& edge : record.edges) held.Add(edge);
+    part->faces.push_back(std::move(record));
+    part->geometry.patches.push_back(whole.geometry.patches[at]);
+  }
+  for (TopExp_Explorer it(solid, TopAbs_EDGE); it.More(); it.Next()) {
+    const TopoDS_Edge edge = TopoDS::Edge(it.Current().Oriented(TopAbs_FORWARD));
+    if (BRep_Tool::Degenerated(edge) || held.Contains(edge)) continue;
+    double first = 0.0, last = 0.0;
+    if (!BRep_Tool::Curve(edge, first, last).IsNull() && last > first) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 const SolidParts::Part* SolidParts::PartOf(int solid) const {
   std::call_once(built_[solid], [&] {
     try {
       auto part = std::make_unique<Part>();
-      part->model = ConvertModel(solids_[solid]);
+      if (!SelectFaces(*whole_, solids_[solid], &part->model)) part->model = ConvertModel(solids_[solid]);
       part->normals.Build(solids_[solid], part->model);
       BuildResult built = Manifold::Build(part->model.geometry);
       if (!built.error.empty()) return;

@@ -19,6 +19,8 @@
 
 namespace invmap::cad {
 
+struct ConvertedModel;
+
 class SolidParts {
  public:
   SolidParts();
@@ -26,10 +28,12 @@ class SolidParts {
   SolidParts(const SolidParts&) = delete;
   SolidParts& operator=(const SolidParts&) = delete;
 
-  /// Records the solids and their boxes, grown by 1e-7 of `size` (the
-  /// model's) for the gaps between coincident faces; the solids' own models
-  /// are built when first asked about.
-  void Build(const std::vector<TopoDS_Shape>& solids, double size);
+  /// Records the solids and their boxes, grown by 1e-7 of the model's size
+  /// for the gaps between coincident faces; the solids' own models are
+  /// built when first asked about, from `whole`'s converted faces (the
+  /// model's, which must outlive this), or converted again when solids
+  /// share edges.
+  void Build(const std::vector<TopoDS_Shape>& solids, const ConvertedModel& whole);
 
   std::size_t Count() const { return solids_.size(); }
   /// False when solid `solid` certainly does not hold the point whose
@@ -46,6 +50,7 @@ class SolidParts {
   /// built; Signs then asks OpenCascade's classifier).
   const Part* PartOf(int solid) const;
 
+  const ConvertedModel* whole_ = nullptr;
   std::vector<TopoDS_Shape> solids_;
   std::vector<Bnd_Box> boxes_;
   double size_ = 1.0;
