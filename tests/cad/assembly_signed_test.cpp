@@ -52,24 +52,38 @@ bool InBox(const double* p, double x0, double y0, double z0, double x1, double y
   return p[0] > x0 && p[0] < x1 && p[1] > y0 && p[1] < y1 && p[2] > z0 && p[2] < z1;
 }
 
-/// Inside any solid of `shape` by OpenCascade's classifier: 1 inside, 0
-/// outside, -1 when some solid says ON (the point is on its boundary to
-/// the classifier's tolerance, so the reference has no side).
-int ClassifiedInside(const TopoDS_Shape& shape, const double* p, double tolerance) {
-  TopTools_IndexedMapOfShape solids;
-  TopExp::MapShapes(shape, TopAbs_SOLID, solids);
-  const gp_Pnt point(p[0], p[1], p[2]);
-  bool on = false;
-  for (int s = 1; s <= solids.Extent(); ++s) {
-    Bnd_Box box;
-    BRepBndLib::Add(solids(s), box);
-    if (box.IsOut(point)) continue;
-    BRepClass3d_SolidClassifier classifier(solids(s), point, tolerance);
-    if (classifier.State() == TopAbs_IN) return 1;
-    on = on || classifier.State() == TopAbs_ON;
+/// OpenCascade's classifier of each solid of a shape, with the solids' boxes.
+class EachSolidsClassifier {
+ public:
+  explicit EachSolidsClassifier(const TopoDS_Shape& shape) {
+    TopTools_IndexedMapOfShape solids;
+    TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+    for (int s = 1; s <= solids.Extent(); ++s) {
+      boxes_.emplace_back();
+      BRepBndLib::Add(solids(s), boxes_.back());
+      classifiers_.push_back(std::make_unique<BRepClass3d_SolidClassifier>(solids(s)));
+    }
   }
-  return on ? -1 : 0;
-}
+
+  /// 1 inside any solid, 0 outside all, -1 when some solid says ON (the
+  /// point is on its boundary to the classifier's tolerance, so the
+  /// reference has no side).
+  int Inside(const double* p, double tolerance) {
+    const gp_Pnt point(p[0], p[1], p[2]);
+    bool on = false;
+    for (std::size_t s = 0; s < classifiers_.size(); ++s) {
+      if (boxes_[s].IsOut(point)) continue;
+      classifiers_[s]->Perform(point, tolerance);
+      if (classifiers_[s]->State() == TopAbs_IN) return 1;
+      on = on || classifiers_[s]->State() == TopAbs_ON;
+    }
+    return on ? -1 : 0;
+  }
+
+ private:
+  std::vector<Bnd_Box> boxes_;
+  std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers_;
+};
 
 struct SignTally {
   int points = 0, wrong = 0, classified = 0, exact = 0, inside = 0;
@@ -87,6 +101,7 @@ SignTally CheckAssemblySigns(const TopoDS_Shape& shape, const cad::Model& model,
   model.SignDistances(points.data(), n, results, signedDistances.data(), 1);
   const double size = ShapeSize(shape);
   const std::vector<TopoDS_Face> faces = Faces(shape);
+  EachSolidsClassifier classifier(shape);
   SignTally tally;
   auto report = [&](std::size_t i, bool in, const char* by) {
     if (tally.wrong++ < 5) {
@@ -109,7 +124,7 @@ SignTally CheckAssemblySigns(const TopoDS_Shape& shape, const cad::Model& model,
       if ((signedDistances[i] < 0.0) != in) report(i, in, "closed form");
     }
     if (results.distance[i] < classifyFrom * size) continue;
-    const int in = ClassifiedInside(shape, &points[3 * i], 1e-9 * size);
+    const int in = classifier.Inside(&points[3 * i], 1e-9 * size);
     if (in < 0) continue;
     ++tally.classified;
     if ((signedDistances[i] < 0.0) != (in == 1)) report(i, in == 1, "BRepClass3d_SolidClassifier of each solid");
