@@ -32,14 +32,13 @@ SolidParts::SolidParts() = default;
 SolidParts::~SolidParts() = default;
 
 void SolidParts::Build(const std::vector<TopoDS_Shape>& solids, const ConvertedModel& whole) {
-  const double size = whole.size;
   whole_ = &whole;
   solids_ = solids;
-  size_ = size;
+  size_ = whole.size;
   boxes_.assign(solids.size(), Bnd_Box());
   for (std::size_t s = 0; s < solids.size(); ++s) {
     BRepBndLib::Add(solids[s], boxes_[s], false);
-    boxes_[s].Enlarge(1e-7 * size);
+    boxes_[s].Enlarge(1e-7 * size_);
   }
   built_ = std::vector<std::once_flag>(solids.size());
   parts_.clear();
