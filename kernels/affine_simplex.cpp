@@ -192,7 +192,7 @@ double ClosestPointOnUnitSimplex(int dim, int ambientDim, const double* const* v
 
 /// Bounds of the extents solved unscaled, and the farthest a scaled query
 /// point is taken (in units of the scaled simplex, whose extent is about 1).
-constexpr int kUnscaledExponent = 100;
+constexpr double kUnscaledLow = 0x1p-100, kUnscaledHigh = 0x1p100;
 constexpr int kFarthestExponent = 400;
 
 }  // namespace
@@ -202,9 +202,10 @@ double SimplexUnitScale(int dim, int ambientDim, const double* const* v) {
   for (int i = 1; i <= dim; ++i) {
     for (int k = 0; k < ambientDim; ++k) extent = std::max(extent, std::abs(v[i][k] - v[0][k]));
   }
+  // This runs for every triangle a search solves: compared, not frexp'd.
+  if (extent == 0.0 || (extent >= kUnscaledLow && extent < kUnscaledHigh)) return 1.0;
   int exponent = 0;
   std::frexp(extent, &exponent);  // extent in [2^(exponent - 1), 2^exponent)
-  if (extent == 0.0 || std::abs(exponent) <= kUnscaledExponent) return 1.0;
   return std::ldexp(1.0, -exponent);
 }
 
