@@ -139,11 +139,15 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     accept(ia, ib, r);
   };
 
+  // The previous answer's pair, solved first from its parameters: it is
+  // solved whole (the traversal below skips it).
+  std::int64_t warmA = -1, warmB = -1;
   if (options.warm && options.warm->found && options.warm->cell[0] >= 0 && options.warm->cell[1] >= 0 &&
       options.warm->cell[0] < cellsA.size() && options.warm->cell[1] < cellsB.size()) {
     const CellPairAnswer& warm = *options.warm;
-    consider(warm.cell[0], warm.cell[1],
-             SolvePlacedCells(a, warm.cell[0], b, warm.cell[1], warm.ref[0], warm.ref[1], best2, ws));
+    warmA = warm.cell[0];
+    warmB = warm.cell[1];
+    consider(warmA, warmB, SolvePlacedCells(a, warmA, b, warmB, warm.ref[0], warm.ref[1], best2, ws));
   }
 
   const Bvh& treeA = cellsA.bvh();
@@ -176,6 +180,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     std::sort(candidates.begin(), candidates.end());
     for (const auto& [lb, pair] : candidates) {
       if (!(lb * lb < best2) || !(best2 > zero * zero)) break;
+      if (pair.first == warmA && pair.second == warmB) continue;
       consider(pair.first, pair.second, SolvePlacedCells(a, pair.first, b, pair.second, nullptr, nullptr, best2, ws));
     }
   };
