@@ -101,6 +101,19 @@ kernels::PairSolveResult SolvePlacedCells(const PlacedModel& a, std::int64_t cel
   return kernels::SolveCellPair(sideA, sideB, startA, startB, &ws->pair, bound2);
 }
 
+namespace {
+
+/// ProbeCellPair (kernels/pair_search.h) of one cell pair.
+kernels::PairSolveResult ProbePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,
+                                          std::int64_t cellB, double bound2, ModelDistanceWorkspace* ws) {
+  const bool convex = a.cells->cell(cellA).affine && b.cells->cell(cellB).affine;
+  const kernels::PairSide sideA = PlacedSide(a, cellA, 0, !convex, ws);
+  const kernels::PairSide sideB = PlacedSide(b, cellB, 1, !convex, ws);
+  return kernels::ProbeCellPair(sideA, sideB, &ws->pair, bound2);
+}
+
+}  // namespace
+
 CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const ModelDistanceOptions& options,
                            ModelDistanceWorkspace* ws) {
   CellPairAnswer answer;
@@ -115,11 +128,6 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
 
   // Pairs whose search ran out of its budget, and the bound of what it
   // left open: they matter only if that is below the final answer.
-  struct OpenPair {
-    double openBound2;  ///< Lower bound of what its search left open.
-    double bound2;      ///< The bound it was searched under.
-    std::int64_t a, b;
-  };
   std::vector<OpenPair> open;
   auto accept = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
     if (!(r.distance * r.distance < best2)) return;
@@ -136,6 +144,18 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   auto consider = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
     if (r.status == kernels::PairStatus::Farther) return;
     if (r.status == kernels::PairStatus::NotCertified) open.push_back({r.openBound2, best2, ia, ib});
+    accept(ia, ib, r);
+  };
+  // Pairs the traversal only probed (one local solve each, which lowers the
+  // bound at once); each is searched after the traversal, nearest bound
+  // first, under the best distance all of them found, which prunes far
+  // more of it than the bound it was reached under.
+  std::vector<OpenPair>& probed = ws->probed;
+  probed.clear();
+  auto probe = [&](std::int64_t ia, std::int64_t ib) {
+    const kernels::PairSolveResult r = ProbePlacedCells(a, ia, b, ib, best2, ws);
+    if (r.status == kernels::PairStatus::Farther) return;
+    if (r.status == kernels::PairStatus::NotCertified) probed.push_back({r.openBound2, best2, ia, ib});
     accept(ia, ib, r);
   };
 
@@ -181,7 +201,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     for (const auto& [lb, pair] : candidates) {
       if (!(lb * lb < best2) || !(best2 > zero * zero)) break;
       if (pair.first == warmA && pair.second == warmB) continue;
-      consider(pair.first, pair.second, SolvePlacedCells(a, pair.first, b, pair.second, nullptr, nullptr, best2, ws));
+      probe(pair.first, pair.second);
     }
   };
   // Descend the larger node (a leaf stays whole).
@@ -234,6 +254,12 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
         std::push_heap(heap.begin(), heap.end(), heapOrder);
       }
     }
+  }
+
+  std::sort(probed.begin(), probed.end(), [](const OpenPair& x, const OpenPair& y) { return x.openBound2 < y.openBound2; });
+  for (const OpenPair& pair : probed) {
+    if (!(pair.openBound2 < best2) || !(best2 > zero * zero)) break;
+    consider(pair.a, pair.b, SolvePlacedCells(a, pair.a, b, pair.b, nullptr, nullptr, best2, ws));
   }
 
   // An open pair is settled when its open parts lie beyond the answer; one

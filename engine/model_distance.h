@@ -47,6 +47,14 @@ struct ModelDistanceOptions {
   int threads = 0;  ///< For the inside tests' inversions.
 };
 
+/// A pair of cells left for later, and the squared lower bound of what of
+/// it is still open.
+struct OpenPair {
+  double openBound2;  ///< Lower bound of what its search (or probe) left open.
+  double bound2;      ///< The bound it was searched under.
+  std::int64_t a, b;
+};
+
 /// Scratch of the queries; one per thread.
 struct ModelDistanceWorkspace {
   kernels::PairWorkspace pair;
@@ -56,6 +64,7 @@ struct ModelDistanceWorkspace {
   };
   std::vector<Entry> heap;
   std::vector<std::pair<double, std::pair<std::int64_t, std::int64_t>>> candidates;
+  std::vector<OpenPair> probed;
   kernels::DistanceNets scratchNets[2];
   std::int64_t scratchNetsCell[2] = {-1, -1};
   const DistanceCells* scratchNetsModel[2] = {nullptr, nullptr};

@@ -134,6 +134,7 @@ class PairSearch {
   }
 
   PairSolveResult Solve(const double* startA, const double* startB, double bound2);
+  PairSolveResult Probe(double bound2);
   double RootLowerBound();
 
  private:
@@ -578,6 +579,31 @@ PairSolveResult PairSearch::Finish(const PairLocalResult& best, bool certified, 
   return result;
 }
 
+PairSolveResult PairSearch::Probe(double bound2) {
+  if (!HaveNets() || (a_.affine && b_.affine)) return Solve(nullptr, nullptr, bound2);
+  const PairNets nets(a_, b_);
+  slack_ = nets.RoundingSlack();
+  const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+  if (ws_->slots.size() < static_cast<size_t>(slotSize)) ws_->slots.resize(slotSize);
+  double* sideA = ws_->slots.data() + kHeaderSize;
+  double* sideB = sideA + nets.sideLength(0);
+  nets.BuildRoot(sideA, sideB);
+  int argA = 0, argB = 0;
+  const double lowerBound = nets.LowerBound(sideA, sideB, &ws_->scratch, &argA, &argB) - slack_;
+  if (bound2 < kInf && lowerBound >= bound2) {
+    PairSolveResult far;
+    far.status = PairStatus::Farther;
+    return far;
+  }
+  double start[kMaxPairParams];
+  ControlPointLocation(nets.shape(0), argA, start);
+  ControlPointLocation(nets.shape(1), argB, start + layout_.offset(1));
+  best_ = Local(start);
+  if (best_.squaredDistance <= tau_ * tau_) return Finish(best_, true, bound2);
+  open_ = lowerBound;
+  return Finish(best_, false, bound2);
+}
+
 PairSolveResult PairSearch::Solve(const double* startA, const double* startB, double bound2) {
   const bool bounded = bound2 < kInf;
   double start[kMaxPairParams];
@@ -778,6 +804,12 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
   }
   PairSearch search(a, b, ws);
   return search.Solve(startA, startB, bound2);
+}
+
+PairSolveResult ProbeCellPair(const PairSide& a, const PairSide& b, PairWorkspace* ws, double bound2) {
+  if (IsAffineSimplexSide(a) && IsAffineSimplexSide(b)) return SolveCellPair(a, b, nullptr, nullptr, ws, bound2);
+  PairSearch search(a, b, ws);
+  return search.Probe(bound2);
 }
 
 double PairNetLowerBound(const PairSide& a, const PairSide& b, PairWorkspace* ws) {

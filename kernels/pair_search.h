@@ -58,6 +58,15 @@ bool IsAffineSimplexSide(const PairSide& side);
 PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double* startA, const double* startB,
                               PairWorkspace* ws, double bound2 = std::numeric_limits<double>::infinity());
 
+/// A quick look at a pair, for a caller that searches pairs only once it
+/// knows how near the models come: Farther when the pair's nets keep it at
+/// bound2 or beyond; else one local solve from where the nets come closest,
+/// its point returned with status NotCertified and openBound2 the nets'
+/// lower bound over the whole pair (SolveCellPair certifies it later). Two
+/// affine cells are solved at once, as SolveCellPair does.
+PairSolveResult ProbeCellPair(const PairSide& a, const PairSide& b, PairWorkspace* ws,
+                              double bound2 = std::numeric_limits<double>::infinity());
+
 /// The least squared distance the factored nets allow between the two
 /// cells (less their rounding): a lower bound without any solve.
 double PairNetLowerBound(const PairSide& a, const PairSide& b, PairWorkspace* ws);

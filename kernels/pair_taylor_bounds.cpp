@@ -452,27 +452,4 @@ bool PairTaylorBounds::HessianBounds(const double* basis, double* lo, double* hi
   return true;
 }
 
-bool PairTaylorBounds::GradientBounds(double* lo, double* hi) const {
-  if (!valid_) return false;
-  const int pa = paramDim_[0], d = ambientDim_;
-  for (int i = 0; i < n_; ++i) {
-    const int s = i < pa ? 0 : 1;
-    const int p = i - (s == 0 ? 0 : pa);
-    double low = 0.0, high = 0.0;
-    for (int k = 0; k < d; ++k) {
-      double l, h;
-      Range(Multiply(side_[s].d1[k][p], z_[k]), &l, &h);
-      low += l;
-      high += h;
-    }
-    // df/dx_p = 2 dx/dp . z, df/dy_p = -2 dy/dp . z.
-    const double rounding = 8.0 * kEps * (std::abs(low) + std::abs(high));
-    const double sign = s == 0 ? 2.0 : -2.0;
-    lo[i] = std::min(sign * low, sign * high) - 2.0 * rounding;
-    hi[i] = std::max(sign * low, sign * high) + 2.0 * rounding;
-    if (!std::isfinite(lo[i]) || !std::isfinite(hi[i])) return false;
-  }
-  return true;
-}
-
 }  // namespace invmap::kernels

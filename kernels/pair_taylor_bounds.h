@@ -1,9 +1,7 @@
-// Bounds of the gradient and the Hessian of the squared distance
-// f = |x(s) - y(t)|^2 over a pair of subdomains, from first-order Taylor
-// models of each side's map: the cheap tests of the pair search (the
-// curvature of its certificate, kernels/pair_certificate.h, and the
-// monotonicity that drops a subdomain whose least value lies on a face
-// another subdomain holds).
+// Bounds of the Hessian of the squared distance f = |x(s) - y(t)|^2 over a
+// pair of subdomains, from first-order Taylor models of each side's map:
+// the cheap curvature test of the pair certificate
+// (kernels/pair_certificate.h).
 //
 // Each side's map over its subdomain is the rational net NW_k / WW of its
 // factored nets (kernels/pair_nets.h). Every net (NW_k, WW and their first
@@ -13,7 +11,7 @@
 // of a control value from that plane, which bounds the polynomial's
 // distance from the plane (a net's coefficients minus a plane's are the
 // net of their difference). The quotient rule and the products of
-//   df/dw = 2 J^T z,   e^T H e' = 2 [ (J e) . (J e') + z . (D2 z)[e, e'] ],
+//   e^T H e' = 2 [ (J e) . (J e') + z . (D2 z)[e, e'] ],
 //   J e = Jx eA - Jy eB,   z = x - y,   D2 z[e, e'] = D2x[eA, e'A] - D2y[eB, e'B],
 // are then carried out in affine arithmetic over the joint coordinates:
 // what both sides' first-order variations contribute is kept exactly, and
@@ -42,10 +40,6 @@ class PairTaylorBounds {
   /// the columns u of `basis` (n x n, column c at basis[c n]; null: the unit
   /// vectors). False when a bound is not finite.
   bool HessianBounds(const double* basis, double* lo, double* hi) const;
-
-  /// Bounds of the gradient of f over the subdomains, in their local
-  /// coordinates (n values each). False when a bound is not finite.
-  bool GradientBounds(double* lo, double* hi) const;
 
   /// Joint parameters (n).
   int size() const { return n_; }
