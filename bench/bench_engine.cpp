@@ -137,8 +137,8 @@ void BM_OracleRatio(benchmark::State& state) {
   options.threads = 1;
   invmap::Results results;
   w.manifold.Invert(invmap::PointsView::Interleaved(w.points.data(), n, w.dim), options, &results);
-  invmap::engine::CellStore store;
-  store.Build(MakeGeometry(workload), 1);
+  // The workloads are valid geometries (the manifold above was built from one).
+  const invmap::engine::CellStore store = invmap::engine::CellStore::Build(MakeGeometry(workload), 1);
   std::vector<std::int64_t> cellOf(n, -1);
   for (std::size_t i = 0; i < n; ++i) {
     if (results.status[i] == invmap::Status::Found) cellOf[i] = store.patchFirstCell(results.patch[i]) + results.cell[i];

@@ -1,6 +1,6 @@
 // invmap_bench_implicit: implicit-complex grids against the reference
 // implementation's published figures (examples/data/implicit, the table of
-// ../shared/benchmarks/implicit/README.md): same functions, initial grid
+// docs/benchmarks.md, implicit-complex grids): same functions, initial grid
 // cube6.msh and epsilon. Prints a Markdown table (and writes a CSV) of cell
 // counts, their difference from the reference and the refinement time with
 // 1 and 2 threads (best of --repeat runs; the refinement only, timed as the
@@ -34,7 +34,7 @@ struct Case {
   double referenceSeconds;  ///< 0: not published.
 };
 
-// ../shared/benchmarks/implicit/README.md (single thread, 2-core machine of this kind).
+// The reference implementation's published figures (single thread, 2-core machine of this kind).
 const Case kCases[] = {
     {"1-sphere.json", nullptr, Mode::Arrangement, 1e-2, 2942, 1537, 0.02},
     {"1-sphere.json", nullptr, Mode::Arrangement, 1e-3, 30218, 14636, 0.30},

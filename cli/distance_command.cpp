@@ -94,12 +94,8 @@ std::vector<Pose> ReadPoses(const std::string& path, std::vector<std::int64_t>* 
   return poses;
 }
 
-/// A geometry file read and built (exit code 3 when it cannot be).
-std::unique_ptr<Manifold> LoadManifold(const std::string& path) {
-  BuildResult built = Manifold::Build(io::ReadGeometryFile(path));
-  if (!built.error.empty()) throw io::InputError(path, 0, built.error);
-  return std::make_unique<Manifold>(std::move(built.manifold));
-}
+/// A geometry file read and built (cli::LoadManifold), on the heap.
+std::unique_ptr<Manifold> LoadModel(const std::string& path) { return std::make_unique<Manifold>(LoadManifold(path)); }
 
 /// A number as JSON: %.17g (round-trips a double); null when not finite.
 std::string Number(double value) {
@@ -174,8 +170,8 @@ int Run(const DistanceCommandOptions& options) {
   std::vector<Pose> poses;
   std::vector<std::int64_t> poseLines;
   if (!options.posesB.empty()) poses = ReadPoses(options.posesB, &poseLines);
-  const std::unique_ptr<Manifold> manifoldA = LoadManifold(options.a);
-  const std::unique_ptr<Manifold> manifoldB = LoadManifold(options.b);
+  const std::unique_ptr<Manifold> manifoldA = LoadModel(options.a);
+  const std::unique_ptr<Manifold> manifoldB = LoadModel(options.b);
   const int dimension = manifoldA->Info().dimension;
   if (manifoldB->Info().dimension != dimension) {
     throw io::InputError(options.b, 0,

@@ -1,6 +1,6 @@
 // invmap grid: an adaptive simplicial grid for the zero sets of implicit
 // functions, written as grid.msh, grid.vtu, zero_sets.obj, zero_sets.ply and
-// stats.json in the output directory (FORMATS.md section 6).
+// stats.json in the output directory (docs/grids.md, Outputs).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>

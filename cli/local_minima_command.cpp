@@ -8,7 +8,9 @@
 #include <memory>
 #include <string>
 
+#include "cad/model.h"
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "cli/run_summary.h"
 #include "invmap/distance.h"
 #include "io/file_io.h"
@@ -93,19 +95,38 @@ class MinimaWriter {
   std::int64_t rows_ = 0;
 };
 
+/// --all-minima has no search over partition-of-unity surfaces: refused
+/// (exit 3) rather than answered as if the surface were absent.
+void RefusePouSurfaces(const Geometry& geometry, const std::string& path) {
+  for (const Patch& patch : geometry.patches) {
+    if (patch.kind == Patch::Kind::PouManifold) {
+      throw io::InputError(path, 0,
+                           "--all-minima: partition-of-unity surfaces (pou_manifold patches) have no search for "
+                           "every local minimum yet");
+    }
+  }
+}
+
 }  // namespace
 
 int RunInvertAllMinima(const InvertOptions& options) {
+  RefuseOutputOverInput(options.output, options.points, "--points");
+  RefuseOutputOverInput(options.output, options.geometry, "--geometry");
   const std::string extension = io::LowerExtension(options.output);
   if (extension != ".csv" && extension != ".npy") {
     std::fprintf(stderr, "invmap invert: --all-minima writes .csv or .npy (several rows per point), not '%s'\n",
                  extension.c_str());
     return 2;
   }
+  io::PointFormatOf(options.points);  // an unknown point format before the geometry is read
   const auto start = std::chrono::steady_clock::now();
-  BuildResult built = Manifold::Build(io::ReadGeometryFile(options.geometry));
-  if (!built.error.empty()) throw io::InputError(options.geometry, 0, built.error);
-  const Manifold manifold = std::move(built.manifold);
+  // Only CAD files hold trimmed surfaces (the geometry file format has none).
+  if (cad::IsCadFile(options.geometry)) {
+    std::fprintf(stderr, "invmap invert: --all-minima is not available for CAD models (trimmed faces) yet: %s\n",
+                 options.geometry.c_str());
+    return 2;
+  }
+  const Manifold manifold = LoadManifold(options.geometry, RefusePouSurfaces);
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;
   readOptions.forcedDim = dim;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "cli/run_summary.h"
 #include "invmap/fields.h"
 #include "io/field_geometry_file.h"
@@ -71,6 +72,7 @@ CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options) {
 
 int RunProbe(const ProbeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  CheckInversionPaths(options.geometry, options.points, options.output, false);
   const std::string ext = io::LowerExtension(options.geometry);
   if (options.timeStep != 0 && ext != ".exo" && ext != ".e") {
     std::fprintf(stderr, "invmap probe: --time-step applies to Exodus files (.exo, .e); %s has one step per view\n",
@@ -88,9 +90,7 @@ int RunProbe(const ProbeOptions& options) {
   std::vector<const NodeField*> fields;
   if (!SelectFields(model, options, &fields)) return 2;
 
-  BuildResult built = Manifold::Build(model.geometry);
-  if (!built.error.empty()) throw io::InputError(options.geometry, 0, built.error);
-  const Manifold& manifold = built.manifold;
+  const Manifold manifold = BuildManifold(model.geometry, options.geometry);
   const int dim = model.geometry.dimension;
 
   io::PointReadOptions pointOptions;

@@ -10,6 +10,7 @@ macro(invmap_require package debian)
 endmacro()
 
 invmap_require(Eigen3 libeigen3-dev 3.3 NO_MODULE)
+invmap_require(xsimd libxsimd-dev)
 invmap_require(TBB libtbb-dev)
 invmap_require(embree libembree-dev 3)
 invmap_require(nlohmann_json nlohmann-json3-dev)

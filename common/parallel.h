@@ -71,14 +71,16 @@ void ForEachBlockSeq(std::int64_t begin, std::int64_t end, std::int64_t grain, F
 /// Runs body() and waits for it, so that every TBB algorithm it starts,
 /// including those inside other libraries built on TBB (Embree's builder),
 /// uses at most maxThreads threads. maxThreads <= 0 keeps the caller's task
-/// arena (all cores at top level). Unlike tbb::global_control, the limit
-/// applies to this call only, not to the whole process. An exception thrown
-/// by body propagates to the caller.
+/// arena (all cores at top level); more than HardwareThreads() runs that
+/// many (more threads than cores would only take turns, and TBB prints a
+/// warning on stderr when an arena asks for more workers than it allows).
+/// Unlike tbb::global_control, the limit applies to this call only, not to
+/// the whole process. An exception thrown by body propagates to the caller.
 template <typename Body>
 void RunWithThreads(int maxThreads, const Body& body) {
 #if INVMAP_PAR
   if (maxThreads > 0) {
-    tbb::task_arena arena(maxThreads);
+    tbb::task_arena arena(std::min(maxThreads, HardwareThreads()));
     arena.execute(body);
     return;
   }

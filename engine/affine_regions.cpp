@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/cell_store.h"
 #include "kernels/cell_map.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::engine {
 namespace {
@@ -16,9 +16,16 @@ struct AffineMap {
   double b[3] = {0, 0, 0};
 };
 
-AffineMap CellMap(const CellStore& store, std::int64_t cell, int paramDim, int dim) {
-  const kernels::CellView& view = store.solver(cell).cell();
-  const CellOrigin& origin = store.origin(cell);
+/// The cells of one spline grid: their solvers and origins, built.
+struct GridCells {
+  const std::vector<kernels::CellSolver>& solvers;
+  const std::vector<CellOrigin>& origins;
+  int dim;
+};
+
+AffineMap CellMap(const GridCells& cells, std::int64_t cell, int paramDim, int dim) {
+  const kernels::CellView& view = cells.solvers[cell].cell();
+  const CellOrigin& origin = cells.origins[cell];
   const double zero[3] = {0, 0, 0};
   kernels::MapJet at0;
   kernels::EvaluateMap(view, zero, kernels::JetOrder::Value, &at0);
@@ -39,9 +46,10 @@ AffineMap CellMap(const CellStore& store, std::int64_t cell, int paramDim, int d
 
 /// True when `map` reproduces the cell's own map at every corner of the cell
 /// to `tolerance`.
-bool SameMap(const CellStore& store, std::int64_t cell, const AffineMap& map, int paramDim, int dim, double tolerance) {
-  const kernels::CellView& view = store.solver(cell).cell();
-  const CellOrigin& origin = store.origin(cell);
+bool SameMap(const GridCells& cells, std::int64_t cell, const AffineMap& map, int paramDim, int dim,
+             double tolerance) {
+  const kernels::CellView& view = cells.solvers[cell].cell();
+  const CellOrigin& origin = cells.origins[cell];
   for (int corner = 0; corner < (1 << paramDim); ++corner) {
     double ref[3] = {0, 0, 0}, u[3] = {0, 0, 0};
     for (int d = 0; d < paramDim; ++d) {
@@ -89,7 +97,7 @@ bool WellConditioned(const AffineRegion& r) {
           scaled[0][1] * (scaled[1][0] * scaled[2][2] - scaled[1][2] * scaled[2][0]) +
           scaled[0][2] * (scaled[1][0] * scaled[2][1] - scaled[1][1] * scaled[2][0]);
   }
-  return det > 1e-8;
+  return det > kernels::kRegionConditioning;
 }
 
 /// Solves the m x m symmetric positive definite system M x = r (m <= 3) by
@@ -153,11 +161,83 @@ bool SolveFace(const AffineRegion& r, const double G[3][3], const int* state, co
     const int d = freeDirs[i];
     // Rounding may put an on-face minimizer a hair outside: clamp within a
     // relative slack; beyond it the minimizer is on another face.
-    const double slack = 1e-12 * (r.hi[d] - r.lo[d]);
+    const double slack = kernels::kRegionFaceSlack * (r.hi[d] - r.lo[d]);
     if (!(rhs[i] >= r.lo[d] - slack && rhs[i] <= r.hi[d] + slack)) return false;
     u[d] = std::clamp(rhs[i], r.lo[d], r.hi[d]);
   }
   return true;
+}
+
+/// The regions of one grid: greedy maximal boxes of at least 2 affine cells
+/// whose maps agree to `tolerance` (a length) at every cell corner, laid
+/// out u fastest; appended to `regions`.
+void FindGridRegions(const GridCells& cells, std::int64_t firstCell, const int spans[3], int paramDim,
+                     double tolerance, std::vector<AffineRegion>* regions) {
+  const int dim = cells.dim;
+  const std::int64_t nx = spans[0], ny = spans[1], nz = spans[2];
+  auto index = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return firstCell + i + nx * (j + ny * k); };
+  std::vector<char> assigned(static_cast<std::size_t>(nx * ny * nz), 0);
+  auto fits = [&](std::int64_t i, std::int64_t j, std::int64_t k, const AffineMap& map) {
+    const std::int64_t c = index(i, j, k);
+    return !assigned[c - firstCell] && cells.solvers[c].isAffine() && SameMap(cells, c, map, paramDim, dim, tolerance);
+  };
+  for (std::int64_t k = 0; k < nz; ++k) {
+    for (std::int64_t j = 0; j < ny; ++j) {
+      for (std::int64_t i = 0; i < nx; ++i) {
+        const std::int64_t start = index(i, j, k);
+        if (assigned[start - firstCell] || !cells.solvers[start].isAffine()) continue;
+        const AffineMap map = CellMap(cells, start, paramDim, dim);
+        std::int64_t i1 = i, j1 = j, k1 = k;
+        while (i1 + 1 < nx && fits(i1 + 1, j, k, map)) ++i1;
+        auto rowFits = [&](std::int64_t jj, std::int64_t kk) {
+          for (std::int64_t ii = i; ii <= i1; ++ii)
+            if (!fits(ii, jj, kk, map)) return false;
+          return true;
+        };
+        while (j1 + 1 < ny && rowFits(j1 + 1, k)) ++j1;
+        auto layerFits = [&](std::int64_t kk) {
+          for (std::int64_t jj = j; jj <= j1; ++jj)
+            if (!rowFits(jj, kk)) return false;
+          return true;
+        };
+        while (k1 + 1 < nz && layerFits(k1 + 1)) ++k1;
+        if ((i1 - i + 1) * (j1 - j + 1) * (k1 - k + 1) < 2) continue;
+
+        AffineRegion region;
+        region.paramDim = paramDim;
+        region.ambientDim = dim;
+        std::copy(&map.A[0][0], &map.A[0][0] + 9, &region.A[0][0]);
+        std::copy(map.b, map.b + 3, region.b);
+        region.firstCell = start;
+        const std::int64_t from[3] = {i, j, k}, to[3] = {i1, j1, k1}, stride[3] = {1, nx, nx * ny};
+        for (int d = 0; d < paramDim; ++d) {
+          region.cellStride[d] = stride[d];
+          for (std::int64_t t = from[d]; t <= to[d]; ++t)
+            region.breaks[d].push_back(cells.origins[start + (t - from[d]) * stride[d]].paramLo[d]);
+          const CellOrigin& last = cells.origins[start + (to[d] - from[d]) * stride[d]];
+          region.breaks[d].push_back(last.paramLo[d] + last.paramScale[d]);
+          region.lo[d] = region.breaks[d].front();
+          region.hi[d] = region.breaks[d].back();
+        }
+        if (!WellConditioned(region)) continue;
+        for (int a = 0; a < 3; ++a) {
+          region.boxLo[a] = std::numeric_limits<double>::infinity();
+          region.boxHi[a] = -std::numeric_limits<double>::infinity();
+        }
+        for (std::int64_t kk = k; kk <= k1; ++kk)
+          for (std::int64_t jj = j; jj <= j1; ++jj)
+            for (std::int64_t ii = i; ii <= i1; ++ii) {
+              const std::int64_t c = index(ii, jj, kk);
+              assigned[c - firstCell] = 1;
+              for (int a = 0; a < 3; ++a) {
+                region.boxLo[a] = std::min(region.boxLo[a], cells.solvers[c].boxLo()[a]);
+                region.boxHi[a] = std::max(region.boxHi[a], cells.solvers[c].boxHi()[a]);
+              }
+            }
+        regions->push_back(std::move(region));
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -204,73 +284,29 @@ RegionSolution SolveAffineRegion(const AffineRegion& region, const double* point
   return best;
 }
 
-void FindAffineRegions(const CellStore& store, std::int64_t firstCell, const int spans[3], int paramDim,
-                       double tolerance, std::vector<AffineRegion>* regions) {
-  const int dim = store.dimension();
-  const std::int64_t nx = spans[0], ny = spans[1], nz = spans[2];
-  auto index = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return firstCell + i + nx * (j + ny * k); };
-  std::vector<char> assigned(static_cast<std::size_t>(nx * ny * nz), 0);
-  auto fits = [&](std::int64_t i, std::int64_t j, std::int64_t k, const AffineMap& map) {
-    const std::int64_t c = index(i, j, k);
-    return !assigned[c - firstCell] && store.solver(c).isAffine() && SameMap(store, c, map, paramDim, dim, tolerance);
-  };
-  for (std::int64_t k = 0; k < nz; ++k) {
-    for (std::int64_t j = 0; j < ny; ++j) {
-      for (std::int64_t i = 0; i < nx; ++i) {
-        const std::int64_t start = index(i, j, k);
-        if (assigned[start - firstCell] || !store.solver(start).isAffine()) continue;
-        const AffineMap map = CellMap(store, start, paramDim, dim);
-        std::int64_t i1 = i, j1 = j, k1 = k;
-        while (i1 + 1 < nx && fits(i1 + 1, j, k, map)) ++i1;
-        auto rowFits = [&](std::int64_t jj, std::int64_t kk) {
-          for (std::int64_t ii = i; ii <= i1; ++ii)
-            if (!fits(ii, jj, kk, map)) return false;
-          return true;
-        };
-        while (j1 + 1 < ny && rowFits(j1 + 1, k)) ++j1;
-        auto layerFits = [&](std::int64_t kk) {
-          for (std::int64_t jj = j; jj <= j1; ++jj)
-            if (!rowFits(jj, kk)) return false;
-          return true;
-        };
-        while (k1 + 1 < nz && layerFits(k1 + 1)) ++k1;
-        if ((i1 - i + 1) * (j1 - j + 1) * (k1 - k + 1) < 2) continue;
-
-        AffineRegion region;
-        region.paramDim = paramDim;
-        region.ambientDim = dim;
-        std::copy(&map.A[0][0], &map.A[0][0] + 9, &region.A[0][0]);
-        std::copy(map.b, map.b + 3, region.b);
-        region.firstCell = start;
-        const std::int64_t from[3] = {i, j, k}, to[3] = {i1, j1, k1}, stride[3] = {1, nx, nx * ny};
-        for (int d = 0; d < paramDim; ++d) {
-          region.cellStride[d] = stride[d];
-          for (std::int64_t t = from[d]; t <= to[d]; ++t)
-            region.breaks[d].push_back(store.origin(start + (t - from[d]) * stride[d]).paramLo[d]);
-          const CellOrigin& last = store.origin(start + (to[d] - from[d]) * stride[d]);
-          region.breaks[d].push_back(last.paramLo[d] + last.paramScale[d]);
-          region.lo[d] = region.breaks[d].front();
-          region.hi[d] = region.breaks[d].back();
-        }
-        if (!WellConditioned(region)) continue;
-        for (int a = 0; a < 3; ++a) {
-          region.boxLo[a] = std::numeric_limits<double>::infinity();
-          region.boxHi[a] = -std::numeric_limits<double>::infinity();
-        }
-        for (std::int64_t kk = k; kk <= k1; ++kk)
-          for (std::int64_t jj = j; jj <= j1; ++jj)
-            for (std::int64_t ii = i; ii <= i1; ++ii) {
-              const std::int64_t c = index(ii, jj, kk);
-              assigned[c - firstCell] = 1;
-              for (int a = 0; a < 3; ++a) {
-                region.boxLo[a] = std::min(region.boxLo[a], store.solver(c).boxLo()[a]);
-                region.boxHi[a] = std::max(region.boxHi[a], store.solver(c).boxHi()[a]);
-              }
-            }
-        regions->push_back(std::move(region));
+std::vector<AffineRegion> FindAffineRegions(const BezierNets& nets, const std::vector<kernels::CellSolver>& solvers) {
+  std::vector<AffineRegion> regions;
+  if (nets.splineGrids.empty()) return regions;
+  const int dim = nets.dimension;
+  const GridCells cells{solvers, nets.origins, dim};
+  double coordinateMagnitude = 0.0;
+  for (double x : nets.points) coordinateMagnitude = std::max(coordinateMagnitude, std::fabs(x));
+  for (const SplineGrid& grid : nets.splineGrids) {
+    const std::int64_t count = static_cast<std::int64_t>(grid.spans[0]) * grid.spans[1] * grid.spans[2];
+    double diagonal2 = 0.0;
+    for (int k = 0; k < dim; ++k) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (std::int64_t c = grid.firstCell; c < grid.firstCell + count; ++c) {
+        lo = std::min(lo, solvers[c].boxLo()[k]);
+        hi = std::max(hi, solvers[c].boxHi()[k]);
       }
+      diagonal2 += (hi - lo) * (hi - lo);
     }
+    const double tolerance =
+        kernels::kAffineRegionTolerance * std::sqrt(diagonal2) + kernels::kCoordinateRounding * coordinateMagnitude;
+    FindGridRegions(cells, grid.firstCell, grid.spans.data(), grid.paramDim, tolerance, &regions);
   }
+  return regions;
 }
 
 }  // namespace invmap::engine

@@ -10,9 +10,10 @@
 #include <cstdint>
 #include <vector>
 
-namespace invmap::engine {
+#include "engine/bezier_nets.h"
+#include "kernels/cell_solver.h"
 
-class CellStore;
+namespace invmap::engine {
 
 /// A block of cells [spanLo, spanLo + spanCount) per direction of a patch's
 /// cell grid, all affine with one map x = A u + b over the knot box [lo, hi].
@@ -51,12 +52,12 @@ struct RegionSolution {
 /// whose relative interior holds it). At most 3^paramDim tiny solves.
 RegionSolution SolveAffineRegion(const AffineRegion& region, const double* point);
 
-/// Finds the affine regions of a B-spline patch whose cells are
-/// [firstCell, firstCell + spans[0] * spans[1] * spans[2]) of `store`, laid
-/// out u fastest: greedy maximal boxes of at least 2 affine cells whose maps
-/// agree to `tolerance` (a length) at every cell corner. Appends them to
-/// `regions`.
-void FindAffineRegions(const CellStore& store, std::int64_t firstCell, const int spans[3], int paramDim,
-                       double tolerance, std::vector<AffineRegion>* regions);
+/// The affine regions of every B-spline patch of `nets` (whose cells have
+/// the solvers `solvers`, built): for each patch's grid of spans, greedy
+/// maximal boxes of at least 2 affine cells whose maps agree at every cell
+/// corner to kAffineRegionTolerance times the patch's size (plus the
+/// rounding of large coordinates, kernels/tolerances.h), and whose map is
+/// well conditioned. In patch order.
+std::vector<AffineRegion> FindAffineRegions(const BezierNets& nets, const std::vector<kernels::CellSolver>& solvers);
 
 }  // namespace invmap::engine

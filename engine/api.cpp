@@ -10,28 +10,20 @@
 
 #include "common/check.h"
 #include "common/parallel.h"
-#include "engine/bvh_build.h"
-#include "engine/cell_store.h"
+#include "engine/api_errors.h"
+#include "engine/geometry_validation.h"
 #include "engine/invert_batch.h"
 #include "engine/manifold_access.h"
-#include "engine/simplex_items.h"
-#include "engine/wide_bvh.h"
+#include "engine/search_index.h"
 #include "invmap/invmap.h"
 
 namespace invmap {
 
 struct Manifold::Impl {
-  engine::CellStore store;
-  engine::Bvh bvh;
-  engine::WideBvh wideBvh;
-  engine::SimplexItems simplices;
+  engine::SearchIndex index;
 };
 
 namespace {
-
-void SetMessage(std::string* message, const std::string& text) {
-  if (message) *message = text;
-}
 
 /// The query coordinates as double structure of arrays (one copy, so the
 /// solve path reads contiguous doubles whatever the caller's layout), copied
@@ -105,43 +97,36 @@ bool Manifold::valid() const { return impl_ != nullptr; }
 BuildResult Manifold::Build(const Geometry& geometry) {
   BuildResult result;
   try {
-    auto impl = std::make_unique<Impl>();
-    result.error = impl->store.Build(geometry, 0);
-    if (!result.error.empty()) return result;
-    // The BVH holds the subdivisions: affine regions and the other cells.
-    std::vector<engine::BvhBox> boxes(impl->store.numSubdivisions());
-    for (std::int64_t s = 0; s < impl->store.numSubdivisions(); ++s) {
-      for (int k = 0; k < 3; ++k) {
-        boxes[s].lo[k] = impl->store.subdivisionBoxLo(s)[k];
-        boxes[s].hi[k] = impl->store.subdivisionBoxHi(s)[k];
-      }
+    // The one validation of every geometry, whatever produced it.
+    result.problem = engine::ValidateGeometry(geometry);
+    if (result.problem) {
+      result.error = Describe(result.problem);
+      result.code = Error::InvalidArgument;
+      return result;
     }
-    impl->bvh = engine::BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
-    const engine::CellStore& store = impl->store;
-    impl->wideBvh = engine::WideBvh(impl->bvh, store.dimension(), [&store](int s, std::vector<double>* xyz) {
-      store.SubdivisionHullPoints(s, xyz);
-    });
-    impl->simplices.Build(impl->store, impl->bvh);
-    result.manifold.impl_ = std::move(impl);
+    result.manifold.impl_ = std::make_unique<Impl>(Impl{engine::SearchIndex::Build(geometry)});
   } catch (const std::bad_alloc&) {
-    result.error = "out of memory while building the manifold";
+    result.problem.message = "out of memory while building the manifold";
+    result.code = Error::OutOfMemory;
   } catch (const std::exception& e) {
-    result.error = std::string("building the manifold failed: ") + e.what();
+    result.problem.message = std::string("building the manifold failed: ") + e.what();
+    result.code = Error::Internal;
   }
+  result.error = Describe(result.problem);
   return result;
 }
 
 ManifoldInfo Manifold::Info() const {
   ManifoldInfo info;
   if (!impl_) return info;
-  const engine::CellStore& store = impl_->store;
+  const engine::CellStore& store = impl_->index.cells();
   info.dimension = store.dimension();
   info.patches = store.numPatches();
   info.cells = static_cast<std::size_t>(store.size());
   std::map<std::string, std::size_t> byShape;
   for (std::int64_t c = 0; c < store.size(); ++c) {
     const kernels::CellShape& shape = store.solver(c).cell().shape;
-    std::string key = kernels::CellTypeName(shape.type());
+    std::string key = CellTypeName(shape.type());
     key += ' ';
     for (int f = 0; f < shape.numFactors(); ++f) {
       if (f) key += 'x';
@@ -151,25 +136,28 @@ ManifoldInfo Manifold::Info() const {
     ++byShape[key];
   }
   info.cellsByShape.assign(byShape.begin(), byShape.end());
-  const engine::BvhBox& bounds = impl_->bvh.RootBounds();
+  const engine::BvhBox& bounds = impl_->index.bvh().RootBounds();
   for (int k = 0; k < 3; ++k) {
     info.boundsLo[k] = info.cells ? bounds.lo[k] : 0.0;
     info.boundsHi[k] = info.cells ? bounds.hi[k] : 0.0;
   }
-  info.memoryBytes = store.MemoryBytes() + impl_->bvh.MemoryBytes() + impl_->wideBvh.MemoryBytes() +
-                     impl_->simplices.MemoryBytes() + sizeof(Impl);
+  info.memoryBytes = impl_->index.MemoryBytes() + sizeof(Impl);
+  impl_->index.pou().AddInfo(&info);
   return info;
 }
 
 std::int64_t Manifold::NumCells(int patch) const {
-  if (!impl_ || patch < 0 || static_cast<std::size_t>(patch) >= impl_->store.numPatches()) return 0;
-  return impl_->store.patchFirstCell(patch + 1) - impl_->store.patchFirstCell(patch);
+  if (!impl_ || patch < 0 || static_cast<std::size_t>(patch) >= impl_->index.cells().numPatches()) return 0;
+  if (const std::int64_t charts = impl_->index.pou().NumCells(patch); charts >= 0) return charts;
+  return impl_->index.cells().patchFirstCell(patch + 1) - impl_->index.cells().patchFirstCell(patch);
 }
 
 bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], double params[3], double point[3]) const {
   if (cell < 0 || cell >= NumCells(patch)) return false;
-  const std::int64_t c = impl_->store.patchFirstCell(patch) + cell;
-  const kernels::CellSolver& solver = impl_->store.solver(c);
+  if (impl_->index.pou().NumCells(patch) >= 0) return impl_->index.pou().PointAt(patch, cell, sample, params, point);
+  const engine::CellStore& store = impl_->index.cells();
+  const std::int64_t c = store.patchFirstCell(patch) + cell;
+  const kernels::CellSolver& solver = store.solver(c);
   const kernels::CellShape& shape = solver.cell().shape;
   double ref[3] = {0, 0, 0};
   for (int f = 0; f < shape.numFactors(); ++f) {
@@ -189,22 +177,18 @@ bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], dou
   }
   kernels::MapJet jet;
   kernels::EvaluateMap(solver.cell(), ref, kernels::JetOrder::Value, &jet);
-  const engine::CellOrigin& origin = impl_->store.origin(c);
-  for (int k = 0; k < 3; ++k) {
-    params[k] = k < shape.paramDim() ? origin.paramLo[k] + origin.paramScale[k] * ref[k]
-                                     : std::numeric_limits<double>::quiet_NaN();
-    point[k] = k < solver.cell().ambientDim ? jet.x[k] : 0.0;
-  }
+  store.ReportedParameters(c, ref, params);
+  for (int k = 0; k < 3; ++k) point[k] = k < solver.cell().ambientDim ? jet.x[k] : 0.0;
   return true;
 }
 
 Error Manifold::Invert(const PointsView& points, const InversionOptions& options, Results* results,
                        std::string* message) const {
-  try {
+  return engine::Guarded(message, [&] {
     // Batch-level checks of the arguments, once per call (never per point).
     INVMAP_VERIFY(impl_, "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
-    const int dim = impl_->store.dimension();
+    const int dim = impl_->index.dimension();
     INVMAP_VERIFY(points.dim == dim, "points: dimension " << points.dim << ", the geometry's is " << dim);
     for (int k = 0; k < dim; ++k) {
       INVMAP_VERIFY(points.count == 0 || points.coord[k], "points: coordinate array " << k << " is null");
@@ -221,22 +205,15 @@ Error Manifold::Invert(const PointsView& points, const InversionOptions& options
     engine::QueryPoints query;
     query.count = static_cast<std::int64_t>(points.count);
     for (int k = 0; k < dim; ++k) query.coord[k] = soa.get() + k * points.count;
-    engine::InvertBatch(impl_->store, impl_->bvh, impl_->wideBvh, impl_->simplices, query, options, results);
-  } catch (const std::invalid_argument& e) {
-    SetMessage(message, e.what());
-    return Error::InvalidArgument;
-  } catch (const std::bad_alloc&) {
-    SetMessage(message, "out of memory");
-    return Error::OutOfMemory;
-  } catch (const std::exception& e) {
-    SetMessage(message, std::string("internal error: ") + e.what());
-    return Error::Internal;
-  }
-  return Error::Ok;
+    engine::InvertBatch(impl_->index, query, options, results);
+    return Error::Ok;
+  });
 }
 
-const engine::CellStore& ManifoldAccess::Store(const Manifold& m) { return m.impl_->store; }
-const engine::Bvh& ManifoldAccess::Tree(const Manifold& m) { return m.impl_->bvh; }
+const engine::SearchIndex& ManifoldAccess::Index(const Manifold& m) { return m.impl_->index; }
+const engine::CellStore& ManifoldAccess::Store(const Manifold& m) { return m.impl_->index.cells(); }
+const engine::Bvh& ManifoldAccess::Tree(const Manifold& m) { return m.impl_->index.bvh(); }
+bool ManifoldAccess::HasPouSurfaces(const Manifold& m) { return !m.impl_->index.pou().empty(); }
 
 const char* Version() { return INVMAP_VERSION; }  // project(VERSION) of CMakeLists.txt
 

@@ -1,70 +1,14 @@
 #include "engine/bezier_extraction.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <sstream>
-#include <stdexcept>
 
 namespace invmap::engine {
 
 namespace {
 
 using kernels::kMaxDegree;
-using kernels::kMaxDim;
-
-/// Shortest text that reads back as `value` ("0.1", not "0.10000000000000001"),
-/// so that messages show knots exactly as they were written.
-std::string FormatNumber(double value) {
-  char buffer[32];
-  const std::to_chars_result result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
-
-/// Checks one direction `dir` of a patch whose per-direction vectors already
-/// have matching lengths; returns "" or the message.
-std::string ValidateDirection(const BSplinePatch& patch, int dir) {
-  std::ostringstream message;
-  const std::string index = "[" + std::to_string(dir) + "]";
-  const int degree = patch.degrees[dir];
-  const int count = patch.counts[dir];
-  const std::vector<double>& knots = patch.knots[dir];
-  if (degree < 1 || degree > kMaxDegree) {
-    message << "degrees" << index << ": " << degree << ", expected 1 to " << kMaxDegree;
-    return message.str();
-  }
-  if (count < degree + 1) {
-    message << "counts" << index << ": " << count << ", expected at least degrees" << index
-            << " + 1 = " << degree + 1;
-    return message.str();
-  }
-  const std::int64_t expectedKnots = std::int64_t{count} + degree + 1;
-  if (static_cast<std::int64_t>(knots.size()) != expectedKnots) {
-    message << "knots" << index << ": length " << knots.size() << ", expected counts" << index
-            << " + degrees" << index << " + 1 = " << expectedKnots;
-    return message.str();
-  }
-  for (std::size_t k = 0; k < knots.size(); ++k) {
-    if (!std::isfinite(knots[k])) {
-      message << "knots" << index << "[" << k << "]: not finite (" << FormatNumber(knots[k]) << ")";
-      return message.str();
-    }
-    if (k > 0 && knots[k - 1] > knots[k]) {
-      message << "knots" << index << ": decreasing at index " << k << " ("
-              << FormatNumber(knots[k - 1]) << " > " << FormatNumber(knots[k]) << ")";
-      return message.str();
-    }
-  }
-  // The B-spline is defined on [t_p, t_n]; with no room there it has no cell.
-  if (!(knots[degree] < knots[count])) {
-    message << "knots" << index << ": empty parameter domain [knots" << index << "[" << degree
-            << "], knots" << index << "[" << count << "]] = [" << FormatNumber(knots[degree])
-            << ", " << FormatNumber(knots[count]) << "]";
-    return message.str();
-  }
-  return "";
-}
 
 /// Bezier extraction operators of one parametric direction: for every
 /// non-empty span, the matrix that maps the span's p + 1 active B-spline
@@ -268,73 +212,7 @@ void ExtractTensor(const std::array<DirectionExtraction, 3>& dirs, const std::ar
 
 }  // namespace
 
-std::string ValidateBSplinePatch(const BSplinePatch& patch) {
-  std::ostringstream message;
-  if (patch.ambientDim != 2 && patch.ambientDim != 3) {
-    message << "dimension: " << patch.ambientDim << ", expected 2 or 3";
-    return message.str();
-  }
-  const std::size_t paramDim = patch.degrees.size();
-  if (paramDim < 1 || paramDim > static_cast<std::size_t>(kMaxDim)) {
-    message << "degrees: " << paramDim << " entries, expected 1 to " << kMaxDim
-            << " (one per parametric direction)";
-    return message.str();
-  }
-  if (paramDim > static_cast<std::size_t>(patch.ambientDim)) {
-    message << "degrees: " << paramDim << " parametric directions do not fit in dimension "
-            << patch.ambientDim;
-    return message.str();
-  }
-  if (patch.knots.size() != paramDim) {
-    message << "knots: " << patch.knots.size()
-            << " knot vectors, expected one per entry of degrees (" << paramDim << ")";
-    return message.str();
-  }
-  if (patch.counts.size() != paramDim) {
-    message << "counts: " << patch.counts.size() << " entries, expected one per entry of degrees ("
-            << paramDim << ")";
-    return message.str();
-  }
-  std::int64_t numPoints = 1;
-  for (std::size_t dir = 0; dir < paramDim; ++dir) {
-    std::string problem = ValidateDirection(patch, static_cast<int>(dir));
-    if (!problem.empty()) return problem;
-    numPoints *= patch.counts[dir];
-  }
-  const std::int64_t expectedValues = numPoints * patch.ambientDim;
-  if (static_cast<std::int64_t>(patch.controlPoints.size()) != expectedValues) {
-    message << "control_points: " << patch.controlPoints.size() << " values, expected " << numPoints
-            << " points x " << patch.ambientDim << " = " << expectedValues;
-    return message.str();
-  }
-  for (std::size_t x = 0; x < patch.controlPoints.size(); ++x) {
-    if (!std::isfinite(patch.controlPoints[x])) {
-      message << "control_points[" << x / patch.ambientDim << "][" << x % patch.ambientDim
-              << "]: not finite (" << FormatNumber(patch.controlPoints[x]) << ")";
-      return message.str();
-    }
-  }
-  if (patch.weights.empty()) return "";
-  if (static_cast<std::int64_t>(patch.weights.size()) != numPoints) {
-    message << "weights: " << patch.weights.size() << " values, expected one per control point ("
-            << numPoints << ")";
-    return message.str();
-  }
-  for (std::size_t k = 0; k < patch.weights.size(); ++k) {
-    const double w = patch.weights[k];
-    if (!std::isfinite(w) || !(w > 0.0)) {
-      message << "weights[" << k << "]: " << (std::isfinite(w) ? "not positive" : "not finite")
-              << " (" << FormatNumber(w) << ")";
-      return message.str();
-    }
-  }
-  return "";
-}
-
 ExtractedCells ExtractBezierCells(const BSplinePatch& patch) {
-  const std::string problem = ValidateBSplinePatch(patch);
-  if (!problem.empty()) throw std::invalid_argument(problem);
-
   static constexpr kernels::CellType kTypeOfParamDim[] = {
       kernels::CellType::Line, kernels::CellType::Quad, kernels::CellType::Hex};
   ExtractedCells cells;

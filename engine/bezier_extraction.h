@@ -1,9 +1,8 @@
 // Bezier extraction: splits a B-spline or NURBS patch into one Bezier cell per
-// non-empty knot span (FORMATS.md section 2, patch kind `bspline`).
+// non-empty knot span (docs/formats.md section 2, patch kind `bspline`).
 #pragma once
 
 #include <array>
-#include <string>
 #include <vector>
 
 #include "kernels/cell_shape.h"
@@ -12,7 +11,8 @@ namespace invmap::engine {
 
 /// A B-spline or NURBS curve (1 parametric direction), surface (2) or volume
 /// (3), as read from a `bspline` patch of a geometry file. Directions are
-/// u, v, w in that order. Check it with ValidateBSplinePatch before use.
+/// u, v, w in that order. Its fields satisfy what ValidateGeometry
+/// (engine/geometry_validation.h) asks of a `bspline` patch.
 struct BSplinePatch {
   /// Ambient dimension, 2 or 3: the number of coordinates of every point.
   int ambientDim = 3;
@@ -57,7 +57,7 @@ struct ExtractedCells {
   int pointsPerCell = 0;
   /// numCells * pointsPerCell * ambientDim Cartesian coordinates; point k of
   /// cell c starts at (c * pointsPerCell + k) * ambientDim. Within a cell the
-  /// points follow FORMATS.md tensor order (u fastest).
+  /// points follow docs/formats.md tensor order (u fastest).
   std::vector<double> points;
   /// Optional: numCells * pointsPerCell positive weights in the order of
   /// `points`; empty exactly when the patch is polynomial.
@@ -70,21 +70,13 @@ struct ExtractedCells {
   std::vector<double> spanHi;
 };
 
-/// Checks every field of `patch` (sizes, degrees, monotone and finite knots, a
-/// non-empty parameter domain, finite control points, finite positive
-/// weights). Returns an empty string when the patch is valid, otherwise a
-/// message about the first problem that names the field as in the geometry
-/// file, e.g. "knots[1]: length 7, expected counts[1] + degrees[1] + 1 = 8".
-std::string ValidateBSplinePatch(const BSplinePatch& patch);
-
 /// Converts `patch` into its Bezier cells by knot insertion (blossoming) on
 /// every non-empty span of [t_p, t_n] in each direction; rational patches are
 /// processed in homogeneous coordinates. The cells reproduce the patch
 /// exactly up to rounding. Cost: O(cells * pointsPerCell * (max degree + 1))
 /// time; besides the result, scratch for r + 1 w-layers of the net and, when
 /// rational, a homogeneous copy of the net.
-/// Throws std::invalid_argument with the ValidateBSplinePatch message when the
-/// patch is invalid.
+/// Precondition: the patch is valid (see BSplinePatch).
 ExtractedCells ExtractBezierCells(const BSplinePatch& patch);
 
 }  // namespace invmap::engine

@@ -1,4 +1,4 @@
-// The only file in invmap that includes Embree (STYLE.md section 5).
+// The only file in invmap that includes Embree.
 //
 // Embree's SAH builder works on float boxes and calls back into this file to
 // make its nodes; those temporary nodes live in Embree's thread-local
@@ -114,8 +114,10 @@ void OnEmbreeError(void* userPtr, RTCError code, const char* str) {
   if (str != nullptr) log->message += std::string(": ") + str;
 }
 
-/// Throws std::runtime_error naming the failed step and Embree's message.
+/// Throws std::runtime_error naming the failed step and Embree's message
+/// (std::bad_alloc when Embree ran out of memory: a resource, not a bug).
 [[noreturn]] void ThrowEmbreeError(const char* step, RTCError code, const ErrorLog& log) {
+  if (code == RTC_ERROR_OUT_OF_MEMORY) throw std::bad_alloc();
   std::ostringstream msg;
   msg << "invmap BVH build: Embree " << step << " failed ("
       << (log.message.empty() ? std::string(ErrorName(code)) : log.message) << ")";

@@ -2,7 +2,7 @@
 // section 7.2). Embree's SAH builder chooses the tree; invmap keeps its own
 // flat node array so that its traversal (engine/nearest_cells.h) can query
 // with a box of points, which Embree's own queries cannot. Embree stays
-// inside bvh_build.cpp (STYLE.md section 5).
+// inside bvh_build.cpp.
 #pragma once
 
 #include <cstddef>

@@ -1,47 +1,39 @@
 // The cells of a manifold: every patch turned into Bezier cells, with their
-// solvers (bounds, precomputed distance nets) and the way back to the patch.
+// solvers (bounds, precomputed distance nets), the way back to the patch,
+// the affine regions and the tetrahedra's face neighbours.
 #pragma once
 
-#include <array>
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "common/check.h"
 #include "engine/affine_regions.h"
+#include "engine/bezier_nets.h"
 #include "engine/tet_adjacency.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
 
 namespace invmap::engine {
 
-/// Where a cell came from and how its reference coordinates map to the
-/// parameters reported for it: param_i = paramLo[i] + paramScale[i] * ref_i
-/// (knot values for B-spline cells; identity for Bezier and mesh cells).
-struct CellOrigin {
-  std::int32_t patch = 0;
-  /// The cell's type: its reference domain and number of parameters.
-  kernels::CellType type = kernels::CellType::Line;
-  std::int64_t indexInPatch = 0;
-  double paramLo[3] = {0, 0, 0};
-  double paramScale[3] = {1, 1, 1};
-  /// True when the patch's cells tile one parameter domain (B-spline
-  /// patches), so a parameter of one cell means a place near another.
-  bool sharedParameters = false;
-  /// With sharedParameters: the cell's place in its patch's grid of spans.
-  std::array<std::int32_t, 3> span{0, 0, 0};
-};
-
-/// All cells of a geometry. Immutable after Build; safe to read from many threads.
+/// All cells of a geometry. Immutable; safe to read from many threads.
+/// Movable, not copyable (the solvers point into the nets' arrays).
 class CellStore {
  public:
-  /// Validates `geometry` and builds its cells. Returns an empty string on
-  /// success, otherwise a message naming the patch and the field
-  /// ("patch 3: cells[12]: vertex index 99 out of range [0, 40)").
-  /// `maxThreads` bounds the threads used to precompute the cells (0 = all).
-  std::string Build(const Geometry& geometry, int maxThreads);
+  /// Builds the cells of `geometry`, in steps that each take the finished
+  /// results of the ones before: the Bezier nets (ToBezierNets), their
+  /// solvers (bounds and distance nets, in parallel; those of cells a
+  /// trimming loop crosses search within its region), the tetrahedra's face
+  /// neighbours, the affine regions, and the subdivisions. Precondition:
+  /// ValidateGeometry(geometry) found no problem (engine/geometry_validation.h).
+  /// `maxThreads` bounds the threads used (0 = all).
+  static CellStore Build(const Geometry& geometry, int maxThreads);
 
-  int dimension() const { return dimension_; }
+  CellStore(CellStore&&) = default;
+  CellStore& operator=(CellStore&&) = default;
+  CellStore(const CellStore&) = delete;
+  CellStore& operator=(const CellStore&) = delete;
+
+  int dimension() const { return nets_.dimension; }
   std::int64_t size() const { return static_cast<std::int64_t>(solvers_.size()); }
   const kernels::CellSolver& solver(std::int64_t cell) const {
     INVMAP_ASSERT(cell >= 0 && cell < size(), "cell " << cell << " not in [0, " << size() << ")");
@@ -49,17 +41,25 @@ class CellStore {
   }
   const CellOrigin& origin(std::int64_t cell) const {
     INVMAP_ASSERT(cell >= 0 && cell < size(), "cell " << cell << " not in [0, " << size() << ")");
-    return origins_[cell];
+    return nets_.origins[cell];
   }
-  std::size_t numPatches() const { return numPatches_; }
+  std::size_t numPatches() const { return nets_.numPatches; }
   /// True when some cell is a volume (paramDim == dimension), whose exact
   /// inside hits the search tries first.
-  bool hasVolumeCells() const { return hasVolumeCells_; }
+  bool hasVolumeCells() const { return nets_.hasVolumeCells; }
   /// Index of the first cell of `patch` (cells of a patch are contiguous);
   /// patchFirstCell(numPatches()) == size().
-  std::int64_t patchFirstCell(std::size_t patch) const { return patchFirst_[patch]; }
+  std::int64_t patchFirstCell(std::size_t patch) const { return nets_.patchFirst[patch]; }
   /// Heap memory of the cells: control points, weights, solvers and their nets.
   std::size_t MemoryBytes() const;
+
+  /// The parameters reported for reference point `ref` of `cell` (3 values,
+  /// NaN where unused): knot values, angles where a direction is angular,
+  /// and for an edge of a trimmed surface its pcurve's (u, v).
+  void ReportedParameters(std::int64_t cell, const double* ref, double* params) const;
+  /// True when some patch is a TrimmedSurface (a CAD face): features that
+  /// enumerate a cell's minima without its trimming region refuse it.
+  bool hasTrimmedSurfaces() const { return !nets_.trimmed.empty(); }
 
   /// Affine regions of the B-spline patches (engine/affine_regions.h).
   const std::vector<AffineRegion>& regions() const { return regions_; }
@@ -82,7 +82,8 @@ class CellStore {
   bool inRegion(std::int64_t cell) const { return regionOfCell_[cell] >= 0; }
   /// The cell of the same B-spline patch `step[d]` spans (-1, 0 or +1)
   /// away from `cell` along each of its parameter directions d, or -1 when
-  /// that leaves the patch or `cell` is not a B-spline patch's.
+  /// that leaves the patch, lands on a trimmed surface's span outside its
+  /// region, or `cell` is not a B-spline patch's or a trimmed surface's.
   std::int64_t SplineNeighbor(std::int64_t cell, const int* step) const;
   /// Face neighbours of the tetrahedral cells (empty without tetrahedra).
   const TetAdjacency& tetAdjacency() const { return tetAdjacency_; }
@@ -101,39 +102,15 @@ class CellStore {
   void SubdivisionHullPoints(std::int64_t s, std::vector<double>* xyz) const;
 
  private:
-  /// Appends one Bezier cell (control points copied) and its origin.
-  void AddCell(const kernels::CellShape& shape, const double* points, const double* weights,
-               const CellOrigin& origin);
+  CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, TetAdjacency tetAdjacency,
+            std::vector<AffineRegion> regions);
 
-  int dimension_ = 3;
-  std::size_t numPatches_ = 0;
-  bool hasVolumeCells_ = false;
-  std::vector<std::int64_t> patchFirst_;  // numPatches_ + 1 entries
-  std::vector<std::array<int, 3>> splineSpans_;  // per patch: its span grid (zeros unless a B-spline patch)
-  std::vector<kernels::CellShape> shapes_;
-  std::vector<std::int64_t> pointOffset_;   // first coordinate of each cell in points_
-  std::vector<std::int64_t> weightOffset_;  // first weight of each cell in weights_, -1 if polynomial
-  std::vector<double> points_;
-  std::vector<double> weights_;
-  std::vector<CellOrigin> origins_;
-  std::vector<kernels::CellSolver> solvers_;  // built last: they point into points_ and weights_
+  BezierNets nets_;
+  std::vector<kernels::CellSolver> solvers_;  // they point into nets_.points and nets_.weights
   std::vector<AffineRegion> regions_;
   std::vector<std::int32_t> regionOfCell_;    // -1 outside every region
   std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
   TetAdjacency tetAdjacency_;
 };
-
-/// Converts the public cell type to the kernels' one.
-kernels::CellType ToKernelType(CellType type);
-
-/// Vertices per linear mesh cell, and the finite-element to Bezier order
-/// (docs/formats.md: quads and hexes list their faces counter-clockwise,
-/// Bezier nets are tensor products with the first coordinate fastest):
-/// control point k of the degree-1 cell is vertex bezierFromFe[k].
-struct MeshCellLayout {
-  int vertices;
-  int bezierFromFe[8];
-};
-MeshCellLayout LayoutOf(CellType type);
 
 }  // namespace invmap::engine

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "engine/api_errors.h"
 #include "engine/distance_model.h"
 #include "engine/manifold_access.h"
 #include "engine/model_minima.h"
@@ -14,27 +15,6 @@
 
 namespace invmap {
 namespace {
-
-void SetMessage(std::string* message, const std::string& text) {
-  if (message) *message = text;
-}
-
-/// Runs `body`, mapping exceptions to the API's errors.
-template <typename Body>
-Error Guarded(std::string* message, Body&& body) {
-  try {
-    return body();
-  } catch (const std::invalid_argument& e) {
-    SetMessage(message, e.what());
-    return Error::InvalidArgument;
-  } catch (const std::bad_alloc&) {
-    SetMessage(message, "out of memory");
-    return Error::OutOfMemory;
-  } catch (const std::exception& e) {
-    SetMessage(message, std::string("internal error: ") + e.what());
-    return Error::Internal;
-  }
-}
 
 /// The model's dimension (Manifold::Info gathers far more, too slowly for
 /// every query).
@@ -194,6 +174,15 @@ DistanceModelBuild DistanceModel::Build(const Manifold& manifold) {
       result.error = "the manifold is empty (not built)";
       return result;
     }
+    if (ManifoldAccess::Store(manifold).hasTrimmedSurfaces()) {
+      // The pair search knows nothing of a trimmed face's region.
+      result.error = "distance between models: not available for trimmed surfaces (CAD faces) yet";
+      return result;
+    }
+    if (ManifoldAccess::HasPouSurfaces(manifold)) {
+      result.error = "partition-of-unity surfaces (pou_manifold patches) have no distance model yet";
+      return result;
+    }
     auto impl = std::make_shared<Impl>();
     impl->manifold = &manifold;
     impl->cells.Build(ManifoldAccess::Store(manifold));
@@ -208,7 +197,7 @@ DistanceModelBuild DistanceModel::Build(const Manifold& manifold) {
 
 Error Distance(const DistanceModel& a, const Pose& poseA, const DistanceModel& b, const Pose& poseB,
                const DistanceOptions& options, DistanceResult* result, std::string* message) {
-  return Guarded(message, [&] {
+  return engine::Guarded(message, [&] {
     if (!result) throw std::invalid_argument("result: null");
     CheckModels(a, b, options);
     const int dim = DimensionOf(a);
@@ -258,7 +247,7 @@ DistanceTracker::DistanceTracker(DistanceTracker&&) noexcept = default;
 DistanceTracker& DistanceTracker::operator=(DistanceTracker&&) noexcept = default;
 
 Error DistanceTracker::SetPoseA(const Pose& poseA, std::string* message) {
-  return Guarded(message, [&] {
+  return engine::Guarded(message, [&] {
     if (!impl_->setupError.empty() && impl_->setupError.rfind("pose of A", 0) != 0) {
       throw std::invalid_argument(impl_->setupError);
     }
@@ -269,7 +258,7 @@ Error DistanceTracker::SetPoseA(const Pose& poseA, std::string* message) {
 }
 
 Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::string* message) {
-  return Guarded(message, [&] {
+  return engine::Guarded(message, [&] {
     if (!impl_->setupError.empty()) throw std::invalid_argument(impl_->setupError);
     if (!result) throw std::invalid_argument("result: null");
     const DistanceModel::Impl& ia = *DistanceAccess::Get(impl_->a);

@@ -2,30 +2,21 @@
 // per bucket of spatially close points), dispatched over TBB tasks.
 #pragma once
 
-#include <cstdint>
 
-#include "engine/bvh_build.h"
-#include "engine/cell_store.h"
-#include "engine/simplex_items.h"
-#include "engine/wide_bvh.h"
+#include "engine/query_points.h"
+#include "engine/search_index.h"
 #include "invmap/invmap.h"
 
 namespace invmap::engine {
 
-/// Query points as structure of arrays, already in double precision.
-struct QueryPoints {
-  std::int64_t count = 0;
-  const double* coord[3] = {nullptr, nullptr, nullptr};  ///< coord[2] null in 2D.
-};
-
-/// Inverts every point of `points` onto the cells of `store` (whose boxes the
-/// `bvh` indexes; `wide` and `simplices` built from it) and writes the results at the
-/// points' input indices.
+/// Inverts every point of `points` onto the cells of `index`, then its
+/// partition-of-unity surfaces, and writes the results at the points' input
+/// indices.
 /// Results are identical for any thread count: the buckets are fixed runs of
 /// the Morton order, and each point's answer depends only on its bucket.
 /// `results` is resized to points.count (sized only: every field of every
 /// point is written).
-void InvertBatch(const CellStore& store, const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplices,
-                 const QueryPoints& points, const InversionOptions& options, Results* results);
+void InvertBatch(const SearchIndex& index, const QueryPoints& points, const InversionOptions& options,
+                 Results* results);
 
 }  // namespace invmap::engine

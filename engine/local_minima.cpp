@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "engine/api_errors.h"
 #include "engine/bvh_build.h"
 #include "common/check.h"
 #include "engine/manifold_access.h"
@@ -18,6 +19,7 @@
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
 #include "kernels/cell_minima.h"
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 
 namespace invmap {
@@ -139,10 +141,16 @@ void WriteRow(const engine::CellStore& store, const Candidate* candidate, Status
 
 Error LocalMinima(const Manifold& manifold, const PointsView& points, const InversionOptions& options,
                   LocalMinimaResults* results, std::string* message) {
-  try {
+  return engine::Guarded(message, [&] {
     INVMAP_VERIFY(manifold.valid(), "the manifold is empty (not built)");
     INVMAP_VERIFY(results, "results: null");
+    INVMAP_VERIFY(!ManifoldAccess::HasPouSurfaces(manifold),
+                  "partition-of-unity surfaces (pou_manifold patches) have no search for every local minimum yet");
     const engine::CellStore& store = ManifoldAccess::Store(manifold);
+    // The per-cell enumeration knows nothing of a trimmed face's region: it
+    // would give minima outside the face and miss those on its edges.
+    INVMAP_VERIFY(!store.hasTrimmedSurfaces(),
+                  "every local minimum: not available for trimmed surfaces (CAD faces) yet");
     const engine::Bvh& bvh = ManifoldAccess::Tree(manifold);
     const int dim = store.dimension();
     INVMAP_VERIFY(points.dim == dim, "points: dimension " << points.dim << ", the geometry's is " << dim);
@@ -232,17 +240,8 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
       for (std::size_t m = 0; m < perPoint[i].size(); ++m) WriteRow(store, &perPoint[i][m], Status::Found, first + m, &out);
     }
     results->certified = certified;
-  } catch (const std::invalid_argument& e) {
-    if (message) *message = e.what();
-    return Error::InvalidArgument;
-  } catch (const std::bad_alloc&) {
-    if (message) *message = "out of memory";
-    return Error::OutOfMemory;
-  } catch (const std::exception& e) {
-    if (message) *message = std::string("internal error: ") + e.what();
-    return Error::Internal;
-  }
-  return Error::Ok;
+    return Error::Ok;
+  });
 }
 
 }  // namespace invmap

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "engine/pair_bounds.h"
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 #include "kernels/pair_local_solve.h"
 #include "kernels/pair_minima.h"

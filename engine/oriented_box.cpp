@@ -102,21 +102,35 @@ OrientedBoxFitter::OrientedBoxFitter(int dimension, const double origin[3], cons
 
 void OrientedBoxFitter::AddToInterval(const double* xyz, std::size_t count) {
   // The intervals with the float axes themselves, in double; Result()
-  // widens them by the rounding of these sums.
+  // widens them by the rounding of these sums. In locals: the members,
+  // which `xyz` might alias for all the compiler knows, went to memory at
+  // every point (the tree's fitting reads each point once per level).
+  double axis[3][3], origin[3], lo[3], hi[3], magnitude = magnitude_;
+  for (int j = 0; j < 3; ++j) {
+    for (int k = 0; k < 3; ++k) axis[j][k] = static_cast<double>(axis_[j][k]);
+    origin[j] = origin_[j];
+    lo[j] = lo_[j];
+    hi[j] = hi_[j];
+  }
   for (std::size_t i = 0; i < count; ++i) {
     double offset[3], size = 0.0;
     for (int k = 0; k < 3; ++k) {
-      offset[k] = xyz[3 * i + k] - origin_[k];
+      offset[k] = xyz[3 * i + k] - origin[k];
       size += std::abs(offset[k]);
     }
     for (int j = 0; j < 3; ++j) {
       double t = 0.0;
-      for (int k = 0; k < 3; ++k) t += static_cast<double>(axis_[j][k]) * offset[k];
-      lo_[j] = std::min(lo_[j], t);
-      hi_[j] = std::max(hi_[j], t);
+      for (int k = 0; k < 3; ++k) t += axis[j][k] * offset[k];
+      lo[j] = std::min(lo[j], t);
+      hi[j] = std::max(hi[j], t);
     }
-    magnitude_ = std::max(magnitude_, size);
+    magnitude = std::max(magnitude, size);
   }
+  for (int j = 0; j < 3; ++j) {
+    lo_[j] = lo[j];
+    hi_[j] = hi[j];
+  }
+  magnitude_ = magnitude;
 }
 
 OrientedBox OrientedBoxFitter::Result() const {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/affine_regions.h"
+#include "engine/api_errors.h"
 #include "engine/manifold_access.h"
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
@@ -130,11 +131,10 @@ void PointTracker::Impl::Search(const double* p, PointAnswer* answer) {
   answer->status = Status::Found;
   answer->patch = origin.patch;
   answer->cell = origin.indexInPatch;
-  for (int k = 0; k < 3; ++k) {
-    answer->params[k] = k < shape.paramDim() ? origin.paramLo[k] + origin.paramScale[k] * ref[k]
-                                             : std::numeric_limits<double>::quiet_NaN();
-    answer->closest[k] = k < dim ? best.closest[k] : 0.0;
-  }
+  // As Manifold::Invert reports them (a trimmed CAD face's own parameters,
+  // angles, an edge's pcurve).
+  store.ReportedParameters(best.cell, ref, answer->params);
+  for (int k = 0; k < 3; ++k) answer->closest[k] = k < dim ? best.closest[k] : 0.0;
   answer->distance = std::sqrt(best.distance2);
 }
 
@@ -148,9 +148,12 @@ PointTracker::PointTracker(PointTracker&&) noexcept = default;
 PointTracker& PointTracker::operator=(PointTracker&&) noexcept = default;
 
 Error PointTracker::Update(const double* point, PointAnswer* answer, std::string* message) {
-  try {
+  return engine::Guarded(message, [&] {
     if (!impl_->manifold->valid()) throw std::invalid_argument("the manifold is empty (not built)");
     if (!answer || !point) throw std::invalid_argument("point or answer: null");
+    if (ManifoldAccess::HasPouSurfaces(*impl_->manifold)) {
+      throw std::invalid_argument("partition-of-unity surfaces (pou_manifold patches) cannot be tracked yet");
+    }
     if (std::isnan(impl_->maxDistance) || impl_->maxDistance < 0.0) {
       throw std::invalid_argument("maxDistance must be >= 0");
     }
@@ -165,17 +168,8 @@ Error PointTracker::Update(const double* point, PointAnswer* answer, std::string
       }
     }
     impl_->Search(p, answer);
-  } catch (const std::invalid_argument& e) {
-    if (message) *message = e.what();
-    return Error::InvalidArgument;
-  } catch (const std::bad_alloc&) {
-    if (message) *message = "out of memory";
-    return Error::OutOfMemory;
-  } catch (const std::exception& e) {
-    if (message) *message = std::string("internal error: ") + e.what();
-    return Error::Internal;
-  }
-  return Error::Ok;
+    return Error::Ok;
+  });
 }
 
 }  // namespace invmap

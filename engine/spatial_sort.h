@@ -1,5 +1,5 @@
 // Morton (Z-order) keys of query points and the permutation that sorts the
-// points by key (DESIGN.md data flow, step 2). Points that are close in
+// points by key (docs/how-it-works.md). Points that are close in
 // space end up close in the permutation, so a bucket of consecutive sorted
 // points has a small bounding box for the nearest-cells search and
 // neighbours can warm-start each other.

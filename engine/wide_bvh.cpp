@@ -88,18 +88,51 @@ void ItemRanges(const Bvh& bvh, std::vector<int>* first, std::vector<int>* end) 
   }
 }
 
+/// The hull points of every item, gathered once in Bvh::Items() order: item
+/// i's are the points start[i] .. start[i + 1] of xyz (3 coordinates each),
+/// so the items below a node have theirs side by side. (The tree's levels
+/// each read them all; asking `hull` anew at every level took most of the
+/// fitting's time.)
+struct ItemHulls {
+  std::vector<std::size_t> start;
+  std::vector<double> xyz;
+  const double* points(int i) const { return xyz.data() + 3 * start[i]; }
+  std::size_t count(int first, int end) const { return start[end] - start[first]; }
+};
+
+ItemHulls GatherHulls(const Bvh& bvh, const HullPoints& hull) {
+  const std::int64_t n = static_cast<std::int64_t>(bvh.Items().size());
+  ItemHulls hulls;
+  hulls.start.assign(n + 1, 0);
+  ForEachBlock(ExecutionPolicy::Par, n, 1024, [&](std::int64_t begin, std::int64_t stop) {
+    std::vector<double> xyz;
+    for (std::int64_t i = begin; i < stop; ++i) {
+      xyz.clear();
+      hull(bvh.Items()[i], &xyz);
+      hulls.start[i + 1] = xyz.size() / 3;
+    }
+  });
+  for (std::int64_t i = 0; i < n; ++i) hulls.start[i + 1] += hulls.start[i];
+  hulls.xyz.resize(3 * hulls.start[n]);
+  ForEachBlock(ExecutionPolicy::Par, n, 1024, [&](std::int64_t begin, std::int64_t stop) {
+    std::vector<double> xyz;
+    for (std::int64_t i = begin; i < stop; ++i) {
+      xyz.clear();
+      hull(bvh.Items()[i], &xyz);
+      std::copy(xyz.begin(), xyz.end(), hulls.xyz.begin() + 3 * hulls.start[i]);
+    }
+  });
+  return hulls;
+}
+
 /// The oriented box along the principal axes of `moments` of the hull
 /// points of items [first, end) (Bvh::Items() order), which it reads once
-/// more for the intervals. `xyz` is scratch.
-OrientedBox FitItemsBox(const Bvh& bvh, int first, int end, int dimension, const HullPoints& hull,
-                        const PointMoments& moments, std::vector<double>* xyz) {
+/// more for the intervals.
+OrientedBox FitItemsBox(const Bvh& bvh, const ItemHulls& hulls, int first, int end, int dimension,
+                        const PointMoments& moments) {
   if (!moments.complete) return UnboundedOrientedBox();
   OrientedBoxFitter fitter(dimension, bvh.Origin(), moments);
-  for (int i = first; i < end; ++i) {
-    xyz->clear();
-    hull(bvh.Items()[i], xyz);
-    fitter.AddToInterval(xyz->data(), xyz->size() / 3);
-  }
+  fitter.AddToInterval(hulls.points(first), hulls.count(first, end));
   return fitter.Result();
 }
 
@@ -161,19 +194,18 @@ void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& 
                                const std::vector<int>& slotBinary) {
   std::vector<int> first, end;
   ItemRanges(bvh, &first, &end);
+  const ItemHulls hulls = GatherHulls(bvh, hull);
   // Each item's moments and box from its own hull points.
   std::vector<PointMoments> itemMoments(itemOriented_.size());
   ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(itemOriented_.size()), 1024,
                [&](std::int64_t begin, std::int64_t stop) {
-                 std::vector<double> xyz;
                  for (std::int64_t i = begin; i < stop; ++i) {
-                   xyz.clear();
-                   hull(bvh.Items()[i], &xyz);
+                   const int item = static_cast<int>(i);
                    PointMoments& m = itemMoments[i];
-                   m = PointMoments::Of(xyz.data(), xyz.size() / 3);
+                   m = PointMoments::Of(hulls.points(item), hulls.count(item, item + 1));
                    if (!m.complete) continue;
                    OrientedBoxFitter fitter(dimension, bvh.Origin(), m);
-                   fitter.AddToInterval(xyz.data(), xyz.size() / 3);
+                   fitter.AddToInterval(hulls.points(item), hulls.count(item, item + 1));
                    itemOriented_[i] = fitter.Result();
                  }
                });
@@ -197,12 +229,11 @@ void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& 
   // pass over the points per level of the tree.
   ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(slotBinary.size()), 16,
                [&](std::int64_t begin, std::int64_t stop) {
-                 std::vector<double> xyz;
                  for (std::int64_t s = begin; s < stop; ++s) {
                    const int binary = slotBinary[s];
                    if (binary < 0) continue;
                    const OrientedBox box =
-                       FitItemsBox(bvh, first[binary], end[binary], dimension, hull, nodeMoments[binary], &xyz);
+                       FitItemsBox(bvh, hulls, first[binary], end[binary], dimension, nodeMoments[binary]);
                    SetOrientedBox(box, static_cast<int>(s % 4), &nodes_[s / 4]);
                  }
                });

@@ -14,7 +14,7 @@ int main() {
   triangle.kind = invmap::Patch::Kind::Bezier;
   triangle.cell = invmap::CellType::Tri;
   triangle.degrees = {2};
-  // Control points (0,0) (1,0) (2,0) (0,1) (1,1) (0,2) in units of 1/2 (FORMATS.md section 1).
+  // Control points (0,0) (1,0) (2,0) (0,1) (1,1) (0,2) in units of 1/2 (docs/formats.md section 1).
   triangle.points = {0, 0, 0, 0.5, 0, 0.3, 1, 0, 0, 0, 0.5, 0.3, 0.5, 0.5, 0.3, 0, 1, 0};
   geometry.patches.push_back(triangle);
 

@@ -28,7 +28,7 @@ std::string Trimmed(const char* text) {
 
 ExodusFile::ExodusFile(const std::string& path) : lock_(ExodusMutex()), path_(path) {
   RequireReadableFile(path);
-  if (std::string problem = CheckNetcdfHeader(path); !problem.empty()) Fail("not a valid Exodus II file: " + problem);
+  if (std::string problem = CheckNetcdfHeader(path); !problem.empty()) Fail("not an Exodus II file: " + problem);
   // The library's defaults print to stderr and may abort the process on
   // errors; a reader reports them instead.
   ex_opts(EX_DEFAULT);

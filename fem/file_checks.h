@@ -6,8 +6,8 @@
 
 namespace invmap::fem {
 
-/// Throws InputError naming `path` when it does not exist, is a directory
-/// or cannot be opened for reading.
+/// Throws InputError naming `path` when it does not exist, is a directory,
+/// is not a regular file (a device, a pipe) or cannot be opened for reading.
 void RequireReadableFile(const std::string& path);
 
 }  // namespace invmap::fem

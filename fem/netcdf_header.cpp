@@ -1,8 +1,8 @@
 #include "fem/netcdf_header.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
-#include <iterator>
 #include <vector>
 
 namespace invmap::fem {
@@ -74,9 +74,23 @@ bool ListHeader(HeaderReader& r, std::uint64_t expectedTag, std::uint64_t* count
 }  // namespace
 
 std::string CheckNetcdfHeader(const std::string& path) {
+  // The header is read from the file's first bytes only: it holds names and
+  // attributes (kilobytes), where reading the whole file took gigabytes of
+  // memory for a large model (and never ended on /dev/zero).
+  constexpr std::size_t kMaxHeaderBytes = std::size_t{64} << 20;
   std::ifstream in(path, std::ios::binary);
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 4 || bytes[0] != 'C' || bytes[1] != 'D' || bytes[2] != 'F') return {};
+  std::vector<char> bytes;
+  char chunk[1 << 16];
+  while (bytes.size() < kMaxHeaderBytes &&
+         (in.read(chunk, static_cast<std::streamsize>(std::min(sizeof chunk, kMaxHeaderBytes - bytes.size()))) ||
+          in.gcount() > 0)) {
+    bytes.insert(bytes.end(), chunk, chunk + in.gcount());
+  }
+  static const char kHdf5[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  if (bytes.size() >= 8 && std::equal(kHdf5, kHdf5 + 8, bytes.begin())) return {};  // netCDF-4: the library checks it
+  if (bytes.size() < 4 || bytes[0] != 'C' || bytes[1] != 'D' || bytes[2] != 'F') {
+    return "neither a netCDF (CDF) nor an HDF5 signature at its start";
+  }
   const int version = bytes[3];
   if (version != 1 && version != 2 && version != 5) return "unknown netCDF version " + std::to_string(version);
   HeaderReader r(bytes, version == 5);

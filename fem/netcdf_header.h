@@ -9,9 +9,10 @@
 namespace invmap::fem {
 
 /// Walks the header of the classic netCDF file at `path` (CDF-1, CDF-2 or
-/// CDF-5; other files, such as netCDF-4's HDF5, pass unchecked) and returns
-/// what is wrong when a count or a length it declares does not fit in the
-/// file, else an empty string.
+/// CDF-5; netCDF-4's HDF5 files pass unchecked), reading at most its first
+/// 64 MiB, and returns what is wrong when a count or a length it declares
+/// does not fit in them, or the file starts with neither signature, else an
+/// empty string.
 std::string CheckNetcdfHeader(const std::string& path);
 
 }  // namespace invmap::fem

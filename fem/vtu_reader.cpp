@@ -76,6 +76,19 @@ void CheckDeclaredSizes(const std::string& path) {
   static const char* kCounts[] = {"NumberOfPoints=\"", "NumberOfCells=\"", "NumberOfComponents=\""};
   std::string window;
   char chunk[1 << 16];
+  // An XML document starts with '<' (after white space or a byte order
+  // mark): anything else, such as a sparse file's zeros, is refused before
+  // gigabytes of it are scanned.
+  if (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    const std::string_view start(chunk, static_cast<std::size_t>(in.gcount()));
+    const std::size_t first = start.find_first_not_of(" \t\r\n\xef\xbb\xbf");
+    if (first == std::string_view::npos || start[first] != '<') {
+      throw io::InputError(path, 0,
+                           "not a readable VTK unstructured grid: it does not start with '<' (not an XML file)");
+    }
+    in.clear();
+    in.seekg(0);
+  }
   while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
     // Keep the tail of the previous chunk: a match may straddle the boundary.
     window = window.substr(window.size() > 64 ? window.size() - 64 : 0) + std::string(chunk, in.gcount());

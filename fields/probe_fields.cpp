@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include "engine/bezier_nets.h"
 #include "engine/cell_store.h"
 #include "common/parallel.h"
 #include "fields/cell_basis.h"

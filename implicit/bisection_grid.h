@@ -1,6 +1,6 @@
 // A conforming simplicial grid that bisects edges: the mesh side of longest
 // refinable edge bisection (section 4 of
-// ../shared/seeds/adaptive-grid-implicit-complexes.txt).
+// docs/grids.md).
 //
 // Bisecting edge (a, b) at its midpoint m splits every cell around the edge
 // into two children that keep the parent's vertex order: the first has m in

@@ -1,5 +1,5 @@
 // The cubic Bezier simplex proxy of section 3.1 of
-// ../shared/seeds/adaptive-grid-implicit-complexes.txt, and what the
+// docs/grids.md, and what the
 // refinement tests read from it.
 //
 // For a simplex with vertices p_0..p_N, values v_i and gradients g_i of one

@@ -1,5 +1,5 @@
 // Longest refinable edge bisection (section 4 of
-// ../shared/seeds/adaptive-grid-implicit-complexes.txt): repeatedly bisect
+// docs/grids.md): repeatedly bisect
 // the longest edge of a refinable cell, splitting every cell around it, until
 // no cell is refinable.
 //

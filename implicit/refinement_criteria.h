@@ -1,5 +1,5 @@
 // The refinement criteria of one simplex (sections 3.2 and 3.3 of
-// ../shared/seeds/adaptive-grid-implicit-complexes.txt) for the three modes:
+// docs/grids.md) for the three modes:
 // is the simplex refinable, and is it active (does it pass the mode's
 // zero-crossing test)? The order of the tests and their comparisons follow
 // the reference implementation so grids match its cell counts.

@@ -68,7 +68,7 @@ void CheckAcyclic(const std::string& path, const std::vector<implicit::CsgNode>&
 }  // namespace
 
 std::vector<implicit::CsgNode> ReadCsgTree(const std::string& path, int functionCount) {
-  return ParseCsgTree(ReadWholeFile(path), path, functionCount);
+  return ParseCsgTree(ReadWholeFile(path, json::kMaxImplicitFileBytes), path, functionCount);
 }
 
 std::vector<implicit::CsgNode> ParseCsgTree(const std::string& text, const std::string& path, int functionCount) {

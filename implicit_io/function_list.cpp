@@ -104,7 +104,7 @@ implicit::Function ReadFunction(const std::string& path, const Value& object, st
 }  // namespace
 
 std::vector<implicit::Function> ReadFunctionList(const std::string& path, int dimension) {
-  return ParseFunctionList(ReadWholeFile(path), path, dimension);
+  return ParseFunctionList(ReadWholeFile(path, json::kMaxImplicitFileBytes), path, dimension);
 }
 
 std::vector<implicit::Function> ParseFunctionList(const std::string& text, const std::string& path, int dimension) {

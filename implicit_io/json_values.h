@@ -45,6 +45,11 @@ struct Value {
 /// What a value is, for "expected X, found Y" messages.
 std::string Describe(const Value& v);
 
+/// The most bytes a function list or CSG tree file is read up to: they hold
+/// kilobytes, so a larger file is none (and an endless one, /dev/zero under
+/// a .json name, fails at once instead of filling the memory).
+inline constexpr std::uint64_t kMaxImplicitFileBytes = std::uint64_t{64} << 20;
+
 /// Parses JSON `text` (named `path` in messages) into a Value tree; the top
 /// level must be a non-empty list of `what`s ("function object"). Throws
 /// InputError at the line of invalid JSON, of an empty file or list, of a

@@ -7,14 +7,16 @@
 
 namespace invmap::io {
 
-FieldGeometry ReadGeometryWithFields(const std::string& path, const FieldReadOptions& options) {
+FieldGeometry ReadGeometryWithFields(const std::string& path, const FieldReadOptions& options,
+                                     GeometrySource* source) {
   FieldGeometry out;
-  if (const RegisteredReader* reader = FindRegisteredReader(path)) {
-    out = reader->read(path, options);
-  } else if (LowerExtension(path) == ".msh") {
-    out = ReadGmshWithFields(path);
+  const RegisteredReader* reader = FindRegisteredReader(path);
+  if (reader != nullptr || LowerExtension(path) == ".msh") {
+    // These readers check every value themselves: no lines to record.
+    if (source) *source = GeometrySource(path);
+    out = reader != nullptr ? reader->read(path, options) : ReadGmshWithFields(path);
   } else {
-    out.geometry = ReadGeometryFile(path);
+    out.geometry = ReadGeometryFile(path, source);
   }
   // A reader's own bug, not the file's fault, would show here; still a
   // message rather than a crash in the probe.

@@ -1,6 +1,7 @@
 #include "io/file_io.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -31,6 +32,81 @@ constexpr std::int64_t kWritebackBlock = std::int64_t{64} << 20;
 
 /// Distinguishes temporary files of several outputs of one process.
 std::atomic<unsigned> tempCounter{0};
+
+/// Symbolic links followed before a target counts as a loop (the kernel's
+/// own limit).
+constexpr int kMaxLinkHops = 40;
+
+/// The file that writing to `path` reaches: its last component's symbolic
+/// links followed (a link to a link too; directories in between the kernel
+/// follows itself). A dangling link gives the path it points to.
+std::filesystem::path FollowLinks(const std::string& path) {
+  std::filesystem::path file(path);
+  for (int hop = 0; hop < kMaxLinkHops; ++hop) {
+    std::error_code ec;
+    if (!std::filesystem::is_symlink(std::filesystem::symlink_status(file, ec))) return file;
+    const std::filesystem::path target = std::filesystem::read_symlink(file, ec);
+    if (ec) return file;
+    file = target.is_absolute() ? target : file.parent_path() / target;
+  }
+  errno = ELOOP;
+  throw InputError(path, 0, std::string("cannot write: ") + std::strerror(errno), InputError::Kind::Output);
+}
+
+/// The temporary files a signal handler removes. A handler may neither
+/// allocate nor lock, so this is a fixed table of paths, each slot Free,
+/// Writing (its path changing) or Live; only Live paths are removed.
+struct SignalSlot {
+  enum State { Free, Writing, Live };
+  std::atomic<int> state{Free};
+  char path[4096];
+};
+constexpr int kSignalSlots = 64;
+SignalSlot signalSlots[kSignalSlots];
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the slots' states");
+
+/// Makes `path` the slot's file (slot -1: none). Paths too long for a slot
+/// are left out of the table: such a file survives a signal.
+void SetSignalSlot(int slot, const std::string& path) {
+  if (slot < 0) return;
+  SignalSlot& entry = signalSlots[slot];
+  entry.state.store(SignalSlot::Writing);
+  if (path.size() >= sizeof entry.path) return;
+  std::memcpy(entry.path, path.c_str(), path.size() + 1);
+  entry.state.store(SignalSlot::Live);
+}
+
+/// A free slot for `path`, or -1 when all are taken.
+int ClaimSignalSlot(const std::string& path) {
+  for (int i = 0; i < kSignalSlots; ++i) {
+    int expected = SignalSlot::Free;
+    if (signalSlots[i].state.compare_exchange_strong(expected, SignalSlot::Writing)) {
+      SetSignalSlot(i, path);
+      return i;
+    }
+  }
+  return -1;
+}
+
+void ReleaseSignalSlot(int slot) {
+  if (slot >= 0) signalSlots[slot].state.store(SignalSlot::Free);
+}
+
+/// Removes every live temporary file, then lets `signo` end the process as
+/// it would have without this handler: the default action is restored only
+/// after the files are gone (a second signal meanwhile, which `timeout`
+/// sends to the whole process group, runs this handler again in another
+/// thread rather than ending the process halfway), and the signal, blocked
+/// until the handler returns, is then delivered.
+extern "C" void RemoveTemporaryFilesAndStop(int signo) {
+  const int savedErrno = errno;
+  for (SignalSlot& slot : signalSlots) {
+    if (slot.state.load() == SignalSlot::Live) ::unlink(slot.path);
+  }
+  ::signal(signo, SIG_DFL);
+  ::raise(signo);
+  errno = savedErrno;
+}
 
 /// Opens `path` for reading bytes as stored. Throws InputError when it does
 /// not exist, is a directory or cannot be opened. *size is the file's length,
@@ -85,21 +161,30 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
-std::string ReadWholeFile(const std::string& path) {
+std::string ReadWholeFile(const std::string& path, std::uint64_t maxBytes) {
   std::int64_t size = -1;  // ReadWholeStream sizes the stream itself
   const std::unique_ptr<std::ifstream> in = OpenInputFile(path, &size);
-  return ReadWholeStream(*in, path);
+  return ReadWholeStream(*in, path, maxBytes);
 }
 
-std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages) {
+std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages, std::uint64_t maxBytes) {
   std::string bytes;
+  const auto tooLarge = [&] {
+    const std::string limit = maxBytes % (1 << 20) == 0 ? std::to_string(maxBytes >> 20) + " MiB"
+                                                         : std::to_string(maxBytes) + " bytes";
+    return InputError(nameForMessages, 0, "more than " + limit + ", more than a file of this kind ever holds");
+  };
   // Seekable streams (files) are sized once, which spares the copies of
   // growing a 100 MB string.
   const std::istream::pos_type start = in.tellg();
   if (start != std::istream::pos_type(-1)) {
     if (in.seekg(0, std::ios::end)) {
       const std::istream::pos_type end = in.tellg();
-      if (end != std::istream::pos_type(-1) && end >= start) bytes.reserve(static_cast<std::size_t>(end - start));
+      if (end != std::istream::pos_type(-1) && end >= start) {
+        const auto size = static_cast<std::uint64_t>(end - start);
+        if (size > maxBytes) throw tooLarge();
+        bytes.reserve(static_cast<std::size_t>(size));
+      }
     }
     in.clear();
     in.seekg(start);
@@ -107,6 +192,7 @@ std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages
   char chunk[1 << 16];
   while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
     bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (bytes.size() > maxBytes) throw tooLarge();
   }
   if (in.bad()) throw InputError(nameForMessages, 0, "read error after " + std::to_string(bytes.size()) + " bytes");
   return bytes;
@@ -205,24 +291,38 @@ AtomicOutput::AtomicOutput(std::string path) : path_(std::move(path)) {
   if (std::filesystem::is_directory(path_, ec)) {
     throw InputError(path_, 0, "cannot write: is a directory", InputError::Kind::Output);
   }
-  const std::filesystem::path target(path_);
+  const std::filesystem::path target = FollowLinks(path_);
+  filePath_ = target.string();
   const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
   // A hidden name in the target's directory: the rename stays on one file
-  // system, and a crash leaves a dot file, not a plausible output.
+  // system, and a crash leaves a dot file, not a plausible output. The name
+  // is in the signal handler's table before the file exists, so no signal
+  // can come between the two and leave it behind.
   for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
     tempPath_ = (dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
                         std::to_string(tempCounter.fetch_add(1))))
                     .string();
+    if (signalSlot_ < 0) {
+      signalSlot_ = ClaimSignalSlot(tempPath_);
+    } else {
+      SetSignalSlot(signalSlot_, tempPath_);
+    }
     fd_ = ::open(tempPath_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd_ < 0 && errno != EEXIST) break;
   }
-  if (fd_ < 0) Fail("cannot create a file in '" + dir.string() + "'");
+  if (fd_ < 0) {
+    const int error = errno;
+    ReleaseSignalSlot(signalSlot_);
+    errno = error;
+    Fail("cannot create a file in '" + dir.string() + "'");
+  }
   buffer_.resize(kWriteBlock);
 }
 
 AtomicOutput::~AtomicOutput() {
   if (fd_ >= 0) ::close(fd_);
   if (!committed_) ::unlink(tempPath_.c_str());
+  ReleaseSignalSlot(signalSlot_);
 }
 
 void AtomicOutput::Fail(const std::string& what) const {
@@ -308,8 +408,20 @@ void AtomicOutput::Commit() {
   const int fd = fd_;
   fd_ = -1;
   if (::close(fd) != 0) Fail("cannot write");
-  if (::rename(tempPath_.c_str(), path_.c_str()) != 0) Fail("cannot rename the temporary file onto the output");
+  if (::rename(tempPath_.c_str(), filePath_.c_str()) != 0) Fail("cannot rename the temporary file onto the output");
   committed_ = true;
+  ReleaseSignalSlot(signalSlot_);
+  signalSlot_ = -1;
+}
+
+void RemoveTemporaryFilesOnSignals() {
+  static constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction action {};
+  action.sa_handler = RemoveTemporaryFilesAndStop;
+  // The others wait while one runs: each would end the process its own way.
+  sigemptyset(&action.sa_mask);
+  for (const int signo : kSignals) sigaddset(&action.sa_mask, signo);
+  for (const int signo : kSignals) ::sigaction(signo, &action, nullptr);
 }
 
 }  // namespace invmap::io

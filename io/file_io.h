@@ -1,16 +1,18 @@
 // Buffered sequential input, whole-file reads and all-or-nothing output
-// files, shared by every reader and writer of io/. The point, PLY and result
-// readers stream through InputBuffer and never load a whole file (inputs may
-// be larger than memory); the formats parsed as one text (the JSON files,
-// OBJ, STL, OFF) read it with ReadWholeFile. Output goes to a temporary file
+// files, shared by every reader and writer of io/. The geometry, point, PLY
+// and result readers stream through InputBuffer and never load a whole file
+// (inputs may be larger than memory); the small formats parsed as one text
+// (implicit function lists and CSG trees, Cubit's JSON) read it with
+// ReadWholeFile, up to a limit. Output goes to a temporary file
 // beside the target and is renamed onto it only when complete, so a target
-// is either the complete new file or untouched (FORMATS.md section 5).
+// is either the complete new file or untouched (docs/formats.md section 6).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <istream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -68,13 +70,18 @@ bool ParseInteger(std::string_view token, std::int64_t* value);
 std::string LowerExtension(const std::string& path);
 
 /// The whole content of the file at `path`, bytes as stored. Throws InputError
-/// when the path does not exist, is a directory or cannot be read; an empty
-/// file gives an empty string (each format decides what that means).
-std::string ReadWholeFile(const std::string& path);
+/// when the path does not exist, is a directory or cannot be read, and when
+/// it holds more than `maxBytes` (then no more than that is read: an endless
+/// input, /dev/zero under a format's name, fails at once); an empty file
+/// gives an empty string (each format decides what that means).
+std::string ReadWholeFile(const std::string& path,
+                          std::uint64_t maxBytes = std::numeric_limits<std::uint64_t>::max());
 
 /// The rest of `in`, bytes as stored. Throws InputError naming
-/// `nameForMessages` when the stream fails before its end.
-std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages);
+/// `nameForMessages` when the stream fails before its end, or holds more
+/// than `maxBytes`.
+std::string ReadWholeStream(std::istream& in, const std::string& nameForMessages,
+                            std::uint64_t maxBytes = std::numeric_limits<std::uint64_t>::max());
 
 /// Sequential reader of a file or stream through a buffer that grows only
 /// as far as a caller asks (one record or line), so memory stays bounded
@@ -150,11 +157,14 @@ class InputBuffer {
 /// systems), and Commit() renames it onto the target, replacing any old
 /// file atomically. Destroying the object without Commit() deletes the
 /// temporary file and leaves the target as it was. A symbolic link at the
-/// target is replaced, not followed. Commit syncs the file before the
+/// target is followed: the file it points to is written (created when the
+/// link dangles) and the link stays. Commit syncs the file before the
 /// rename so that the guarantee holds through a system crash too; Flush
 /// starts the writeback early so that the sync waits for the tail only.
 /// Every failure (directory missing or not writable, disk full) throws
-/// InputError of kind Output naming the target.
+/// InputError of kind Output naming the target. The temporary file is also
+/// removed when the process is stopped by a signal that
+/// RemoveTemporaryFilesOnSignals handles.
 class AtomicOutput {
  public:
   /// Creates the temporary file for `path`.
@@ -197,8 +207,10 @@ class AtomicOutput {
   /// Throws the Output error for `what`, with strerror(errno) appended.
   [[noreturn]] void Fail(const std::string& what) const;
 
-  std::string path_;                 ///< The target.
-  std::string tempPath_;             ///< The hidden temporary file beside it.
+  std::string path_;                 ///< The target as given (for messages).
+  std::string filePath_;             ///< The file written: the target with its symbolic links followed.
+  std::string tempPath_;             ///< The hidden temporary file beside filePath_.
+  int signalSlot_ = -1;              ///< Its entry in the list the signal handler removes, or -1.
   int fd_ = -1;                      ///< The temporary file, open for reading and writing.
   std::vector<char> buffer_;         ///< Bytes not yet written.
   std::size_t used_ = 0;             ///< Bytes in buffer_ not yet written.
@@ -206,5 +218,13 @@ class AtomicOutput {
   std::int64_t writebackStart_ = 0;  ///< Start of the bytes not yet handed to writeback.
   bool committed_ = false;           ///< Renamed: the destructor leaves the file.
 };
+
+/// Installs handlers of SIGINT, SIGTERM and SIGHUP that delete the
+/// temporary files of every AtomicOutput not yet committed, then end the
+/// process by the same signal (the shell reports 128 + its number: 130 for
+/// SIGINT, 143 for SIGTERM), so an interrupted run leaves no partial or
+/// hidden file. For programs that own their signals (the command line);
+/// a library user who does not call it keeps their own handlers.
+void RemoveTemporaryFilesOnSignals();
 
 }  // namespace invmap::io

@@ -10,10 +10,16 @@
 
 namespace invmap::io {
 
-Geometry ReadGeometryFile(const std::string& path) {
+Geometry ReadGeometryFile(const std::string& path, GeometrySource* source) {
   const std::string ext = LowerExtension(path);
-  if (const RegisteredReader* reader = FindRegisteredReader(path)) return reader->read(path, {}).geometry;
-  if (ext == ".json") return ReadGeometryJson(path);
+  if (const RegisteredReader* reader = FindRegisteredReader(path)) {
+    if (source) *source = GeometrySource(path);
+    return reader->read(path, {}).geometry;
+  }
+  if (ext == ".json") return ReadGeometryJson(path, source);
+  // The other readers check every value Manifold::Build would (their own
+  // errors name the line): their geometry's source records no lines.
+  if (source) *source = GeometrySource(path);
   if (ext == ".obj" || ext == ".stl" || ext == ".off") return ReadMeshFile(path);
   if (ext == ".ply") return ReadPlyMesh(path);
   if (ext == ".msh") return ReadGmsh(path);

@@ -1,6 +1,6 @@
 // gmsh's Lagrange elements of orders 1 to 4 (MSH element type numbers, node
 // orderings and, for the incomplete ones, their polynomial spaces), stated in
-// invmap's reference coordinates (FORMATS.md section 1).
+// invmap's reference coordinates (docs/formats.md section 1).
 //
 // Everything here was checked against gmsh 4.8 itself: the node positions
 // against gmsh's reference elements (gmsh::model::mesh::getElementProperties)
@@ -40,7 +40,7 @@ bool IsGmshPoint(int mshType);
 /// True for gmsh's pyramids of any order (invmap has no pyramid cells).
 bool IsGmshPyramid(int mshType);
 
-/// Reference coordinates (invmap's, FORMATS.md section 1; unused entries 0)
+/// Reference coordinates (invmap's, docs/formats.md section 1; unused entries 0)
 /// of the nodes of `type`, in gmsh's node order: vertices, then the nodes of
 /// each edge from its first to its second vertex (gmsh's edge order), then
 /// face nodes (gmsh's face order, each face's nodes ordered like a smaller

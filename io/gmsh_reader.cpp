@@ -91,22 +91,6 @@ std::string_view Trim(std::string_view s) {
   return s;
 }
 
-/// Parametric dimension of a cell type.
-int ParamDim(CellType cell) {
-  switch (cell) {
-    case CellType::Line:
-      return 1;
-    case CellType::Tri:
-    case CellType::Quad:
-      return 2;
-    case CellType::Tet:
-    case CellType::Hex:
-    case CellType::Wedge:
-      return 3;
-  }
-  return 0;
-}
-
 /// Parses the sections of one MSH 4.1 file. Values are read through one set
 /// of functions for both encodings (Int, Size, Real): the 4.1 binary layout
 /// stores the same values in the same order as the ascii one.
@@ -505,7 +489,7 @@ class GmshParser {
           mesh_.elementNodes.push_back(index);
         }
       }
-      if (ParamDim(block.type->cell) == 3) mesh_.anyVolume = true;
+      if (TraitsOf(block.type->cell).paramDim == 3) mesh_.anyVolume = true;
       mesh_.blocks.push_back(block);
     }
     if (total != numElements) {
@@ -709,7 +693,7 @@ class GeometryBuilder {
   std::vector<PatchBlocks> EntityPatches() const {
     int top = 0;
     for (const ElementBlock& block : mesh_.blocks) {
-      if (block.count > 0) top = std::max(top, ParamDim(block.type->cell));
+      if (block.count > 0) top = std::max(top, TraitsOf(block.type->cell).paramDim);
     }
     std::vector<std::pair<int, int>> order;
     for (const Entity& e : mesh_.entities) order.emplace_back(e.dim, e.tag);
@@ -723,7 +707,8 @@ class GeometryBuilder {
       patch.first.dim = dim;
       patch.first.tag = tag;
       for (const ElementBlock& block : mesh_.blocks) {
-        if (block.count > 0 && block.entityDim == dim && block.entityTag == tag && ParamDim(block.type->cell) == top) {
+        if (block.count > 0 && block.entityDim == dim && block.entityTag == tag &&
+            TraitsOf(block.type->cell).paramDim == top) {
           patch.second.push_back(&block);
         }
       }

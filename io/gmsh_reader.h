@@ -30,7 +30,7 @@ struct GmshPatchSource {
 /// io/gmsh_elements.h lists them). Each becomes one Bezier cell of the same
 /// order (complete space) by an exact change of basis from its Lagrange
 /// nodes: the cell's map equals the element's at every reference point, with
-/// reference coordinates in FORMATS.md's [0, 1] domains (gmsh's [-1, 1]
+/// reference coordinates in docs/formats.md's [0, 1] domains (gmsh's [-1, 1]
 /// coordinates u map to (u + 1) / 2). Point elements are skipped; pyramids
 /// and other element types are an error naming the element.
 ///

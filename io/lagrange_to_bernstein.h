@@ -1,5 +1,5 @@
 // Change of basis from Lagrange nodal values to Bernstein control points on
-// invmap's reference cells (FORMATS.md section 1), for readers of high-order
+// invmap's reference cells (docs/formats.md section 1), for readers of high-order
 // meshes. Independent of kernels/: it evaluates the Bernstein basis itself.
 #pragma once
 
@@ -14,7 +14,7 @@ namespace invmap::io {
 /// every simplex factor.
 int BernsteinCount(CellType type, int degree);
 
-/// Reference locations of those control points in FORMATS.md order (unused
+/// Reference locations of those control points in docs/formats.md order (unused
 /// coordinates 0): a simplex multi-index a sits at a / degree.
 std::vector<std::array<double, 3>> BernsteinLattice(CellType type, int degree);
 
@@ -40,7 +40,7 @@ std::vector<double> BernsteinBasisAt(CellType type, int degree, const std::array
 /// Vandermonde matrix) and rounded to double once.
 class LagrangeToBernstein {
  public:
-  /// `nodes`: reference coordinates of the Lagrange nodes (FORMATS.md
+  /// `nodes`: reference coordinates of the Lagrange nodes (docs/formats.md
   /// section 1, unused entries 0). `monomials`: exponents (a, b, c) of the
   /// monomials s^a t^b r^c spanning an incomplete element's space (as many as
   /// nodes); empty for a complete element, whose node count must then equal

@@ -8,45 +8,40 @@
 #include <cstring>
 #include <istream>
 #include <string_view>
+#include <memory>
+#include <set>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
 #include "io/file_io.h"
 #include "io/input_error.h"
+#include "kernels/cell_shape.h"
 
 namespace invmap::io {
 namespace {
 
-/// Lines of a text buffer, without their end-of-line characters ("\n" or
-/// "\r\n"), with 1-based numbers for messages.
+/// Lines of a file read through an InputBuffer, without their end-of-line
+/// characters ("\n" or "\r\n"), with 1-based numbers for messages. A line
+/// is valid until the next one is read; one longer than
+/// InputBuffer::kMaxLineBytes is an error (an endless or binary file).
 class LineReader {
  public:
-  /// `text` must outlive the reader.
-  explicit LineReader(std::string_view text) : text_(text) {}
+  /// `in` must outlive the reader.
+  explicit LineReader(InputBuffer* in) : in_(in) {}
 
-  /// The next line; false at the end of the text.
-  bool Next(std::string_view* line) {
-    if (pos_ >= text_.size()) return false;
-    std::size_t end = text_.find('\n', pos_);
-    if (end == std::string_view::npos) end = text_.size();
-    *line = text_.substr(pos_, end - pos_);
-    if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
-    pos_ = end + 1;
-    ++line_;
-    return true;
-  }
+  /// The next line; false at the end of the input.
+  bool Next(std::string_view* line) { return in_->ReadLine(line); }
 
   /// Number of the line last returned (0 before the first); at the end of
-  /// the text, the last line.
-  std::int64_t line() const { return line_; }
-  /// Bytes not yet returned.
-  std::size_t remaining() const { return pos_ < text_.size() ? text_.size() - pos_ : 0; }
+  /// the input, the last line.
+  std::int64_t line() const { return in_->lineNumber(); }
+  /// Bytes not yet read, -1 when the input's size is unknown (a pipe).
+  std::int64_t remaining() const { return in_->remaining(); }
 
  private:
-  std::string_view text_;
-  std::size_t pos_ = 0;    ///< Start of the next line.
-  std::int64_t line_ = 0;  ///< Lines returned so far.
+  InputBuffer* in_;
 };
 
 /// White space between tokens (any line ending included).
@@ -94,13 +89,19 @@ std::string Quote(std::string_view token) {
   return "\"" + std::string(token.substr(0, kShown)) + (token.size() > kShown ? "...\"" : "\"");
 }
 
-/// A finite coordinate from `token`, or an InputError at `line` whose message
-/// begins with where() (built only then: this runs for every coordinate).
+/// A finite coordinate within the supported range from `token`, or an
+/// InputError at `line` whose message begins with where() (built only then:
+/// this runs for every coordinate). The engine checks the range again; here
+/// the message can name the line.
 template <class Where>
 double ParseCoordinate(std::string_view token, const std::string& name, std::int64_t line, const Where& where) {
   double value = 0.0;
   if (!ParseDouble(token, &value)) throw InputError(name, line, where() + ": " + Quote(token) + " is not a number");
   if (!std::isfinite(value)) throw InputError(name, line, where() + ": " + Quote(token) + " is not a finite number");
+  if (std::abs(value) > kernels::kMaxCoordinate) {
+    throw InputError(name, line,
+                     where() + ": " + Quote(token) + " is outside [-1e100, 1e100] (the range invmap supports)");
+  }
   return value;
 }
 
@@ -120,19 +121,15 @@ struct MeshBuilder {
     vertices.push_back(z);
   }
 
-  /// A face of n >= 3 valid vertex indices, in the file's order: a tri, a
-  /// quad (its cyclic order is the finite-element quad order), or a fan of
-  /// tris around v[0].
+  /// A face of n >= 3 valid vertex indices, in the file's order: a quad
+  /// (its cyclic order is the finite-element quad order), else tris
+  /// (AppendPolygon).
   void AddPolygon(const std::int64_t* v, std::size_t n) {
     if (n == 4) {
       quads.insert(quads.end(), v, v + 4);
       return;
     }
-    for (std::size_t i = 1; i + 1 < n; ++i) {
-      tris.push_back(v[0]);
-      tris.push_back(v[i]);
-      tris.push_back(v[i + 1]);
-    }
+    AppendPolygon(v, n, &tris);
   }
 
   /// The geometry: a tri patch, then a quad patch, each present only when it
@@ -170,9 +167,9 @@ std::int64_t EndLine(const LineReader& lines) { return std::max<std::int64_t>(li
 // ---------------------------------------------------------------- OBJ
 
 /// Reads an OBJ text (see ReadObj).
-Geometry ParseObj(std::string_view text, const std::string& name) {
+Geometry ParseObj(InputBuffer* in, const std::string& name) {
   MeshBuilder mesh;
-  LineReader lines(text);
+  LineReader lines(in);
   std::vector<std::int64_t> face;
   // Positive indices may name vertices defined further down; the largest is
   // checked at the end, at the line that used it.
@@ -291,16 +288,21 @@ float ReadF32LE(const unsigned char* p) {
 constexpr std::size_t kStlHeaderBytes = 84;
 constexpr std::size_t kStlTriangleBytes = 50;
 
-/// Reads a binary STL whose size has been checked against `count`.
-Geometry ParseBinaryStl(std::string_view bytes, const std::string& name, std::uint32_t count) {
-  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+/// Reads the `count` triangles of a binary STL whose header `in` has
+/// consumed. `sizeChecked`: the file size matched the count, which may then
+/// size the arrays; otherwise (a pipe) the input must end right after them.
+Geometry ParseBinaryStl(InputBuffer* in, const std::string& name, std::uint32_t count, bool sizeChecked) {
   MeshBuilder mesh;
-  // count is trusted here: the file size matched 84 + 50 x count.
-  mesh.tris.reserve(static_cast<std::size_t>(count) * 3);
-  VertexMerger merger(&mesh, static_cast<std::size_t>(count) / 2 + 3);
+  if (sizeChecked) mesh.tris.reserve(static_cast<std::size_t>(count) * 3);
+  VertexMerger merger(&mesh, sizeChecked ? static_cast<std::size_t>(count) / 2 + 3 : 0);
   for (std::uint32_t t = 0; t < count; ++t) {
+    if (!in->Fill(kStlTriangleBytes)) {
+      throw InputError(name, 0,
+                       "the file ends in triangle " + std::to_string(t) + " of the " + std::to_string(count) +
+                           " its binary header declares");
+    }
     // 12 bytes of normal (ignored), 3 x 12 bytes of corners, 2 attribute bytes.
-    const unsigned char* corner = data + kStlHeaderBytes + static_cast<std::size_t>(t) * kStlTriangleBytes + 12;
+    const unsigned char* corner = reinterpret_cast<const unsigned char*>(in->data()) + 12;
     for (int v = 0; v < 3; ++v, corner += 12) {
       const double x = ReadF32LE(corner), y = ReadF32LE(corner + 4), z = ReadF32LE(corner + 8);
       if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
@@ -310,49 +312,53 @@ Geometry ParseBinaryStl(std::string_view bytes, const std::string& name, std::ui
       }
       mesh.tris.push_back(merger.Add(x, y, z));
     }
+    in->Consume(kStlTriangleBytes);
+  }
+  if (!sizeChecked && in->Fill(1)) {
+    throw InputError(name, 0,
+                     "not an STL file: more bytes after the " + std::to_string(count) +
+                         " triangles its binary header declares");
   }
   return mesh.Finish(name, 0);
 }
 
-/// Tokens of a whole text with the line of each, for ASCII STL, whose
-/// keywords need not sit on separate lines.
+/// Tokens of an ASCII STL with the line of each (its keywords need not sit
+/// on separate lines), read a line at a time. A NUL byte, which no ASCII
+/// STL holds, is binary data: the error then gives `binaryWhy`, what the
+/// size rule says of the file.
 class TokenReader {
  public:
-  /// `text` must outlive the reader.
-  explicit TokenReader(std::string_view text) : text_(text) {}
+  /// `in` and `binaryWhy` must outlive the reader.
+  TokenReader(InputBuffer* in, const std::string& name, const std::string& binaryWhy)
+      : in_(in), name_(name), binaryWhy_(binaryWhy) {}
 
-  /// The next token; false at the end of the text.
+  /// The next token; false at the end of the input.
   bool Next(std::string_view* token) {
-    while (pos_ < text_.size() && IsSpace(text_[pos_])) {
-      // A final newline ends the last line rather than starting one, so
-      // errors at the end of the text name the last line.
-      if (text_[pos_] == '\n' && pos_ + 1 < text_.size()) ++line_;
-      ++pos_;
+    while (!NextToken(&rest_, token)) {
+      if (!in_->ReadLine(&rest_)) return false;
+      if (rest_.find('\0') != std::string_view::npos) {
+        throw InputError(name_, 0, "not an STL file: binary data after a \"solid\" header" + binaryWhy_);
+      }
     }
-    if (pos_ == text_.size()) return false;
-    const std::size_t begin = pos_;
-    while (pos_ < text_.size() && !IsSpace(text_[pos_])) ++pos_;
-    *token = text_.substr(begin, pos_ - begin);
     return true;
   }
 
   /// Skips to the end of the current line (a solid's name is free text).
-  void SkipLine() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-  }
+  void SkipLine() { rest_ = {}; }
 
-  /// 1-based line of the last token (or of the end of the text).
-  std::int64_t line() const { return line_; }
+  /// 1-based line of the last token (or of the end of the input).
+  std::int64_t line() const { return std::max<std::int64_t>(in_->lineNumber(), 1); }
 
  private:
-  std::string_view text_;
-  std::size_t pos_ = 0;    ///< Next byte to read.
-  std::int64_t line_ = 1;  ///< Line of pos_.
+  InputBuffer* in_;
+  const std::string& name_;
+  const std::string& binaryWhy_;
+  std::string_view rest_;  ///< The current line after the last token.
 };
 
 /// Reads an ASCII STL: solids of facets, each an outer loop of 3 vertices.
-Geometry ParseAsciiStl(std::string_view text, const std::string& name) {
-  TokenReader tokens(text);
+Geometry ParseAsciiStl(InputBuffer* in, const std::string& name, const std::string& binaryWhy) {
+  TokenReader tokens(in, name, binaryWhy);
   MeshBuilder mesh;
   VertexMerger merger(&mesh, 0);
   std::string_view token;
@@ -415,29 +421,37 @@ Geometry ParseAsciiStl(std::string_view text, const std::string& name) {
   return mesh.Finish(name, tokens.line());
 }
 
-/// Reads an STL, binary or ASCII by the size rule (see ReadStl).
-Geometry ParseStl(std::string_view bytes, const std::string& name) {
-  std::uint32_t count = 0;
-  std::uint64_t binarySize = 0;
-  if (bytes.size() >= kStlHeaderBytes) {
-    count = ReadU32LE(reinterpret_cast<const unsigned char*>(bytes.data()) + 80);
-    binarySize = kStlHeaderBytes + std::uint64_t{kStlTriangleBytes} * count;
-    if (bytes.size() == binarySize) return ParseBinaryStl(bytes, name, count);
+/// Reads an STL, binary or ASCII by the size rule (see ReadStl), deciding
+/// from the header and the file size before reading further.
+Geometry ParseStl(InputBuffer* in, const std::string& name) {
+  const std::int64_t size = in->size();
+  in->Fill(size >= 0 ? static_cast<std::size_t>(std::min<std::int64_t>(size, kStlHeaderBytes)) : kStlHeaderBytes);
+  const bool haveHeader = in->available() >= kStlHeaderBytes;
+  const auto* header = reinterpret_cast<const unsigned char*>(in->data());
+  const std::uint32_t count = haveHeader ? ReadU32LE(header + 80) : 0;
+  const std::uint64_t binarySize = kStlHeaderBytes + std::uint64_t{kStlTriangleBytes} * count;
+  if (haveHeader && size >= 0 && static_cast<std::uint64_t>(size) == binarySize) {
+    in->Consume(kStlHeaderBytes);
+    return ParseBinaryStl(in, name, count, true);
   }
-  const std::string why = bytes.size() < kStlHeaderBytes
-                              ? std::to_string(bytes.size()) + " bytes is too short for a binary STL (at least 84)"
-                              : "a binary STL declaring " + std::to_string(count) + " triangles has 84 + 50 x " +
-                                    std::to_string(count) + " = " + std::to_string(binarySize) +
-                                    " bytes, this file has " + std::to_string(bytes.size());
-  const std::size_t first = std::min(bytes.find_first_not_of(" \t\r\n"), bytes.size());
-  const bool solidHeader = bytes.size() - first >= 5 && EqualsIgnoreCase(bytes.substr(first, 5), "solid");
+  const std::string_view start(in->data(), in->available());
+  const std::size_t first = std::min(start.find_first_not_of(" \t\r\n"), start.size());
+  const bool solidHeader = start.size() - first >= 5 && EqualsIgnoreCase(start.substr(first, 5), "solid");
+  if (size < 0) {
+    // A pipe: no size to decide by, so the header does.
+    if (solidHeader) return ParseAsciiStl(in, name, "");
+    if (!haveHeader) throw InputError(name, 0, "not an STL file: it ends within the 84 bytes of a binary header");
+    in->Consume(kStlHeaderBytes);
+    return ParseBinaryStl(in, name, count, false);
+  }
+  const std::string why = !haveHeader ? std::to_string(size) + " bytes is too short for a binary STL (at least 84)"
+                                      : "a binary STL declaring " + std::to_string(count) + " triangles has 84 + 50 x " +
+                                            std::to_string(count) + " = " + std::to_string(binarySize) +
+                                            " bytes, this file has " + std::to_string(size);
   if (!solidHeader) throw InputError(name, 0, "not an STL file: no ASCII \"solid\" header, and " + why);
   // Binary headers often begin with "solid" too, but ASCII STL never holds a
   // NUL byte: then the size mismatch is the real problem.
-  if (bytes.find('\0') != std::string_view::npos) {
-    throw InputError(name, 0, "not an STL file: binary data after a \"solid\" header, and " + why);
-  }
-  return ParseAsciiStl(bytes, name);
+  return ParseAsciiStl(in, name, ", and " + why);
 }
 
 // ---------------------------------------------------------------- OFF
@@ -464,8 +478,8 @@ bool IsOffKeyword(std::string_view token) {
 }
 
 /// Reads an OFF text (see ReadOff).
-Geometry ParseOff(std::string_view text, const std::string& name) {
-  LineReader lines(text);
+Geometry ParseOff(InputBuffer* in, const std::string& name) {
+  LineReader lines(in);
   std::string_view line;
   if (!NextContentLine(&lines, &line)) {
     throw InputError(name, EndLine(lines), "empty file, expected the \"OFF\" header");
@@ -509,17 +523,19 @@ Geometry ParseOff(std::string_view text, const std::string& name) {
   // read from at all a single token, each with a separator: claims beyond
   // what the rest of the file can hold are refused before anything is
   // allocated. (Counting a valid face, "3 0 0 0", blamed the header for a
-  // file whose real fault was a face of 2 vertices.)
-  const std::int64_t remaining = static_cast<std::int64_t>(lines.remaining());
-  if (numVertices > (remaining + 1) / 6 || numFaces > (remaining + 1) / 2 ||
-      numVertices * 6 + numFaces * 2 > remaining + 1) {
+  // file whose real fault was a face of 2 vertices.) A pipe's size is
+  // unknown: then nothing is reserved, and memory grows only with the
+  // lines actually read.
+  const std::int64_t remaining = lines.remaining();
+  if (remaining >= 0 && (numVertices > (remaining + 1) / 6 || numFaces > (remaining + 1) / 2 ||
+                         numVertices * 6 + numFaces * 2 > remaining + 1)) {
     throw InputError(name, lines.line(),
                      "the header declares " + std::to_string(numVertices) + " vertices and " +
                          std::to_string(numFaces) + " faces, more than the remaining " + std::to_string(remaining) +
                          " bytes can hold");
   }
   MeshBuilder mesh;
-  mesh.vertices.reserve(static_cast<std::size_t>(numVertices) * 3);
+  if (remaining >= 0) mesh.vertices.reserve(static_cast<std::size_t>(numVertices) * 3);
   for (std::int64_t i = 0; i < numVertices; ++i) {
     if (!NextContentLine(&lines, &line)) {
       throw InputError(
@@ -582,26 +598,67 @@ Geometry ParseOff(std::string_view text, const std::string& name) {
 
 Geometry ReadMeshFile(const std::string& path) {
   const std::string ext = LowerExtension(path);
-  Geometry (*parse)(std::string_view, const std::string&) = nullptr;
+  Geometry (*parse)(InputBuffer*, const std::string&) = nullptr;
   if (ext == ".obj") parse = ParseObj;
   if (ext == ".stl") parse = ParseStl;
   if (ext == ".off") parse = ParseOff;
   if (!parse) {
     throw InputError(path, 0, "unknown mesh file extension \"" + ext + "\" (supported: .obj, .stl, .off)");
   }
-  return parse(ReadWholeFile(path), path);
+  InputBuffer in(path);
+  return parse(&in, path);
 }
 
+namespace {
+
+/// Reads `in` with `parse` through a stream of its own over the caller's
+/// buffer (reading advances `in`).
+Geometry ParseStream(std::istream& in, const std::string& name, Geometry (*parse)(InputBuffer*, const std::string&)) {
+  InputBuffer buffer(std::make_unique<std::istream>(in.rdbuf()), name);
+  return parse(&buffer, name);
+}
+
+}  // namespace
+
 Geometry ReadObj(std::istream& in, const std::string& nameForMessages) {
-  return ParseObj(ReadWholeStream(in, nameForMessages), nameForMessages);
+  return ParseStream(in, nameForMessages, ParseObj);
 }
 
 Geometry ReadStl(std::istream& in, const std::string& nameForMessages) {
-  return ParseStl(ReadWholeStream(in, nameForMessages), nameForMessages);
+  return ParseStream(in, nameForMessages, ParseStl);
 }
 
 Geometry ReadOff(std::istream& in, const std::string& nameForMessages) {
-  return ParseOff(ReadWholeStream(in, nameForMessages), nameForMessages);
+  return ParseStream(in, nameForMessages, ParseOff);
+}
+
+void AppendPolygon(const std::int64_t* v, std::size_t n, std::vector<std::int64_t>* tris) {
+  std::vector<std::int64_t> sorted(v, v + n);
+  std::sort(sorted.begin(), sorted.end());
+  if (n == 3 || std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end()) {
+    // Distinct indices (the usual polygon): every fan triangle is a distinct one.
+    for (std::size_t i = 1; i + 1 < n; ++i) tris->insert(tris->end(), {v[0], v[i], v[i + 1]});
+    return;
+  }
+  // A repeated index: fan triangles may repeat a vertex (a segment or a
+  // point) or each other. Kept: each distinct triangle of three distinct
+  // vertices once; then, for a left-out triangle's segment from v[0] to its
+  // other vertex x, one triangle (v[0], x, x) where no kept triangle holds
+  // x (each one that does has that segment as an edge), once per x.
+  std::set<std::array<std::int64_t, 3>> kept;
+  std::unordered_set<std::int64_t> covered;
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    if (v[i] == v[0] || v[i] == v[i + 1] || v[i + 1] == v[0]) continue;
+    std::array<std::int64_t, 3> key{v[0], v[i], v[i + 1]};
+    std::sort(key.begin(), key.end());
+    if (!kept.insert(key).second) continue;
+    tris->insert(tris->end(), {v[0], v[i], v[i + 1]});
+    covered.insert({v[0], v[i], v[i + 1]});
+  }
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const std::int64_t x = v[i] != v[0] ? v[i] : v[i + 1];
+    if (covered.insert(x).second) tris->insert(tris->end(), {v[0], x, x});
+  }
 }
 
 }  // namespace invmap::io

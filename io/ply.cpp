@@ -89,11 +89,13 @@ std::int64_t MinRecordBytes(const PlyElement& element, PlyFormat format) {
 }  // namespace
 
 std::string PlyPatchableCount(std::int64_t count) {
-  std::string digits = std::to_string(count);
+  const std::string digits = std::to_string(count);
   if (count < 0 || digits.size() > static_cast<std::size_t>(kPlyPatchableCountDigits)) {
     throw std::length_error("PLY record count " + digits + " does not fit the reserved digits");
   }
-  return std::string(static_cast<std::size_t>(kPlyPatchableCountDigits) - digits.size(), '0') + digits;
+  std::string text = digits + "\ncomment ";
+  text.append(static_cast<std::size_t>(kPlyPatchableCountBytes) - text.size(), ' ');
+  return text;
 }
 
 int PlyTypeSize(PlyType type) {

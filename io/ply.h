@@ -33,13 +33,19 @@ const char* PlyTypeName(PlyType type);
 bool ParsePlyType(std::string_view name, PlyType* type);
 
 /// Digits of a record count that a streaming writer writes before it knows
-/// the count and patches at the end ("element vertex 000000001234"). Zero
-/// padding still reads as the decimal count in every PLY reader; 12 digits
-/// allow up to 10^12 - 1 records.
+/// the count and patches at the end: 12 digits allow up to 10^12 - 1 records.
 inline constexpr int kPlyPatchableCountDigits = 12;
 
-/// `count` zero-padded to kPlyPatchableCountDigits digits. Throws
-/// std::length_error when it does not fit.
+/// Bytes of PlyPatchableCount's text, whatever the count.
+inline constexpr int kPlyPatchableCountBytes = kPlyPatchableCountDigits + 9;
+
+/// A record count that fits the same bytes whatever its value, to end an
+/// "element NAME " line: the plain decimal count, the line's end, then a
+/// comment line ("comment" and spaces) that takes up the digits the count
+/// does not use ("2\ncomment" and 11 spaces). The caller writes the
+/// comment line's own "\n" after it. (Zero-padded digits would read as the
+/// count too, but look like a fault: "element vertex 000000000002".)
+/// Throws std::length_error when the count does not fit.
 std::string PlyPatchableCount(std::int64_t count);
 
 /// One property of an element: a scalar, or a list (a count, then that many values).

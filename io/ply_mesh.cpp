@@ -6,7 +6,9 @@
 #include <vector>
 
 #include "io/input_error.h"
+#include "io/mesh_readers.h"
 #include "io/ply.h"
+#include "kernels/cell_shape.h"
 
 namespace invmap::io {
 namespace {
@@ -47,6 +49,7 @@ Geometry ReadMesh(PlyReader& reader) {
   if (reader.countsChecked()) points.reserve(static_cast<std::size_t>(vertices.count) * static_cast<std::size_t>(dim));
   std::vector<std::int64_t> tris;
   std::vector<std::int64_t> quads;
+  std::vector<std::int64_t> polygon;  // the face being read
   PlyRecord record;
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     reader.SkipToElement(e);
@@ -60,6 +63,14 @@ Geometry ReadMesh(PlyReader& reader) {
             throw InputError(
                 reader.name(), reader.line(),
                 "vertex " + std::to_string(reader.recordIndex() - 1) + " has a coordinate that is not finite");
+          }
+          // The engine checks the range again; here the message names the record.
+          if (std::abs(value) > kernels::kMaxCoordinate) {
+            char text[32];
+            std::snprintf(text, sizeof(text), "%.17g", value);
+            throw InputError(reader.name(), reader.line(),
+                             "vertex " + std::to_string(reader.recordIndex() - 1) + ": coordinate " + text +
+                                 " is outside [-1e100, 1e100] (the range invmap supports)");
           }
           points.push_back(value);
         }
@@ -91,12 +102,9 @@ Geometry ReadMesh(PlyReader& reader) {
           quads.insert(quads.end(), index, index + 4);
           continue;
         }
-        index[0] = vertexAt(0);
-        for (std::size_t i = 1; i + 1 < n; ++i) {
-          tris.push_back(index[0]);
-          tris.push_back(vertexAt(i));
-          tris.push_back(vertexAt(i + 1));
-        }
+        polygon.clear();
+        for (std::size_t i = 0; i < n; ++i) polygon.push_back(vertexAt(i));
+        AppendPolygon(polygon.data(), n, &tris);
       }
     }
   }

@@ -280,13 +280,28 @@ class NpyPointReader : public PointReader {
 
 }  // namespace
 
-PointFormat PointFormatOf(const std::string& path, InputError::Kind kind) {
+bool IsPointFileName(const std::string& path, PointFormat* format) {
   const std::string ext = LowerExtension(path);
-  if (ext == ".xyz" || ext == ".txt" || ext == ".csv") return PointFormat::Text;
-  if (ext == ".ply") return PointFormat::Ply;
-  if (ext == ".npy") return PointFormat::Npy;
-  if (ext == ".las") return PointFormat::Las;
-  if (ext == ".pcd") return PointFormat::Pcd;
+  if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
+    *format = PointFormat::Text;
+  } else if (ext == ".ply") {
+    *format = PointFormat::Ply;
+  } else if (ext == ".npy") {
+    *format = PointFormat::Npy;
+  } else if (ext == ".las") {
+    *format = PointFormat::Las;
+  } else if (ext == ".pcd") {
+    *format = PointFormat::Pcd;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+PointFormat PointFormatOf(const std::string& path, InputError::Kind kind) {
+  PointFormat format;
+  if (IsPointFileName(path, &format)) return format;
+  const std::string ext = LowerExtension(path);
   if (ext == ".laz") throw InputError(path, 0, LazRefusal(), kind);
   throw InputError(path, 0,
                    "unknown point file extension '" + ext + "' (expected .xyz, .txt, .csv, .ply, .npy, .las or .pcd)",

@@ -27,6 +27,10 @@ enum class PointFormat : std::uint8_t {
   Pcd,   ///< .pcd
 };
 
+/// True, with the format family in `*format`, when the extension of `path`
+/// (case-insensitive) is one of .xyz .txt .csv .ply .npy .las .pcd.
+bool IsPointFileName(const std::string& path, PointFormat* format);
+
 /// Format family of `path` from its extension (case-insensitive). Throws
 /// InputError of kind `kind` naming the file when the extension is none of
 /// .xyz .txt .csv .ply .npy .las .pcd (.laz with the reason it is refused).

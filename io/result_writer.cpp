@@ -60,6 +60,12 @@ constexpr unsigned char kViridis[256][3] = {
 /// Grey of rows that have no distance to colour.
 constexpr unsigned char kNoColor = 128;
 
+/// Moreland's cool-warm diverging map at 9 levels (8-bit sRGB), from blue
+/// through a light grey to red.
+constexpr unsigned char kCoolWarm[9][3] = {{59, 76, 192},   {98, 130, 234},  {141, 176, 254},
+                                           {184, 208, 249}, {221, 221, 221}, {245, 196, 173},
+                                           {244, 154, 123}, {222, 96, 77},   {180, 4, 38}};
+
 /// Value of the fields that are empty in CSV.
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
@@ -162,8 +168,10 @@ class PlyResultWriter : public ResultWriter {
   PlyResultWriter(const std::string& path, int dim, const ResultWriteOptions& options)
       : ResultWriter(path, dim, options.extraColumns.size()), options_(options) {
     recordBytes_ = 3 * 8 + 1 + 2 * 4 + 7 * 8 + (options_.colorByDistance ? 3 : 0) + 8 * extraColumns_;
-    twoPass_ = options_.colorByDistance && (std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
-    std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n";
+    signed_ = options_.signedColorColumn >= 0 && static_cast<std::size_t>(options_.signedColorColumn) < extraColumns_;
+    twoPass_ = options_.colorByDistance &&
+               (signed_ ? std::isnan(options_.colorMax) : std::isnan(options_.colorMin) || std::isnan(options_.colorMax));
+    std::string header = "ply\nformat binary_little_endian 1.0\ncomment invmap invert results (docs/formats.md section 5)\n";
     if (options_.colorByDistance) {
       colorCommentOffset_ = static_cast<std::int64_t>(header.size());
       header += ColorComment(options_.colorMin, options_.colorMax);
@@ -190,22 +198,43 @@ class PlyResultWriter : public ResultWriter {
 
   /// The header comment naming the colours' distance range, padded to
   /// kColorCommentBytes.
-  static std::string ColorComment(double lo, double hi) {
+  std::string ColorComment(double lo, double hi) const {
     char text[kColorCommentBytes + 1];
+    const std::string what = signed_ ? "cool-warm colormap of " + PlyName(options_.extraColumns[options_.signedColorColumn])
+                                     : std::string("viridis colormap of distance");
     if (std::isnan(lo) || std::isnan(hi)) {
-      std::snprintf(text, sizeof(text), "comment red green blue: viridis colormap of distance, no found points");
+      std::snprintf(text, sizeof(text), "comment red green blue: %s, no found points", what.c_str());
     } else {
-      std::snprintf(text, sizeof(text), "comment red green blue: viridis colormap of distance from %.17g to %.17g", lo,
-                    hi);
+      std::snprintf(text, sizeof(text), "comment red green blue: %s from %.17g to %.17g", what.c_str(), lo, hi);
     }
     std::string line(text);
     line.resize(kColorCommentBytes - 1, ' ');
     return line + "\n";
   }
 
-  /// Colour of a distance on [lo, hi]; a flat range maps to the first colour.
-  static void Color(double distance, double lo, double hi, unsigned char rgb[3]) {
-    ViridisColor(hi > lo ? (distance - lo) / (hi - lo) : 0.0, rgb);
+  /// Colour of a distance on [lo, hi]; a flat range maps to the first
+  /// colour (a signed distance's to the middle, white).
+  void Color(double distance, double lo, double hi, unsigned char rgb[3]) const {
+    if (signed_) {
+      DivergingColor(hi > lo ? (distance - lo) / (hi - lo) : 0.5, rgb);
+    } else {
+      ViridisColor(hi > lo ? (distance - lo) / (hi - lo) : 0.0, rgb);
+    }
+  }
+
+  /// The colours' range: given, or the shown values' range (a signed
+  /// distance's centred on 0).
+  void ColorRange(double* lo, double* hi) const {
+    const bool anyFound = minDistance_ <= maxDistance_;
+    if (signed_) {
+      *hi = !std::isnan(options_.colorMax) ? options_.colorMax
+            : anyFound                     ? std::max(std::abs(minDistance_), std::abs(maxDistance_))
+                                           : kNan;
+      *lo = -*hi;
+      return;
+    }
+    *lo = !std::isnan(options_.colorMin) ? options_.colorMin : anyFound ? minDistance_ : kNan;
+    *hi = !std::isnan(options_.colorMax) ? options_.colorMax : anyFound ? maxDistance_ : kNan;
   }
 
   /// Offsets in a record of the status byte and of the distance.
@@ -245,10 +274,13 @@ class PlyResultWriter : public ResultWriter {
       }
       if (options_.colorByDistance) {
         unsigned char rgb[3] = {kNoColor, kNoColor, kNoColor};
-        if (found && !twoPass_) Color(values[6], options_.colorMin, options_.colorMax, rgb);
-        if (found && std::isfinite(values[6])) {
-          minDistance_ = std::min(minDistance_, values[6]);
-          maxDistance_ = std::max(maxDistance_, values[6]);
+        const double shown = !found ? kNan : signed_ ? extra[i * extraColumns_ + options_.signedColorColumn] : values[6];
+        if (found && !twoPass_) {
+          Color(shown, signed_ ? -options_.colorMax : options_.colorMin, options_.colorMax, rgb);
+        }
+        if (found && std::isfinite(shown)) {
+          minDistance_ = std::min(minDistance_, shown);
+          maxDistance_ = std::max(maxDistance_, shown);
         }
         std::memcpy(p, rgb, 3);
         p += 3;
@@ -263,13 +295,11 @@ class PlyResultWriter : public ResultWriter {
   /// Patches the count and, when colouring, the range comment and (in
   /// the two-pass case) the colours.
   void Complete() override {
-    out_.WriteAt(countOffset_, PlyPatchableCount(rows_).data(), static_cast<std::size_t>(kPlyPatchableCountDigits));
+    out_.WriteAt(countOffset_, PlyPatchableCount(rows_).data(), static_cast<std::size_t>(kPlyPatchableCountBytes));
     if (!options_.colorByDistance) return;
-    double lo = options_.colorMin;
-    double hi = options_.colorMax;
     const bool anyFound = minDistance_ <= maxDistance_;
-    if (std::isnan(lo)) lo = anyFound ? minDistance_ : kNan;
-    if (std::isnan(hi)) hi = anyFound ? maxDistance_ : kNan;
+    double lo, hi;
+    ColorRange(&lo, &hi);
     out_.WriteAt(colorCommentOffset_, ColorComment(lo, hi).data(), kColorCommentBytes);
     if (!twoPass_ || !anyFound) return;
     // Second pass: the colours of found rows, block by block.
@@ -283,7 +313,8 @@ class PlyResultWriter : public ResultWriter {
       for (std::int64_t r = 0; r < n; ++r) {
         char* record = block.data() + static_cast<std::size_t>(r) * recordBytes_;
         if (record[kStatusOffset] != static_cast<char>(Status::Found)) continue;
-        const double distance = LoadValue<double>(record + kDistanceOffset, false);
+        const std::size_t shownOffset = signed_ ? kColorOffset + 3 + 8 * options_.signedColorColumn : kDistanceOffset;
+        const double distance = LoadValue<double>(record + shownOffset, false);
         Color(distance, lo, hi, reinterpret_cast<unsigned char*>(record + kColorOffset));
       }
       out_.WriteAt(offset, block.data(), block.size());
@@ -293,6 +324,7 @@ class PlyResultWriter : public ResultWriter {
   ResultWriteOptions options_;
   std::size_t recordBytes_ = 0;          ///< 89 bytes, 92 with colours, 8 more per extra column.
   bool twoPass_ = false;                 ///< Colours wait for the distance range at Complete.
+  bool signed_ = false;                  ///< Colours show ResultWriteOptions::signedColorColumn.
   std::int64_t countOffset_ = 0;         ///< Offset of the vertex count digits.
   std::int64_t colorCommentOffset_ = 0;  ///< Offset of the colour comment line.
   std::int64_t dataOffset_ = 0;          ///< Offset of the first record.
@@ -357,6 +389,19 @@ class NpyResultWriter : public ResultWriter {
 
 }  // namespace
 
+void DivergingColor(double t, unsigned char rgb[3]) {
+  if (std::isnan(t)) {
+    rgb[0] = rgb[1] = rgb[2] = kNoColor;
+    return;
+  }
+  const double x = std::min(std::max(t, 0.0), 1.0) * 8.0;
+  const int i = std::min(7, static_cast<int>(x));
+  const double f = x - i;
+  for (int k = 0; k < 3; ++k) {
+    rgb[k] = static_cast<unsigned char>(std::lround((1.0 - f) * kCoolWarm[i][k] + f * kCoolWarm[i + 1][k]));
+  }
+}
+
 void ViridisColor(double t, unsigned char rgb[3]) {
   if (std::isnan(t)) {
     rgb[0] = rgb[1] = rgb[2] = kNoColor;
@@ -389,6 +434,11 @@ void ResultWriter::Finish() {
   Complete();
   out_.Commit();
   finished_ = true;
+}
+
+bool IsResultFileName(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  return ext == ".csv" || ext == ".ply" || ext == ".npy";
 }
 
 std::unique_ptr<ResultWriter> OpenResultWriter(const std::string& path, int dim, const ResultWriteOptions& options) {

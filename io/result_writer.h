@@ -1,4 +1,4 @@
-// Streaming output of inversion results (FORMATS.md section 4) as CSV, PLY
+// Streaming output of inversion results (docs/formats.md section 5) as CSV, PLY
 // or npy, chosen by the output's extension. Rows are appended chunk by
 // chunk in input order; counts that a header needs are patched in place at
 // the end, and the file appears under its name only once complete.
@@ -38,6 +38,11 @@ struct ResultWriteOptions {
   /// `extra`); NaN is an empty CSV field. A name with a comma or a quote is
   /// quoted in the CSV header; white space becomes '_' in PLY names.
   std::vector<std::string> extraColumns;
+  /// With colorByDistance: colour by this extra column instead, a signed
+  /// distance (CAD solids' `signed_distance`, negative inside), on a
+  /// diverging blue-white-red map centred on 0 (white) over [-m, m]: m the
+  /// largest |value| found, or colorMax when given. -1: the distance.
+  int signedColorColumn = -1;
 };
 
 /// Writes result rows to one file. Not thread-safe.
@@ -102,6 +107,10 @@ class ResultWriter {
   bool finished_ = false;  ///< Set by a successful Finish.
 };
 
+/// True when OpenResultWriter writes files named like `path` (.csv, .ply,
+/// .npy, case-insensitive).
+bool IsResultFileName(const std::string& path);
+
 /// Opens a result file for points of dimension `dim` (2 or 3), choosing the
 /// format by extension (.csv, .ply, .npy). Throws InputError of kind Output
 /// for another extension or when the file cannot be created.
@@ -112,5 +121,10 @@ std::unique_ptr<ResultWriter> OpenResultWriter(const std::string& path, int dim,
 /// matplotlib's viridis colormap (CC0, van der Walt, Smith and Firing),
 /// sampled at 256 levels: rgb[0..3).
 void ViridisColor(double t, unsigned char rgb[3]);
+
+/// Colour of t in [0, 1] (clamped; NaN gives grey) on a diverging
+/// blue-white-red map (Moreland's cool-warm): blue at 0, a light grey at
+/// 1/2, red at 1. Signed distances use it centred on 0.
+void DivergingColor(double t, unsigned char rgb[3]);
 
 }  // namespace invmap::io

@@ -39,6 +39,11 @@ const std::string& MatchingPath(const std::string& path, PointFormat format) {
   return path;
 }
 
+/// True for a PLY header line "comment" followed by nothing but spaces.
+bool IsBlankComment(const std::string& line) {
+  return line.rfind("comment", 0) == 0 && line.find_first_not_of(' ', 7) == std::string::npos;
+}
+
 }  // namespace
 
 TrimWriter::TrimWriter(const std::string& path, const PointFileLayout& layout)
@@ -72,7 +77,9 @@ TrimWriter::TrimWriter(const std::string& path, const PointFileLayout& layout)
           ++next;
           continue;
         }
-        if (keep || isEnd) out_.Write(header.lines[i] + "\n");
+        // A blank comment is the padding of a count written by invmap
+        // (PlyPatchableCount): the count written here brings its own.
+        if ((keep && !IsBlankComment(header.lines[i])) || isEnd) out_.Write(header.lines[i] + "\n");
       }
       break;
     }
@@ -113,7 +120,7 @@ void TrimWriter::WriteChunk(const PointChunk& chunk, const unsigned char* keep) 
 void TrimWriter::Finish() {
   if (finished_) throw std::logic_error("TrimWriter::Finish called twice");
   if (format_ == PointFormat::Ply) {
-    out_.WriteAt(countOffset_, PlyPatchableCount(written_).data(), static_cast<std::size_t>(kPlyPatchableCountDigits));
+    out_.WriteAt(countOffset_, PlyPatchableCount(written_).data(), static_cast<std::size_t>(kPlyPatchableCountBytes));
   } else if (format_ == PointFormat::Npy) {
     const std::string header = FixedNpyHeader(npyDescr_, written_, npyColumns_);
     out_.WriteAt(0, header.data(), header.size());

@@ -1,4 +1,4 @@
-// Output of `invmap trim` (FORMATS.md section 5): the input points that pass
+// Output of `invmap trim` (docs/formats.md section 6): the input points that pass
 // a filter, written unchanged with all their attributes, in input order and
 // in the input's own format.
 #pragma once
@@ -23,7 +23,7 @@ class PcdTrimWriter;
 ///    (blank lines of the input are not points and are dropped);
 ///  - PLY: the input's header lines (format, comments, obj_info) and its
 ///    vertex element with all properties, the count patched at Finish
-///    (zero-padded, kPlyPatchableCountDigits); other elements such as
+///    (PlyPatchableCount); other elements such as
 ///    faces are dropped, since their vertex indices would no longer hold;
 ///    then the kept records byte for byte (ascii: line for line);
 ///  - npy: a header with the input's dtype and shape (kept, columns), then

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/tolerances.h"
+
 namespace invmap::kernels {
 
 void ClampToDomain(const CellShape& shape, double* ref) {
@@ -59,7 +61,7 @@ void SnapToDomain(CellType type, double* ref) {
       sum += s[i];
     }
     // Farther out than rounding: back onto the face first (as ClampToDomain).
-    if (sum > 1.0 + 1e-12) {
+    if (sum > 1.0 + kOutsideDomain) {
       for (int i = 0; i < dim; ++i) s[i] /= sum;
     }
     // Then over by a few ulps at most.
@@ -107,6 +109,28 @@ double ReleaseDerivative(const CellShape& shape, const ActiveSet& active, int f,
   double step[3];
   ReleaseDirection(shape, active, f, k, step);
   return step[0] * grad[0] + step[1] * grad[1] + step[2] * grad[2];
+}
+
+void SnapToFace(const CellShape& shape, const ActiveSet& active, double* ref) {
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double* s = ref + fac.offset;
+    for (int k = 1; k <= fac.dim; ++k) {
+      if (active.enforced[f] & (1u << k)) s[k - 1] = 0.0;
+    }
+    if (active.enforced[f] & 1u) {
+      // lambda_0 = 0: the free coordinates sum to one. Put the excess on the
+      // largest free coordinate.
+      double sum = 0.0;
+      int largest = -1;
+      for (int i = 0; i < fac.dim; ++i) {
+        sum += s[i];
+        if (!(active.enforced[f] & (1u << (i + 1))) && (largest < 0 || s[i] > s[largest])) largest = i;
+      }
+      if (largest >= 0) s[largest] += 1.0 - sum;
+    }
+    for (int i = 0; i < fac.dim; ++i) s[i] = std::clamp(s[i], 0.0, 1.0);
+  }
 }
 
 }  // namespace invmap::kernels

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "kernels/cell_shape.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::kernels {
 
@@ -23,6 +24,72 @@ inline void FactorBarycentric(const CellShape& shape, int f, const double* ref, 
     lambda[i + 1] = ref[fac.offset + i];
     lambda[0] -= ref[fac.offset + i];
   }
+}
+
+/// The enforced constraints of a point: barycentric coordinates at zero (at
+/// most kOnFaceTolerance).
+inline ActiveSet ActiveSetAt(const CellShape& shape, const double* ref) {
+  ActiveSet active;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    double lambda[4];
+    FactorBarycentric(shape, f, ref, lambda);
+    const int dim = shape.factor(f).dim;
+    for (int k = 0; k <= dim; ++k) {
+      if (lambda[k] <= kOnFaceTolerance) active.enforced[f] |= 1u << k;
+    }
+    // Keep one coordinate free (a vertex leaves exactly one).
+    if (active.enforced[f] == (1u << (dim + 1)) - 1) active.enforced[f] &= ~1u;
+  }
+  return active;
+}
+
+/// Puts `ref` exactly on the face of every enforced constraint (rounding in
+/// the steps would otherwise leave it a hair off).
+void SnapToFace(const CellShape& shape, const ActiveSet& active, double* ref);
+
+/// True when `step` decreases barycentric coordinate k of factor f.
+inline bool MovesOut(const CellShape& shape, int f, int k, const double* step) {
+  const SimplexFactor& fac = shape.factor(f);
+  double d = 0.0;
+  if (k > 0) {
+    d = step[fac.offset + k - 1];
+  } else {
+    for (int i = 0; i < fac.dim; ++i) d -= step[fac.offset + i];
+  }
+  return d < 0.0;
+}
+
+/// Largest step fraction in (0, 1] that keeps every free barycentric
+/// coordinate non-negative, and the constraint that blocks it (factor, index).
+inline double FeasibleFraction(const CellShape& shape, const ActiveSet& active, const double* ref, const double* step,
+                               int* blockFactor, int* blockIndex) {
+  double alpha = 1.0;
+  *blockFactor = -1;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double lambda[4], dLambda[4];
+    FactorBarycentric(shape, f, ref, lambda);
+    dLambda[0] = 0.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      dLambda[i + 1] = step[fac.offset + i];
+      dLambda[0] -= step[fac.offset + i];
+    }
+    for (int k = 0; k <= fac.dim; ++k) {
+      if ((active.enforced[f] & (1u << k)) || dLambda[k] >= 0.0) continue;
+      // Most constraints are nowhere near blocking: those with twice the
+      // room the step needs skip the division (the test is exact: their
+      // fraction is at least 2 alpha, rounding included).
+      const double room = std::max(0.0, lambda[k]);
+      if (room >= 2.0 * alpha * -dLambda[k]) continue;
+      const double a = room / -dLambda[k];
+      if (a < alpha) {
+        alpha = a;
+        *blockFactor = f;
+        *blockIndex = k;
+      }
+    }
+  }
+  return alpha;
 }
 
 /// Clamps `ref` into the reference domain (each simplex factor separately).

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/tolerances.h"
+
 namespace invmap::kernels {
 namespace {
 
@@ -150,7 +152,7 @@ double ClosestPointOnSimplex(int dim, int ambientDim, const double* const* v, co
                      e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
   double scale = 1.0;
   for (int i = 0; i < 3; ++i) scale *= std::sqrt(e[0][i] * e[0][i] + e[1][i] * e[1][i] + e[2][i] * e[2][i]);
-  if (std::abs(det) > 1e-12 * scale) {
+  if (std::abs(det) > kFlatTetrahedron * scale) {
     // Cramer's rule for the reference coordinates of p.
     double lambda[3];
     for (int i = 0; i < 3; ++i) {

@@ -4,14 +4,9 @@
 
 namespace invmap::kernels {
 
-/// sin^2 of a triangle's angle at its first vertex above which its plane
-/// projection alone is trusted when it falls inside the triangle; thinner
-/// triangles compare their edges too (see TriangleParameters).
-inline constexpr double kWellShapedSin2 = 1e-8;
-
 /// Closest point to `p` on the simplex with vertices v[0..dim] (`ambientDim`
 /// coordinates each): writes its reference coordinates (the barycentric
-/// coordinates of vertices 1..dim, FORMATS.md section 1) to `ref` and the
+/// coordinates of vertices 1..dim, docs/formats.md section 1) to `ref` and the
 /// point to `closest`; returns the squared distance and sets `onBoundary`.
 /// Degenerate simplices (coincident or collinear vertices) are handled: the
 /// answer is a closest point of the degenerate set.

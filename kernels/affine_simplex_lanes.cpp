@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "kernels/affine_simplex.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::kernels {
 namespace {
@@ -19,10 +20,6 @@ double Dot(const Vec& a, const Vec& b) { return a.x * b.x + a.y * b.y + a.z * b.
 Vec Cross(const Vec& a, const Vec& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 
 double Clamp01(double x) { return std::min(1.0, std::max(0.0, x)); }
-
-/// Relative size below which a simplex counts as degenerate and is left to
-/// the scalar solver (which handles collapsed simplices).
-constexpr double kDegenerate = 1e-14;
 
 /// Triangle (a, a + e1, a + e2) on lanes [0, count): (s, t) and squared
 /// distance. The closest point is the projection onto the plane when it
@@ -153,7 +150,7 @@ bool Degenerate(int dim, int ambientDim, const double* const* v) {
   const Vec e3 = Sub(Load(v[3], 3), a);
   const double volume = std::fabs(Dot(e1, Cross(e2, e3)));
   const double scale = std::sqrt(Dot(e1, e1) * Dot(e2, e2) * Dot(e3, e3));
-  if (!(volume > kDegenerate * scale)) return true;
+  if (!(volume > kDegenerateLaneSimplex * scale)) return true;
   // Every face must be usable by the triangle lanes too.
   constexpr int kFaces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
   for (const auto& face : kFaces) {

@@ -1,11 +1,15 @@
 #include "kernels/bernstein_net.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <utility>
+#include <vector>
 
 #include "kernels/interval_matrix.h"
 #include "kernels/simplex_index.h"
@@ -295,41 +299,122 @@ double MostBentLine(const CellShape& shape, const double* q, const double* ww, d
   return most;
 }
 
+namespace {
+
+/// One factor of a product of nets: for each pair of positions (pa, pb) of
+/// the two factors, the position of the sum of their multi-indices in the
+/// product's factor and the weight C(alpha) C(beta) / C(alpha + beta) of
+/// B^p_alpha B^q_beta = weight B^{p+q}_{alpha+beta} (C the multinomial
+/// coefficients; at most 1, so a weighted term never exceeds the product of
+/// its coefficients). A missing factor is one position of weight 1.
+struct FactorProduct {
+  int countA = 1, countB = 1;
+  std::vector<int> target{0};      ///< [pa * countB + pb]: position in the product factor.
+  std::vector<double> weight{1.0};  ///< [pa * countB + pb].
+
+  /// The table of a factor of dimension `dim` and degrees a and b, built
+  /// once per process (a degree-8 tet's is 330 KB; allocated per product it
+  /// cost more than the product). Thread-safe.
+  static const FactorProduct& Get(int dim, int degreeA, int degreeB) {
+    static std::mutex mutex;
+    static std::map<std::array<int, 3>, std::unique_ptr<const FactorProduct>> cache;
+    std::lock_guard<std::mutex> lock(mutex);
+    std::unique_ptr<const FactorProduct>& entry = cache[{dim, degreeA, degreeB}];
+    if (!entry) {
+      entry = std::make_unique<const FactorProduct>(SimplexIndex::Get(dim, degreeA), SimplexIndex::Get(dim, degreeB),
+                                                    SimplexIndex::Get(dim, degreeA + degreeB));
+    }
+    return *entry;
+  }
+
+  FactorProduct() = default;
+  FactorProduct(const SimplexIndex& a, const SimplexIndex& b, const SimplexIndex& product)
+      : countA(a.size()), countB(b.size()), target(static_cast<size_t>(countA) * countB),
+        weight(static_cast<size_t>(countA) * countB) {
+    for (int pa = 0; pa < countA; ++pa) {
+      for (int pb = 0; pb < countB; ++pb) {
+        const std::array<int, 4>& ma = a.multi(pa);
+        const std::array<int, 4>& mb = b.multi(pb);
+        const int ps = product.Position(std::array<int, 4>{ma[0] + mb[0], ma[1] + mb[1], ma[2] + mb[2], ma[3] + mb[3]});
+        target[static_cast<size_t>(pa) * countB + pb] = ps;
+        weight[static_cast<size_t>(pa) * countB + pb] = a.multinomial(pa) * b.multinomial(pb) / product.multinomial(ps);
+      }
+    }
+  }
+};
+
+}  // namespace
+
 void MultiplyNets(const CellShape& a, const double* netA, const CellShape& b, const double* netB, double* out) {
   std::array<int, kMaxFactors> degrees{};
   for (int f = 0; f < a.numFactors(); ++f) degrees[f] = a.factor(f).degree + b.factor(f).degree;
   const CellShape product(a.type(), degrees);
   const NetLayout la(a), lb(b), lp(product);
   std::fill(out, out + NetSize(product), 0.0);
-  // B^p_alpha B^q_beta = C(alpha) C(beta) / C(alpha + beta) B^{p+q}_{alpha+beta}
-  // per factor, with C the multinomial coefficients.
-  for (int ia = 0; ia < NetSize(a); ++ia) {
-    if (netA[ia] == 0.0) continue;
-    for (int ib = 0; ib < NetSize(b); ++ib) {
-      double coef = netA[ia] * netB[ib];
-      int target = 0;
-      for (int f = 0; f < la.numFactors; ++f) {
-        const int pa = la.Position(ia, f), pb = lb.Position(ib, f);
-        const std::array<int, 4>& ma = la.index[f]->multi(pa);
-        const std::array<int, 4>& mb = lb.index[f]->multi(pb);
-        const std::array<int, 4> sum{ma[0] + mb[0], ma[1] + mb[1], ma[2] + mb[2], ma[3] + mb[3]};
-        const int ps = lp.index[f]->Position(sum);
-        coef *= la.index[f]->multinomial(pa) * lb.index[f]->multinomial(pb) / lp.index[f]->multinomial(ps);
-        target += ps * lp.stride[f];
+  // Per factor, the pairs' targets and weights (a missing factor: one
+  // position). The loops below run over the pairs of coefficients in flat
+  // order (first factor fastest), a before b, and the innermost one over
+  // factor 0 of b reads b, the weights and (for a line) the product
+  // contiguously: a product of two degree-8 hexes' nets is 531,441 pairs,
+  // and locating each pair through multi-indices cost a hundred times more
+  // than its arithmetic (a degree-8 volume of 1,728 cells took 107 s to
+  // build; see docs/limitations.md).
+  static const FactorProduct kMissing;
+  const FactorProduct* factors[kMaxFactors] = {&kMissing, &kMissing, &kMissing};
+  for (int f = 0; f < la.numFactors; ++f) {
+    factors[f] = &FactorProduct::Get(a.factor(f).dim, a.factor(f).degree, b.factor(f).degree);
+  }
+  const FactorProduct &f0 = *factors[0], &f1 = *factors[1], &f2 = *factors[2];
+  const bool line0 = a.factor(0).dim == 1;
+  for (int pa2 = 0; pa2 < f2.countA; ++pa2) {
+    for (int pa1 = 0; pa1 < f1.countA; ++pa1) {
+      for (int pa0 = 0; pa0 < f0.countA; ++pa0) {
+        const double coefA = netA[pa0 + pa1 * la.stride[1] + pa2 * la.stride[2]];
+        if (coefA == 0.0) continue;
+        const int* target0 = &f0.target[static_cast<size_t>(pa0) * f0.countB];
+        const double* weight0 = &f0.weight[static_cast<size_t>(pa0) * f0.countB];
+        for (int pb2 = 0; pb2 < f2.countB; ++pb2) {
+          const std::size_t pair2 = static_cast<size_t>(pa2) * f2.countB + pb2;
+          for (int pb1 = 0; pb1 < f1.countB; ++pb1) {
+            const std::size_t pair1 = static_cast<size_t>(pa1) * f1.countB + pb1;
+            const double scaled = coefA * f1.weight[pair1] * f2.weight[pair2];
+            const int base = f1.target[pair1] * lp.stride[1] + f2.target[pair2] * lp.stride[2];
+            const double* rowB = netB + pb1 * lb.stride[1] + pb2 * lb.stride[2];
+            if (line0) {
+              // A line's positions add: the product's row is contiguous.
+              double* rowOut = out + base + pa0;
+              for (int pb0 = 0; pb0 < f0.countB; ++pb0) rowOut[pb0] += scaled * (rowB[pb0] * weight0[pb0]);
+            } else {
+              for (int pb0 = 0; pb0 < f0.countB; ++pb0) out[base + target0[pb0]] += scaled * (rowB[pb0] * weight0[pb0]);
+            }
+          }
+        }
       }
-      out[target] += coef;
     }
   }
 }
 
-void DifferentiateNet(const CellShape& shape, int factor, int dir, const double* in, double* out,
-                      CellShape* outShape) {
+namespace {
+
+/// The rule of DifferentiateNet: output coefficient c is
+/// degree * (in[up[c]] - in[zero[c]]).
+struct DerivativeRule {
+  CellShape shape;        ///< Of the output.
+  int degree = 0;         ///< The differentiated factor's degree.
+  std::vector<int> up;    ///< Input position of beta + e_dir.
+  std::vector<int> zero;  ///< Input position of beta + e_0.
+};
+
+DerivativeRule BuildDerivativeRule(const CellShape& shape, int factor, int dir) {
   std::array<int, kMaxFactors> degrees{};
   for (int f = 0; f < shape.numFactors(); ++f) degrees[f] = shape.factor(f).degree - (f == factor ? 1 : 0);
-  *outShape = CellShape(shape.type(), degrees);
-  const NetLayout from(shape), to(*outShape);
-  const int p = shape.factor(factor).degree;
-  const int nOut = NetSize(*outShape);
+  DerivativeRule rule;
+  rule.shape = CellShape(shape.type(), degrees);
+  rule.degree = shape.factor(factor).degree;
+  const NetLayout from(shape), to(rule.shape);
+  const int nOut = NetSize(rule.shape);
+  rule.up.resize(nOut);
+  rule.zero.resize(nOut);
   // d/ds_dir B^p_{beta + .} sums: b'_beta = p (b_{beta + e_dir} - b_{beta + e_0}).
   for (int c = 0; c < nOut; ++c) {
     int base = 0;
@@ -342,8 +427,20 @@ void DifferentiateNet(const CellShape& shape, int factor, int dir, const double*
     zero[0] += 1;
     const int stride = from.stride[factor];
     const SimplexIndex& index = *from.index[factor];
-    out[c] = p * (in[base + index.Position(up) * stride] - in[base + index.Position(zero) * stride]);
+    rule.up[c] = base + index.Position(up) * stride;
+    rule.zero[c] = base + index.Position(zero) * stride;
   }
+  return rule;
+}
+
+}  // namespace
+
+void DifferentiateNet(const CellShape& shape, int factor, int dir, const double* in, double* out,
+                      CellShape* outShape) {
+  const DerivativeRule rule = BuildDerivativeRule(shape, factor, dir);
+  *outShape = rule.shape;
+  const int p = rule.degree;
+  for (std::size_t c = 0; c < rule.up.size(); ++c) out[c] = p * (in[rule.up[c]] - in[rule.zero[c]]);
 }
 
 const HessianStencil& HessianStencil::Get(const CellShape& shape) {
@@ -360,7 +457,6 @@ const HessianStencil& HessianStencil::Get(const CellShape& shape) {
 }
 
 HessianStencil::HessianStencil(const CellShape& shape) : paramDim_(shape.paramDim()) {
-  const int n = NetSize(shape);
   int factorOf[3] = {0, 0, 0}, dirOf[3] = {0, 0, 0};
   for (int f = 0; f < shape.numFactors(); ++f) {
     for (int d = 0; d < shape.factor(f).dim; ++d) {
@@ -368,28 +464,42 @@ HessianStencil::HessianStencil(const CellShape& shape) : paramDim_(shape.paramDi
       dirOf[shape.factor(f).offset + d] = d;
     }
   }
-  // Differentiate each unit net twice and keep the non-zero weights: two
-  // differences give rows of at most HessianRun::kMaxTerms terms.
-  std::vector<double> unit(n, 0.0), first(n), second(n);
+  // Each row composes the two differences' rules: at most
+  // HessianRun::kMaxTerms terms, merged by input position (ascending) with
+  // their integer weights summed and zeros dropped, as differentiating each
+  // unit net twice gives them (which cost O(n^2): 28 s for the degree-16
+  // nets of a degree-8 hex).
   for (int a = 0; a < paramDim_; ++a) {
     for (int b = a; b < paramDim_; ++b) {
       Entry& entry = entries_[a][b];
-      CellShape s1, s2;
       const bool defined = shape.factor(factorOf[a]).degree >= 1 &&
                            shape.factor(factorOf[b]).degree >= (factorOf[a] == factorOf[b] ? 2 : 1);
       if (!defined) continue;  // identically zero: no rows
-      std::vector<std::vector<std::pair<int, double>>> rows;
-      for (int s = 0; s < n; ++s) {
-        unit[s] = 1.0;
-        DifferentiateNet(shape, factorOf[a], dirOf[a], unit.data(), first.data(), &s1);
-        DifferentiateNet(s1, factorOf[b], dirOf[b], first.data(), second.data(), &s2);
-        unit[s] = 0.0;
-        rows.resize(NetSize(s2));
-        for (int r = 0; r < NetSize(s2); ++r) {
-          if (second[r] != 0.0) rows[r].emplace_back(s, second[r]);
+      const DerivativeRule first = BuildDerivativeRule(shape, factorOf[a], dirOf[a]);
+      const DerivativeRule second = BuildDerivativeRule(first.shape, factorOf[b], dirOf[b]);
+      const double p1 = first.degree, p2 = second.degree;
+      std::vector<std::pair<int, double>> row;
+      for (std::size_t r = 0; r < second.up.size(); ++r) {
+        const std::pair<int, double> terms[4] = {{first.up[second.up[r]], p2 * p1},
+                                                 {first.zero[second.up[r]], -(p2 * p1)},
+                                                 {first.up[second.zero[r]], -(p2 * p1)},
+                                                 {first.zero[second.zero[r]], p2 * p1}};
+        row.assign(std::begin(terms), std::end(terms));
+        std::sort(row.begin(), row.end());
+        // Merge equal positions, then drop the terms that cancel.
+        std::size_t kept = 0;
+        for (std::size_t t = 0; t < row.size(); ++t) {
+          if (kept > 0 && row[kept - 1].first == row[t].first) {
+            row[kept - 1].second += row[t].second;
+          } else {
+            row[kept++] = row[t];
+          }
         }
+        row.resize(kept);
+        row.erase(std::remove_if(row.begin(), row.end(), [](const auto& term) { return term.second == 0.0; }),
+                  row.end());
+        AppendRow(row, &entry.runs);
       }
-      for (const auto& row : rows) AppendRow(row, &entry.runs);
     }
   }
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "kernels/simplex_index.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::kernels {
 
@@ -43,7 +44,7 @@ bool IsAffineCell(const CellView& cell, double size) {
   const int ad = cell.ambientDim;
   if (cell.weights) {
     for (int c = 1; c < n; ++c) {
-      if (std::abs(cell.weights[c] - cell.weights[0]) > 1e-14 * cell.weights[0]) return false;
+      if (std::abs(cell.weights[c] - cell.weights[0]) > kEqualWeights * cell.weights[0]) return false;
     }
   }
   // The candidate affine map x(u) = origin + A u, read off at the reference
@@ -59,7 +60,7 @@ bool IsAffineCell(const CellView& cell, double size) {
     EvaluateMap(cell, unit, JetOrder::Value, &jet);
     for (int k = 0; k < ad; ++k) a[k][i] = jet.x[k] - origin[k];
   }
-  const double tol = 1e-12 * size;
+  const double tol = kAffineCellTolerance * size;
   for (int c = 0; c < n; ++c) {
     ControlPointLocation(cell.shape, c, ref);
     for (int k = 0; k < ad; ++k) {

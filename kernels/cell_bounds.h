@@ -15,7 +15,7 @@ void ComputeControlBox(const CellView& cell, double* lo, double* hi);
 /// under one affine map, within `1e-12 * size`.
 bool IsAffineCell(const CellView& cell, double size);
 
-/// Centroid of the reference domain (FORMATS.md section 1).
+/// Centroid of the reference domain (docs/formats.md section 1).
 void ReferenceCenter(const CellShape& shape, double* ref);
 
 /// Reference location of control point `c` (its lattice point a / degree per factor).

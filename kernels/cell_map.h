@@ -12,7 +12,7 @@ struct CellView {
   CellShape shape;
   int ambientDim = 3;  ///< 2 or 3; control points and query points have this many coordinates.
   /// Control points, Cartesian, numControlPoints() x ambientDim, point-major
-  /// (point k's coordinate i at points[k * ambientDim + i]), FORMATS.md order.
+  /// (point k's coordinate i at points[k * ambientDim + i]), docs/formats.md order.
   const double* points = nullptr;
   /// Optional: one positive weight per control point (rational cell); null
   /// for a polynomial cell.
@@ -31,7 +31,7 @@ struct MapJet {
 };
 
 /// Evaluates the map of `cell` at reference coordinates `ref` (paramDim
-/// values, FORMATS.md section 1) up to `order`. Outside the reference domain
+/// values, docs/formats.md section 1) up to `order`. Outside the reference domain
 /// the polynomial extension is evaluated. Rational cells use the quotient rule
 /// on the homogeneous sums, so positive weights give a finite result.
 void EvaluateMap(const CellView& cell, const double* ref, JetOrder order, MapJet* out);

@@ -8,6 +8,7 @@
 #include "kernels/active_set.h"
 #include "kernels/bernstein_net.h"
 #include "kernels/cell_bounds.h"
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
 
@@ -403,9 +404,6 @@ void MinimaSearch::SolveOnFace(double* slot, int factor, int side, bool strict, 
     for (int k = 0; k < ad_; ++k) points.push_back(homogeneous[static_cast<size_t>(k) * ncp_ + c] / w[c]);
     weights.push_back(w[c]);
   }
-  // Free parameters of the face, in the subdomain's local coordinates.
-  double local[3] = {0, 0, 0};
-  local[factor] = localSide;
   if (faceFactors == 0) {
     // A curve's end: one point.
     double ref[3] = {0, 0, 0};

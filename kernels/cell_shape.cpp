@@ -68,22 +68,4 @@ bool CellShape::IsValid() const {
   return true;
 }
 
-const char* CellTypeName(CellType type) {
-  switch (type) {
-    case CellType::Line:
-      return "line";
-    case CellType::Tri:
-      return "tri";
-    case CellType::Quad:
-      return "quad";
-    case CellType::Tet:
-      return "tet";
-    case CellType::Hex:
-      return "hex";
-    case CellType::Wedge:
-      return "wedge";
-  }
-  return "unknown";
-}
-
 }  // namespace invmap::kernels

@@ -1,14 +1,15 @@
-// Cell types as tensor products of simplices (FORMATS.md section 1).
+// Cell types as tensor products of simplices (docs/formats.md section 1).
 #pragma once
 
 #include <array>
 #include <cstdint>
 
+#include "invmap/cell_type.h"
+
 namespace invmap::kernels {
 
-/// Reference cell types. Every type is a tensor product of one to three
-/// simplex factors (line = 1-simplex, tri = 2-simplex, tet = 3-simplex).
-enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
+/// The public cell type (invmap/cell_type.h), named here as kernel code names it.
+using invmap::CellType;
 
 /// Largest number of simplex factors in a cell (hex = line x line x line).
 constexpr int kMaxFactors = 3;
@@ -47,7 +48,7 @@ constexpr int SimplexBasisSize(int dim, int degree) {
 
 /// A cell type with its per-factor degrees: everything needed to size and
 /// index its control net. Degrees are listed per simplex factor as in
-/// FORMATS.md (line [p], tri [p], quad [p, q], tet [p], hex [p, q, r],
+/// docs/formats.md (line [p], tri [p], quad [p, q], tet [p], hex [p, q, r],
 /// wedge [p_tri, q_line]).
 class CellShape {
  public:
@@ -91,8 +92,5 @@ class CellShape {
   int numControlPoints_ = 0;
   std::array<SimplexFactor, kMaxFactors> factors_{};
 };
-
-/// Name of a cell type as written in geometry files ("line", "tri", ...).
-const char* CellTypeName(CellType type);
 
 }  // namespace invmap::kernels

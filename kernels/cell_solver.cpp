@@ -11,7 +11,10 @@
 #include "kernels/cell_charts.h"
 #include "kernels/cramer.h"
 #include "kernels/face_certificate.h"
+#include "kernels/kkt_exclusion.h"
 #include "kernels/layer_newton.h"
+#include "kernels/simplex_subdomain.h"
+#include "kernels/slot_pool.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
@@ -20,12 +23,13 @@ namespace invmap::kernels {
 namespace {
 
 /// A subdomain of the branch and bound lives in one slot of the workspace:
-/// a header (lower bound, depth, the vertices of each factor's sub-simplex in
-/// the cell's reference coordinates) followed by its q net and, for rational
-/// cells, its WW net.
+/// a header (lower bound, depth, for trimmed cells its TrimRegion::Side,
+/// the vertices of each factor's sub-simplex in the cell's reference
+/// coordinates) followed by its q net and, for rational cells, its WW net.
 constexpr int kLowerBound = 0;
 constexpr int kDepth = 1;
-constexpr int kVertices = 2;  // [factor][vertex][coordinate], 3 x 4 x 3 values
+constexpr int kTrimSide = 2;
+constexpr int kVertices = 3;  // [factor][vertex][coordinate], 3 x 4 x 3 values
 constexpr int kHeaderSize = kVertices + kMaxFactors * 4 * 3;
 
 double* Vertex(double* slot, int factor, int vertex) { return slot + kVertices + (factor * 4 + vertex) * 3; }
@@ -56,30 +60,7 @@ void SubdomainCenter(const CellShape& shape, double* slot, double* ref) {
 bool SubdomainContains(const CellShape& shape, double* slot, const double* ref) {
   for (int f = 0; f < shape.numFactors(); ++f) {
     const SimplexFactor& fac = shape.factor(f);
-    const int d = fac.dim;
-    if (d == 1) {
-      // An interval: the same quotient the padded factorization below
-      // computes, without setting it up (line, quad and hex cells).
-      const double v0 = Vertex(slot, f, 0)[0];
-      const double mu = (ref[fac.offset] - v0) / (Vertex(slot, f, 1)[0] - v0);
-      if (mu < -kInsideTolerance || 1.0 - mu < -kInsideTolerance) return false;
-      continue;
-    }
-    Eigen::Matrix3d edges = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    const double* v0 = Vertex(slot, f, 0);
-    for (int k = 1; k <= d; ++k) {
-      for (int i = 0; i < d; ++i) edges(i, k - 1) = Vertex(slot, f, k)[i] - v0[i];
-    }
-    for (int i = 0; i < d; ++i) rhs[i] = ref[fac.offset + i] - v0[i];
-    // The identity pads the unused dimensions: a fixed-size solve, no heap.
-    const Eigen::Vector3d mu = edges.partialPivLu().solve(rhs);
-    double sum = 0.0;
-    for (int k = 0; k < d; ++k) {
-      if (mu[k] < -kInsideTolerance) return false;
-      sum += mu[k];
-    }
-    if (1.0 - sum < -kInsideTolerance) return false;
+    if (!InSimplexSubdomain(fac.dim, ref + fac.offset, [&](int v) { return Vertex(slot, f, v); })) return false;
   }
   return true;
 }
@@ -129,12 +110,39 @@ void ChooseSplit(const CellShape& shape, double* slot, const double* paramScale,
   }
 }
 
-/// A part of a cell whose squared distance stays at or above this level
-/// cannot beat a best squared distance `best2` by more than tau (the
-/// distance tolerance times the cell's size); `slack` covers the rounding of
-/// the nets' coefficients.
-double ExclusionLevel(double best2, double tau, double slack) {
-  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
+/// True when a subdomain of line factors is over kMaxElongation times as
+/// long (in the cell's lengths per parameter) along one factor as along
+/// another. Trimmed cells split such subdomains across their length: split
+/// where the net bends most, the subdomains along a trimming curve or a
+/// collapsed edge could become slivers that no test ever closes.
+constexpr double kMaxElongation = 16.0;
+bool Elongated(const CellShape& shape, double* slot, const double* paramScale) {
+  double shortest = std::numeric_limits<double>::infinity(), longest = 0.0;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const double length = (Vertex(slot, f, 1)[0] - Vertex(slot, f, 0)[0]) * paramScale[shape.factor(f).offset];
+    shortest = std::min(shortest, length);
+    longest = std::max(longest, length);
+  }
+  return longest > kMaxElongation * shortest;
+}
+
+/// A trimmed cell's subdomain box in reference coordinates (line factors).
+void SubdomainBox(const CellShape& shape, double* slot, double* lo, double* hi) {
+  for (int d = 0; d < shape.numFactors(); ++d) {
+    lo[d] = Vertex(slot, d, 0)[0];
+    hi[d] = Vertex(slot, d, 1)[0];
+  }
+}
+
+/// The local answer at `ref` that a trimmed cell's search keeps when no KKT
+/// point of its region has been found: any point of the face bounds the
+/// distance from above, which lets the search prune (it is never certified).
+LocalSolveResult SampleAnswer(const double* ref, int paramDim, const MapJet& jet, int ambientDim, double f) {
+  LocalSolveResult sample;
+  std::copy(ref, ref + paramDim, sample.ref);
+  std::copy(jet.x, jet.x + ambientDim, sample.closest);
+  sample.squaredDistance = f;
+  return sample;
 }
 
 /// True for polynomial cells and rational ones whose weights vary by at most
@@ -156,32 +164,6 @@ constexpr double kUnbalancedWeights = 16.0;
 /// Unbalanced cells' search budget and hard seeds, in units of
 /// kMaxSubdomains and kHardSeeds.
 constexpr int kUnbalancedBudget = 8;
-
-/// Slots of the workspace: allocation by index, since growing the pool moves it.
-class SlotPool {
- public:
-  SlotPool(SolveWorkspace* ws, int slotSize) : ws_(ws), slotSize_(slotSize) {
-    ws_->freeSlots.clear();
-    used_ = 0;
-  }
-  int Allocate() {
-    if (!ws_->freeSlots.empty()) {
-      const int s = ws_->freeSlots.back();
-      ws_->freeSlots.pop_back();
-      return s;
-    }
-    const size_t need = static_cast<size_t>(used_ + 1) * slotSize_;
-    if (ws_->nets.size() < need) ws_->nets.resize(std::max(need, 2 * ws_->nets.size()));
-    return used_++;
-  }
-  void Free(int s) { ws_->freeSlots.push_back(s); }
-  double* operator[](int s) { return ws_->nets.data() + static_cast<size_t>(s) * slotSize_; }
-
- private:
-  SolveWorkspace* ws_;
-  int slotSize_;
-  int used_;
-};
 
 }  // namespace
 
@@ -342,6 +324,20 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
     result.status = PointStatus::Farther;
     return result;
   }
+  Rejected rejected;
+  if (trim_ && !trim_->Admits(best.ref)) {
+    // Outside the face: no answer yet. An affine cell's distance is convex,
+    // so its only KKT point is this one, and the face's closest point in it
+    // lies on the region's boundary, which the edges answer.
+    if (model) model->known = false;
+    if (affine_) {
+      result.status = PointStatus::Farther;
+      return result;
+    }
+    rejected.Add(best);
+    best.squaredDistance = std::numeric_limits<double>::infinity();
+    best.kkt = false;
+  }
 
   bool certified = true;
   // An affine map makes the squared distance convex: the KKT point is global.
@@ -349,11 +345,15 @@ CellSolveResult CellSolver::Solve(const double* point, const double* initialRef,
   if (!affine_ && best.squaredDistance > tau * tau) {
     const double localRef[3] = {best.ref[0], best.ref[1], best.ref[2]};
     if (charts_) SeedFaceLayers(point, &best, &result.iterations);
-    certified = Search(point, bound2, slack, &best, &result.iterations, ws);
+    certified = Search(point, bound2, slack, &best, &result.iterations, ws, trim_ ? &rejected : nullptr);
     // A nearer minimum the search found has no model here.
     if (model && !std::equal(localRef, localRef + pd, best.ref)) model->known = false;
   }
 
+  if (best.squaredDistance == std::numeric_limits<double>::infinity() && trim_) {
+    result.status = PointStatus::Farther;  // no point of the region beats the edges
+    return result;
+  }
   std::copy(best.ref, best.ref + pd, result.ref);
   std::copy(best.closest, best.closest + ad, result.closest);
   result.distance = std::sqrt(best.squaredDistance);
@@ -437,7 +437,7 @@ void CellSolver::SeedFaceLayers(const double* point, LocalSolveResult* best, int
       charts_->FromBarycentric(0, onFace, start);
       const LocalSolveResult local = LocalSolveCharted(point, start, options);
       *iterations += local.iterations;
-      if (local.squaredDistance < best->squaredDistance) *best = local;
+      if (local.squaredDistance < best->squaredDistance && (!trim_ || trim_->Admits(local.ref))) *best = local;
     }
   }
 }
@@ -574,25 +574,25 @@ void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLa
         results.closest[k][lane] = x;
       }
       if (results.distance) results.distance[lane] = std::sqrt(dist2[l]);
-      if (results.status) results.status[lane] = onBoundary[l] ? PointStatus::ProjectedToBoundary : PointStatus::Converged;
+      const bool farther = queries.bound2 && dist2[l] >= queries.bound2[lane];
+      if (results.status) {
+        results.status[lane] = farther      ? PointStatus::Farther
+                               : onBoundary[l] ? PointStatus::ProjectedToBoundary
+                                               : PointStatus::Converged;
+      }
       if (results.iterations) results.iterations[lane] = 0;
     }
   }
 }
 
-bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
-                             const double* cornerLambda) const {
+bool CellSolver::InsideStart(const double* initialRef, const double* lambdaIn, bool haveLambda, double* start) const {
   const int pd = cell_.shape.paramDim();
-  double start[3];
   double lambda[4];
-  if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
-  if (cornerLambda || CornerBarycentric(point, lambda)) {
+  if (haveLambda) std::copy(lambdaIn, lambdaIn + 4, lambda);
+  if (haveLambda) {
     // Beyond the control points' hull (with a margin far above the distance
     // tolerance): outside the cell, no solve needed.
-    if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) {
-      result->iterations = 0;
-      return false;
-    }
+    if (*std::min_element(lambda, lambda + 4) < -cornerHullMargin_ - kHullSlack) return false;
     // The point's place in the straight tetrahedron of the corners: exact
     // for a straight cell, close for the mildly curved cells of meshes, and
     // better than the previous point's answer (measured on order-2 meshes).
@@ -605,6 +605,20 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
     std::copy(initialRef, initialRef + pd, start);
   } else {
     ReferenceCenter(cell_.shape, start);
+  }
+  return true;
+}
+
+bool CellSolver::SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
+                             const double* cornerLambda) const {
+  const int pd = cell_.shape.paramDim();
+  double start[3];
+  double lambda[4];
+  if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
+  const bool haveLambda = cornerLambda || CornerBarycentric(point, lambda);
+  if (!InsideStart(initialRef, lambda, haveLambda, start)) {
+    result->iterations = 0;
+    return false;
   }
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplex(point, result);
@@ -626,7 +640,7 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
 }
 
 bool CellSolver::Search(const double* point, double bound2, double slack, LocalSolveResult* best, int* iterations,
-                        SolveWorkspace* ws) const {
+                        SolveWorkspace* ws, Rejected* rejected) const {
   const CellShape& netShape = nets_.shape();
   const int n = nets_.size();
   const bool rational = nets_.rational();
@@ -634,7 +648,7 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
   const double tau = kDistanceTolerance * size_;
   // Subdomains whose lower bound reaches this cannot beat the best by more than tau.
   auto pruneLevel = [&] { return ExclusionLevel(std::min(best->squaredDistance, bound2), tau, slack); };
-  SlotPool pool(ws, slotSize);
+  SlotPool pool(&ws->nets, &ws->freeSlots, slotSize);
   if (ws->scratch.size() < static_cast<size_t>(n)) ws->scratch.resize(n);
   const HessianStencil& stencil = *stencil_;
   const bool faceCertificate = HasFaceCertificate(netShape);
@@ -665,18 +679,76 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
     const double* q = slot + kHeaderSize;
     return NetLowerBound(n, q, rational ? q + n : nullptr);
   };
+  // Trimmed cells: a KKT point x_r outside the region, of squared distance
+  // f_r, and a subdomain holding it where q - c WW is convex for every c
+  // from f_r to the best so far (for c at both ends: the Hessian is affine
+  // in c; one c for a polynomial cell, whose WW is constant). A KKT point y
+  // there with f_r < f(y) <= best would minimize the convex q - f(y) WW over
+  // the subdomain (a KKT point of it too), at value 0, while x_r gives it
+  // WW (f_r - f(y)) < 0: there is none, and the subdomain holds no
+  // candidate but x_r. So the subdomains around the stationary points
+  // beyond the face's edges go as soon as they are convex, long before
+  // they are small enough to lie outside the region.
+  auto aroundRejected = [&](double* slot) {
+    if (!rejected) return false;
+    const double* q = slot + kHeaderSize;
+    const double* ww = rational ? q + n : nullptr;
+    double* f = ws->scratch.data();
+    double upper = std::min(best->squaredDistance, bound2);
+    if (ww && !(upper < std::numeric_limits<double>::infinity())) {
+      upper = 0.0;
+      for (int i = 0; i < n; ++i) upper = std::max(upper, q[i] / ww[i]);
+    }
+    const NetNoise noise = RoundingNoise(ww, slack);
+    for (int r = 0; r < rejected->count; ++r) {
+      const LocalSolveResult& x = rejected->points[r];
+      if (!SubdomainContains(cell_.shape, slot, x.ref)) continue;
+      // Convex, or (x_r on a face of the cell) rising away from the face and
+      // convex on it, which bounds q - c WW by its least value on the face
+      // the same way (face_certificate.h).
+      int side[3];
+      const bool onFace = faceCertificate && ConstrainedSides(cell_.shape, slot, x.ref, side);
+      bool convex = true, minimalOnFace = onFace;
+      for (const double level : {x.squaredDistance, upper}) {
+        for (int i = 0; i < n; ++i) f[i] = q[i] - level * (ww ? ww[i] : 1.0);
+        convex = convex && stencil.IsConvex(f, noise);
+        minimalOnFace = minimalOnFace && IsMinimalOnFace(netShape, f, noise, side);
+        if (!ww) break;
+      }
+      if (convex || minimalOnFace) return true;
+    }
+    return false;
+  };
 
   // The certificate below for the whole cell, from the curvature bounds.
   if (bestIsKkt && curvature_ && curvature_->ProvesConvex(point, best->squaredDistance)) return true;
-
   const int root = pool.Allocate();
   {
     double* slot = pool[root];
     SetReferenceVertices(cell_.shape, slot);
     slot[kDepth] = 0;
+    slot[kTrimSide] = static_cast<double>(trim_ ? TrimRegion::Side::Crossing : TrimRegion::Side::Inside);
     nets_.SquaredDistanceNumerator(point, slot + kHeaderSize);
     if (rational) std::copy(nets_.ww(), nets_.ww() + n, slot + kHeaderSize + n);
     slot[kLowerBound] = lowerBound(slot);
+  }
+  // And the trimmed cell's: convex around a KKT point outside the region,
+  // at both levels (one for a polynomial cell, whose WW is constant), the
+  // cell has no other candidate.
+  if (rejected && rejected->count > 0 && !bestIsKkt && curvature_) {
+    double upper = std::min(best->squaredDistance, bound2);
+    if (rational && !(upper < std::numeric_limits<double>::infinity())) {
+      const double* q = pool[root] + kHeaderSize;
+      upper = 0.0;
+      for (int i = 0; i < n; ++i) upper = std::max(upper, q[i] / q[n + i]);
+    }
+    for (int r = 0; r < rejected->count; ++r) {
+      if (curvature_->ProvesConvex(point, rejected->points[r].squaredDistance) &&
+          (!rational || curvature_->ProvesConvex(point, upper))) {
+        pool.Free(root);
+        return true;
+      }
+    }
   }
   std::vector<int>& heap = ws->heap;
   heap.clear();
@@ -695,7 +767,12 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
       certified = false;
       break;
     }
-    if (certifiedAround(pool[s])) {
+    if (trim_ && !MayHoldTrimmedMinimum(pool[s], pool[s] + kHeaderSize, rational ? pool[s] + kHeaderSize + n : nullptr,
+                                        std::min(best->squaredDistance, bound2), slack)) {
+      pool.Free(s);
+      continue;
+    }
+    if (certifiedAround(pool[s]) || aroundRejected(pool[s])) {
       pool.Free(s);
       continue;
     }
@@ -713,13 +790,25 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
     // seeds a local solve, which finds basins its center value cannot show.
     const bool seed = examined > kHardSearch && hardSeeds < maxHardSeeds_;
     hardSeeds += seed ? 1 : 0;
-    if (fCenter < best->squaredDistance || seed) {
+    // A trimmed cell seeds only from centers in its region: a KKT point
+    // inside the region is the center's limit in the subdomains that shrink
+    // onto it, and the stationary points outside it, which centers outside
+    // would find again and again, are no answers.
+    const bool centerAdmitted = !trim_ || pool[s][kTrimSide] == static_cast<double>(TrimRegion::Side::Inside) ||
+                                trim_->Admits(center);
+    if ((fCenter < best->squaredDistance || seed) && centerAdmitted) {
       LocalSolveOptions options;
       options.size = size_;
       options.checkKkt = true;
       const LocalSolveResult local = LocalSolveCharted(point, center, options);
       *iterations += local.iterations;
-      if (local.squaredDistance < best->squaredDistance) {
+      const bool admitted = !trim_ || trim_->Admits(local.ref);
+      if (!admitted) rejected->Add(local);
+      if (trim_ && !(admitted && local.squaredDistance < best->squaredDistance) && fCenter < best->squaredDistance) {
+        *best = SampleAnswer(center, cell_.shape.paramDim(), jet, cell_.ambientDim, fCenter);
+        bestIsKkt = false;
+      }
+      if (admitted && local.squaredDistance < best->squaredDistance) {
         *best = local;
         bestIsKkt = best->kkt;
         // As in Solve: a distance within tau of zero cannot be beaten by
@@ -758,7 +847,11 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
       // cylinder or a torus seen from its axis) the bound is exact along
       // the valley, and the splits go across it only.
       const double* q = pool[s] + kHeaderSize;
-      if (!bentSplit || MostBentLine(netShape, q, rational ? q + n : nullptr, pruneLevel(), &factor) == 0.0) {
+      // Before anything is found (a trimmed cell's search) the level is the
+      // subdomain's own bound: an infinite one would bend every line alike.
+      const double level = std::isinf(pruneLevel()) ? pool[s][kLowerBound] : pruneLevel();
+      if (!bentSplit || MostBentLine(netShape, q, rational ? q + n : nullptr, level, &factor) == 0.0 ||
+          (trim_ && Elongated(cell_.shape, pool[s], paramScale_))) {
         ChooseSplit(cell_.shape, pool[s], paramScale_, &factor, &vi, &vj);
       }
     }
@@ -773,6 +866,16 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
       double* moved = Vertex(slot, factor, move);
       const double* kept = Vertex(slot, factor, keep);
       for (int i = 0; i < 3; ++i) moved[i] = 0.5 * (moved[i] + kept[i]);
+      if (trim_ && slot[kTrimSide] != static_cast<double>(TrimRegion::Side::Inside)) {
+        double lo[3], hi[3];
+        SubdomainBox(cell_.shape, slot, lo, hi);
+        const TrimRegion::Side side = trim_->ClassifySubdomain(lo, hi);
+        if (side == TrimRegion::Side::Outside) {
+          pool.Free(c);
+          continue;
+        }
+        slot[kTrimSide] = static_cast<double>(side);
+      }
       SplitNet(netShape, factor, keep, move, parent + kHeaderSize, slot + kHeaderSize);
       if (rational) SplitNet(netShape, factor, keep, move, parent + kHeaderSize + n, slot + kHeaderSize + n);
       slot[kLowerBound] = lowerBound(slot);
@@ -788,32 +891,59 @@ bool CellSolver::Search(const double* point, double bound2, double slack, LocalS
   return certified;
 }
 
+bool CellSolver::MayHoldTrimmedMinimum(double* slot, const double* q, const double* ww, double level2,
+                                       double slack) const {
+  const CellShape& netShape = nets_.shape();
+  const int n = nets_.size();
+  bool reachesLow[3] = {false, false, false}, reachesHigh[3] = {false, false, false};
+  for (int d = 0; d < netShape.numFactors(); ++d) {
+    reachesLow[d] = Vertex(slot, d, 0)[0] == 0.0;
+    reachesHigh[d] = Vertex(slot, d, 1)[0] == 1.0;
+  }
+  // The squared distances a candidate can have here: from the subdomain's
+  // lower bound up to the best so far (or the net's largest ratio).
+  double levelHi = level2;
+  if (!(levelHi < std::numeric_limits<double>::infinity())) {
+    levelHi = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) levelHi = std::max(levelHi, ww ? q[i] / ww[i] : q[i]);
+  }
+  int face[3];
+  if (!LocateKktPoints(netShape, q, ww, slot[kLowerBound] - slack, levelHi + slack, slack, reachesLow, reachesHigh,
+                       face)) {
+    return false;
+  }
+  if (slot[kTrimSide] == static_cast<double>(TrimRegion::Side::Inside)) return true;
+  // The candidates lie on a face (edge, corner) of the cell: that part of
+  // the subdomain must meet the region.
+  double lo[3], hi[3];
+  SubdomainBox(cell_.shape, slot, lo, hi);
+  bool onFace = false;
+  for (int d = 0; d < netShape.numFactors(); ++d) {
+    if (face[d] < 0) continue;
+    lo[d] = hi[d] = face[d];
+    onFace = true;
+  }
+  return !onFace || trim_->ClassifySubdomain(lo, hi) != TrimRegion::Side::Outside;
+}
+
 void CellSolver::SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const {
-  const int pd = cell_.shape.paramDim();
-  const int ad = cell_.ambientDim;
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplexLane(queries, results);
     return;
   }
-  // Curved cells: Newton iterations differ per lane, so lanes are solved one
-  // after the other.
-  for (int l = 0; l < queries.count; ++l) {
-    double point[3] = {0, 0, 0};
-    for (int k = 0; k < ad; ++k) point[k] = queries.coord[k][l];
-    double init[3];
-    const bool warm = queries.initialRef[0] != nullptr;
-    if (warm) {
-      for (int i = 0; i < pd; ++i) init[i] = queries.initialRef[i][l];
-    }
-    const CellSolveResult r = Solve(point, warm ? init : nullptr, ws);
-    for (int i = 0; i < 3; ++i) {
-      if (results.ref[i]) results.ref[i][l] = i < pd ? r.ref[i] : std::numeric_limits<double>::quiet_NaN();
-      if (results.closest[i]) results.closest[i][l] = i < ad ? r.closest[i] : std::numeric_limits<double>::quiet_NaN();
-    }
-    if (results.distance) results.distance[l] = r.distance;
-    if (results.status) results.status[l] = r.status;
-    if (results.iterations) results.iterations[l] = r.iterations;
+  SolveCurvedLanes(queries, results, ws);
+}
+
+void CellSolver::WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const {
+  const int pd = cell_.shape.paramDim();
+  const int ad = cell_.ambientDim;
+  for (int i = 0; i < 3; ++i) {
+    if (results.ref[i]) results.ref[i][l] = i < pd ? r.ref[i] : std::numeric_limits<double>::quiet_NaN();
+    if (results.closest[i]) results.closest[i][l] = i < ad ? r.closest[i] : std::numeric_limits<double>::quiet_NaN();
   }
+  if (results.distance) results.distance[l] = r.distance;
+  if (results.status) results.status[l] = r.status;
+  if (results.iterations) results.iterations[l] = r.iterations;
 }
 
 }  // namespace invmap::kernels

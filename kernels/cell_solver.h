@@ -13,6 +13,7 @@
 #include "kernels/distance_net.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
+#include "kernels/trimmed_cell.h"
 
 namespace invmap::kernels {
 
@@ -54,6 +55,9 @@ struct QueryLane {
   /// Optional: initial reference coordinates per lane (warm start), same
   /// layout; nullptr starts from the cell's center.
   const double* initialRef[3] = {nullptr, nullptr, nullptr};
+  /// Optional: per lane, the squared distance of the best point found
+  /// elsewhere (Solve's bound2; +infinity for none); nullptr for no bounds.
+  const double* bound2 = nullptr;
 };
 
 /// Output arrays of a QueryLane, each of length count (ref and closest as
@@ -103,9 +107,20 @@ class CellSolver {
 
   /// Solves every lane of `queries`; see QueryLane and ResultLane. Affine
   /// segments, triangles and tetrahedra solve all lanes at once in closed
-  /// form (vectorized, kernels/affine_simplex_lanes.h); curved cells solve
-  /// the lanes one after the other (initialRef warm-starts each).
+  /// form (vectorized, kernels/affine_simplex_lanes.h); curved curves and
+  /// surfaces of line factors run their local solves in SIMD lanes
+  /// (kernels/newton_lanes.h) and certify each lane as Solve does; other
+  /// cells solve the lanes one after the other (initialRef warm-starts
+  /// each). Every lane's answer is the certified global minimum over the
+  /// cell, and depends on its own point and start only.
   void SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+
+  /// SolveInside for every lane of `queries` (initialRef as SolveInside's):
+  /// inside[l] says whether lane l's point is inside, and then `results`
+  /// holds its answer (the other lanes' entries are not meaningful). The
+  /// local solves of polynomial tetrahedra run in SIMD lanes
+  /// (kernels/newton_lanes.h); other cells solve lane by lane.
+  void SolveInsideLane(const QueryLane& queries, const ResultLane& results, bool* inside) const;
 
   /// Tetrahedra: the smallest barycentric coordinate of `point` relative to
   /// the cell's corner control points (its vertices): positive inside the
@@ -153,6 +168,13 @@ class CellSolver {
   /// True when the cell is a volume (paramDim == ambientDim).
   bool isFullRank() const { return cell_.shape.paramDim() == cell_.ambientDim; }
 
+  /// Makes the cell one that its trimmed face's loops cross (surfaces of
+  /// line factors only): Solve then answers only points of the face's
+  /// region and returns Farther when the cell holds no candidate there
+  /// (kernels/trimmed_cell.h). `trim` must outlive the solver; null undoes it.
+  void SetTrim(const TrimmedCell* trim) { trim_ = trim; }
+  const TrimmedCell* trim() const { return trim_; }
+
  private:
   /// The branch and bound over subdomains of the reference domain that makes
   /// the local answer `best` global; returns false when the budget ran out.
@@ -160,6 +182,17 @@ class CellSolver {
   void SolveAffineSimplex(const double* point, CellSolveResult* result) const;
   /// SolveLane for affine simplices.
   void SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const;
+  /// SolveLane for curved cells: the local solves in SIMD lanes
+  /// (kernels/newton_lanes.h) where they cover the cell, then each lane's
+  /// certificate as Solve's; lanes that leave the lanes, and cells they do
+  /// not cover, are solved by Solve (kernels/cell_solver_lanes.cpp).
+  void SolveCurvedLanes(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const;
+  /// SolveInside's start for a point whose corner barycentrics are
+  /// `lambda` (when haveLambda), else `initialRef`, else the centre; false
+  /// when `lambda` puts the point beyond the control points' hull (not inside).
+  bool InsideStart(const double* initialRef, const double* lambda, bool haveLambda, double* start) const;
+  /// Writes lane l of `results` from one cell's answer.
+  void WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const;
 
   /// Cells of line factors (line, quad, hex): the Greville parameters of the
   /// control point nearest to `point`, a start for the local solve that is
@@ -200,9 +233,27 @@ class CellSolver {
   /// cells leave the q net of `point` in ws->scratch.
   double SquaredDistanceLowerBound(const double* point, double slack, SolveWorkspace* ws) const;
 
-  /// `slack`: the nets' RoundingSlack at `point`.
+  /// Trimmed cells: KKT points of the cell that lie outside the face's
+  /// region (kept to drop the subdomains around them, see Search).
+  struct Rejected {
+    static constexpr int kCapacity = 4;
+    int count = 0;
+    LocalSolveResult points[kCapacity];
+    void Add(const LocalSolveResult& r) {
+      if (r.kkt && count < kCapacity) points[count++] = r;
+    }
+  };
+
+  /// `slack`: the nets' RoundingSlack at `point`. `rejected`: trimmed cells'
+  /// KKT points outside the region (more are added as found); null otherwise.
   bool Search(const double* point, double bound2, double slack, LocalSolveResult* best, int* iterations,
-              SolveWorkspace* ws) const;
+              SolveWorkspace* ws, Rejected* rejected) const;
+
+  /// Trimmed cells: false when the subdomain in `slot` (its net `q`, `ww`)
+  /// can hold no candidate for the face's closest point: no KKT point of a
+  /// squared distance up to `level2` (the best so far), or none inside the
+  /// region (kernels/kkt_exclusion.h).
+  bool MayHoldTrimmedMinimum(double* slot, const double* q, const double* ww, double level2, double slack) const;
 
   CellView cell_;
   double boxLo_[3] = {0, 0, 0};
@@ -218,9 +269,6 @@ class CellSolver {
   /// Tetrahedra: how far (in corner barycentric coordinates) the control
   /// points, and so the cell, reach beyond the straight corner tetrahedron.
   double cornerHullMargin_ = std::numeric_limits<double>::infinity();
-  /// Barycentric slack of the hull test, far above rounding and the distance
-  /// tolerance relative to the cell's size.
-  static constexpr double kHullSlack = 1e-9;
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
   /// Rational cells whose WW coefficients span more than kUnbalancedWeights.
@@ -235,6 +283,8 @@ class CellSolver {
   /// Curved cells whose weights are nearly equal (null otherwise: most
   /// cells of large meshes are affine, and a pointer keeps their solvers small).
   std::unique_ptr<const CurvatureBounds> curvature_;
+  /// Cells of a trimmed face that its loops cross (see SetTrim); null otherwise.
+  const TrimmedCell* trim_ = nullptr;
 };
 
 }  // namespace invmap::kernels

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "kernels/interval_matrix.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::kernels {
 
@@ -17,7 +18,7 @@ CurvatureBounds::CurvatureBounds(const DistanceNets& nets, const HessianStencil&
     stencil.HessianRanges(net, lo, hi);
     for (int a = 0; a < paramDim_; ++a) {
       for (int b = a; b < paramDim_; ++b) {
-        const double widen = 1e-12 * std::max(std::abs(lo[a][b]), std::abs(hi[a][b]));
+        const double widen = kNetRangeWidening * std::max(std::abs(lo[a][b]), std::abs(hi[a][b]));
         ranges[Entry(a, b)] = Range{lo[a][b] - widen, hi[a][b] + widen};
       }
     }
@@ -56,7 +57,7 @@ bool CurvatureBounds::ProvesConvex(const double* point, double level) const {
         size += std::abs(weightLo) + std::abs(weightHi);
       }
       // The rounding of the sums above, far below the ranges' widening.
-      const double rounding = 1e-14 * size;
+      const double rounding = kBoundSumRounding * size;
       lo[a][b] = nn_[e].lo - 2.0 * (along + spread) + weightLo - rounding;
       hi[a][b] = nn_[e].hi - 2.0 * (along - spread) + weightHi + rounding;
     }

@@ -29,6 +29,9 @@ class CurvatureBounds {
   bool ProvesConvex(const double* point, double level) const;
 
  private:
+  /// ProvesConvex for many points at once (kernels/newton_lanes.h).
+  friend struct CurvatureLanes;
+
   static constexpr int kEntries = 6;  ///< (a, b) with a <= b < 3, at Entry(a, b).
   static int Entry(int a, int b) { return a * (5 - a) / 2 + b; }
 

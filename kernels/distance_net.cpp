@@ -6,6 +6,7 @@
 
 #include "kernels/range_fold.h"
 #include "kernels/simplex_index.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::kernels {
 void DistanceNets::Build(const CellView& cell, const double* center) {
@@ -90,7 +91,7 @@ double DistanceNets::RoundingSlack(const double* point) const {
   // units of q did: weights of 1e15 made it 1e16, and no part of the cell
   // could ever be excluded).
   const double magnitude = radius_ + std::sqrt(local2);
-  return 64.0 * std::numeric_limits<double>::epsilon() * magnitude * magnitude;
+  return kNetRounding * magnitude * magnitude;
 }
 
 double NetLowerBound(int size, const double* q, const double* ww) {

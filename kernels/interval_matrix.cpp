@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/tolerances.h"
+
 namespace invmap::kernels {
 namespace {
 
@@ -32,7 +34,7 @@ bool IntervalTest(int dim, const double lo[3][3], const double hi[3][3]) {
   }
   // The margin keeps the test away from the rounding of its own arithmetic.
   const double scale = mid.cwiseAbs().maxCoeff();
-  return lambdaMin > std::sqrt(radius2) + 1e-12 * scale;
+  return lambdaMin > std::sqrt(radius2) + kPositivityMargin * scale;
 }
 
 bool ScaledTest(int dim, const double lo[3][3], const double hi[3][3]) {
@@ -57,7 +59,7 @@ bool ScaledTest(int dim, const double lo[3][3], const double hi[3][3]) {
     rho = eigen.eigenvalues()(2);
   }
   // The margin keeps the test away from the rounding of its own arithmetic.
-  return rho < 1.0 - 1e-12;
+  return rho < 1.0 - kPositivityMargin;
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/tolerances.h"
+
 namespace invmap::kernels {
 namespace {
 
@@ -15,8 +17,6 @@ constexpr int kMaxIterations = 50;
 /// A log step changes a coordinate by at most this factor's logarithm per
 /// iteration (e^2), so one step cannot leap out of the layer.
 constexpr double kMaxLogStep = 2.0;
-/// Relative change of every coordinate below which the solve has converged.
-constexpr double kConvergedStep = 1e-13;
 
 double SquaredDistance(const CellView& cell, const double* point, const double* ref, JetOrder order, MapJet* jet) {
   EvaluateMap(cell, ref, order, jet);
@@ -88,7 +88,7 @@ int LayerNewton(const CellView& cell, const double* point, double size, double* 
     const double trace = hessian.diagonal().cwiseAbs().sum() + size * size * 1e-300;
     Vector step;
     bool haveStep = false;
-    for (double damping = 0.0; !haveStep && damping < 1e30 * trace; damping = damping == 0.0 ? 1e-12 * trace : 10.0 * damping) {
+    for (double damping = 0.0; !haveStep && damping < 1e30 * trace; damping = damping == 0.0 ? kLayerFirstDamping * trace : 10.0 * damping) {
       Matrix damped = hessian;
       damped.diagonal().array() += damping;
       Eigen::LLT<Matrix> llt(damped);
@@ -112,7 +112,7 @@ int LayerNewton(const CellView& cell, const double* point, double size, double* 
       }
       if (!InDomain(cell.shape, next)) continue;
       const double trialF = SquaredDistance(cell, point, next, JetOrder::Value, &trial);
-      moved = trialF < f && trialF <= f + 1e-4 * alpha * slope;
+      moved = trialF < f && trialF <= f + kSufficientDecrease * alpha * slope;
     }
     if (!moved) break;
     double change = 0.0;  // largest relative change of a coordinate
@@ -121,7 +121,7 @@ int LayerNewton(const CellView& cell, const double* point, double size, double* 
       change = std::max(change, std::abs(next[i] - ref[i]) / std::max(ref[i], kLayerCoordinate));
     }
     std::copy(next, next + pd, ref);
-    if (change < kConvergedStep) break;
+    if (change < kLayerStepTolerance) break;
   }
   return iteration;
 }

@@ -16,7 +16,8 @@ struct LocalSolveResult {
   double squaredDistance = 0.0;
   bool onBoundary = false;  ///< Some constraint is enforced at the solution.
   bool converged = false;   ///< Stopped on the residual or step tolerance (not on the iteration cap).
-  /// Converged and IsKktPoint holds at ref (only computed with LocalSolveOptions::checkKkt).
+  /// Converged and IsKktPoint (kernels/kkt_point.h) holds at ref (only
+  /// computed with LocalSolveOptions::checkKkt).
   bool kkt = false;
   /// Stopped at ref on LocalSolveOptions::exclusionLevel (not converged).
   bool aboveLevel = false;
@@ -34,16 +35,13 @@ struct AnswerModel {
   double hessian[3][3];
 };
 
-/// See LocalSolveOptions::stopAtBoundary.
-constexpr double kBoundaryGiveUp = 1e-6;
-
 /// Options of the local solve, relative to the cell's size (see tolerances.h).
 struct LocalSolveOptions {
   bool affine = false;  ///< The map is affine: no second derivatives, one exact step per active set.
   double size = 1.0;    ///< Length scale: the diagonal of the control-point box.
   int maxIterations = 100;
   /// Give up (converged = false) when an iterate on the boundary is still
-  /// farther than kBoundaryGiveUp * size from the point: an inside test
+  /// farther than kBoundaryGiveUp * size (kernels/tolerances.h) from the point: an inside test
   /// (7.3.2.1) only wants the point itself, and a point outside the cell
   /// drives the full-rank step onto the boundary at once.
   bool stopAtBoundary = false;
@@ -75,14 +73,5 @@ struct LocalSolveOptions {
 /// produces NaN for finite input, whatever the cell's degeneracy.
 LocalSolveResult LocalSolve(const CellView& cell, const double* point, const double* startRef,
                             const LocalSolveOptions& options);
-
-/// An independent check of the first-order (KKT) conditions of |x(u) - p|^2
-/// at `ref`: the gradient projected on the face of the constraints active
-/// there is small, and no active constraint's release direction descends,
-/// each direction judged by how far the map moves along it (a thin cell's
-/// thickness by the thickness, not by the cell's size).
-/// The global search trusts a local solution only after this check.
-/// `jet`: the map at `ref`, evaluated to at least first order.
-bool IsKktPoint(const CellView& cell, const MapJet& jet, const double* point, const double* ref, double size);
 
 }  // namespace invmap::kernels

@@ -15,14 +15,6 @@ namespace {
 using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPairParams, kMaxPairParams>;
 using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1>;
 
-/// A constraint holds at w when its slack is within this (reference
-/// coordinates): points clamped onto a face have slack 0 exactly.
-constexpr double kActiveSlack = 1e-14;
-/// A QP step shorter than this (reference coordinates) is no step.
-constexpr double kNoStep = 1e-15;
-/// Longest unchecked final Newton step (reference coordinates): in the
-/// quadratic region it leaves an error of about its square.
-constexpr double kFinalStep = 1e-6;
 
 /// The Jacobian (ambient x n) of a jet.
 Matrix JacobianOf(const PairJet& jet, int ad, int n) {

@@ -556,31 +556,9 @@ void Enumerator::Run(const Problem& problem) {
       continue;
     }
     // Split the longest edge (by the cells' lengths per parameter).
-    int splitSide = 0, splitFactor = 0, vi = 0, vj = 1;
-    double longest = -1.0;
-    for (int side = 0; side < 2; ++side) {
-      const CellShape& shape = layout.shape(side);
-      for (int f = 0; f < shape.numFactors(); ++f) {
-        const SimplexFactor& fac = shape.factor(f);
-        for (int p = 0; p <= fac.dim; ++p) {
-          for (int q = p + 1; q <= fac.dim; ++q) {
-            double length2 = 0.0;
-            for (int i = 0; i < fac.dim; ++i) {
-              const double e = (Vertex(slot, side, f, p)[i] - Vertex(slot, side, f, q)[i]) *
-                               paramScale[layout.offset(side) + fac.offset + i];
-              length2 += e * e;
-            }
-            if (length2 > longest) {
-              longest = length2;
-              splitSide = side;
-              splitFactor = f;
-              vi = p;
-              vj = q;
-            }
-          }
-        }
-      }
-    }
+    const PairEdge edge =
+        LongestPairEdge(layout, paramScale, [slot](int side, int f, int v) { return Vertex(slot, side, f, v); });
+    const int splitSide = edge.side, splitFactor = edge.factor, vi = edge.vi, vj = edge.vj;
     for (int child = 0; child < 2; ++child) {
       const int keep = child == 0 ? vi : vj;
       const int move = child == 0 ? vj : vi;

@@ -213,6 +213,29 @@ void FullShapeDerivative(const CellShape& shape, const double* in, int p, int q,
   ElevateNet(s1, factor[p], a.data(), out, &s2);
 }
 
+/// g = Q - level WW of two sides' nets (each side: its net of |x|^2 w, its
+/// d nets of x_k w, its net of w; na and nb coefficients each) as d + 2
+/// separated terms alpha_t (x) beta_t:
+///   (a_0 - level a_W) (x) b_W,  a_W (x) b_0,  a_k (x) (-2 b_k),
+/// written to alpha (d + 2 nets of na) and beta (d + 2 nets of nb).
+void SeparateTerms(const double* sideA, const double* sideB, int d, int na, int nb, double level, double* alpha,
+                   double* beta) {
+  const double* aw = sideA + (d + 1) * na;
+  const double* bw = sideB + (d + 1) * nb;
+  for (int i = 0; i < na; ++i) {
+    alpha[i] = sideA[i] - level * aw[i];
+    alpha[na + i] = aw[i];
+  }
+  for (int j = 0; j < nb; ++j) {
+    beta[j] = bw[j];
+    beta[nb + j] = sideB[j];
+  }
+  for (int k = 0; k < d; ++k) {
+    std::copy(sideA + (1 + k) * na, sideA + (2 + k) * na, alpha + (2 + k) * na);
+    for (int j = 0; j < nb; ++j) beta[(2 + k) * nb + j] = -2.0 * sideB[(1 + k) * nb + j];
+  }
+}
+
 }  // namespace
 
 PairNets::PairNets(const PairSide& a, const PairSide& b) {
@@ -392,26 +415,12 @@ void PairNets::HessianRanges(const double* sideA, const double* sideB, double le
   const int na = size_[0], nb = size_[1];
   const int pa = shape_[0].paramDim(), pb = shape_[1].paramDim();
   const int n = pa + pb;
-  // g = Q - level WW as terms alpha_t (x) beta_t:
-  //   (a_0 - level a_W) (x) b_W,  a_W (x) b_0,  a_k (x) (-2 b_k).
+  // g = Q - level WW as d + 2 separated terms (SeparateTerms).
   const int terms = d + 2;
   scratch->resize(static_cast<size_t>(terms) * (na + nb));
   double* alpha = scratch->data();
   double* beta = alpha + terms * na;
-  const double* aw = sideA + (d + 1) * na;
-  const double* bw = sideB + (d + 1) * nb;
-  for (int i = 0; i < na; ++i) {
-    alpha[i] = sideA[i] - level * aw[i];
-    alpha[na + i] = aw[i];
-  }
-  for (int j = 0; j < nb; ++j) {
-    beta[j] = bw[j];
-    beta[nb + j] = sideB[j];
-  }
-  for (int k = 0; k < d; ++k) {
-    std::copy(sideA + (1 + k) * na, sideA + (2 + k) * na, alpha + (2 + k) * na);
-    for (int j = 0; j < nb; ++j) beta[(2 + k) * nb + j] = -2.0 * sideB[(1 + k) * nb + j];
-  }
+  SeparateTerms(sideA, sideB, d, na, nb, level, alpha, beta);
   const double* alphaNets[8];
   const double* betaNets[8];
   for (int t = 0; t < terms; ++t) {
@@ -539,20 +548,7 @@ void PairNets::GradientRanges(const double* sideA, const double* sideB, double l
   scratch->resize(static_cast<size_t>(terms) * (na + nb));
   double* alpha = scratch->data();
   double* beta = alpha + terms * na;
-  const double* aw = sideA + (d + 1) * na;
-  const double* bw = sideB + (d + 1) * nb;
-  for (int i = 0; i < na; ++i) {
-    alpha[i] = sideA[i] - level * aw[i];
-    alpha[na + i] = aw[i];
-  }
-  for (int j = 0; j < nb; ++j) {
-    beta[j] = bw[j];
-    beta[nb + j] = sideB[j];
-  }
-  for (int k = 0; k < d; ++k) {
-    std::copy(sideA + (1 + k) * na, sideA + (2 + k) * na, alpha + (2 + k) * na);
-    for (int j = 0; j < nb; ++j) beta[(2 + k) * nb + j] = -2.0 * sideB[(1 + k) * nb + j];
-  }
+  SeparateTerms(sideA, sideB, d, na, nb, level, alpha, beta);
   const double* alphaNets[8];
   const double* betaNets[8];
   for (int t = 0; t < terms; ++t) {
@@ -590,20 +586,7 @@ void PairNets::HessianRangesInBasis(const double* sideA, const double* sideB, do
   scratch->assign(static_cast<size_t>(terms) * (na + nb) + firstCount + secondCount + 8 * static_cast<size_t>(terms) * (na + nb), 0.0);
   double* alpha = scratch->data();
   double* beta = alpha + terms * na;
-  const double* aw = sideA + (d + 1) * na;
-  const double* bw = sideB + (d + 1) * nb;
-  for (int i = 0; i < na; ++i) {
-    alpha[i] = sideA[i] - level * aw[i];
-    alpha[na + i] = aw[i];
-  }
-  for (int j = 0; j < nb; ++j) {
-    beta[j] = bw[j];
-    beta[nb + j] = sideB[j];
-  }
-  for (int k = 0; k < d; ++k) {
-    std::copy(sideA + (1 + k) * na, sideA + (2 + k) * na, alpha + (2 + k) * na);
-    for (int j = 0; j < nb; ++j) beta[(2 + k) * nb + j] = -2.0 * sideB[(1 + k) * nb + j];
-  }
+  SeparateTerms(sideA, sideB, d, na, nb, level, alpha, beta);
   double* firstA = beta + terms * nb;                 // [p][t][i]
   double* firstB = firstA + terms * pa * na;          // [p][t][j]
   double* secondA = firstB + terms * pb * nb;         // [p][q][t][i]

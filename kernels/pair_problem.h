@@ -84,6 +84,42 @@ class PairLayout {
   Constraint constraints_[kMaxPairConstraints];
 };
 
+/// An edge of a pair's subdomain: vertices vi and vj of simplex factor
+/// `factor` of side `side`.
+struct PairEdge {
+  int side = 0, factor = 0, vi = 0, vj = 1;
+};
+
+/// The longest edge of a pair's subdomain, each parameter's length scaled
+/// by paramScale (the cells' lengths per joint parameter); vertex(side,
+/// factor, v) gives a vertex's reference coordinates. Ties keep the first.
+template <typename VertexOf>
+PairEdge LongestPairEdge(const PairLayout& layout, const double* paramScale, VertexOf&& vertex) {
+  PairEdge edge;
+  double longest = -1.0;
+  for (int side = 0; side < 2; ++side) {
+    const CellShape& shape = layout.shape(side);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      const SimplexFactor& fac = shape.factor(f);
+      for (int p = 0; p <= fac.dim; ++p) {
+        for (int q = p + 1; q <= fac.dim; ++q) {
+          double length2 = 0.0;
+          for (int i = 0; i < fac.dim; ++i) {
+            const double e =
+                (vertex(side, f, p)[i] - vertex(side, f, q)[i]) * paramScale[layout.offset(side) + fac.offset + i];
+            length2 += e * e;
+          }
+          if (length2 > longest) {
+            longest = length2;
+            edge = PairEdge{side, f, p, q};
+          }
+        }
+      }
+    }
+  }
+  return edge;
+}
+
 /// The joint map z(w) = x(u) - y(v) in the common frame, with its
 /// derivatives along the joint parameters (the second ones are block
 /// diagonal: x depends on u alone, y on v alone).

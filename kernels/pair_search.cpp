@@ -11,6 +11,8 @@
 #include "kernels/pair_nets.h"
 #include "kernels/simplex_index.h"
 #include "kernels/simplex_pair.h"
+#include "kernels/simplex_subdomain.h"
+#include "kernels/slot_pool.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::kernels {
@@ -37,36 +39,6 @@ constexpr int kHeaderSize = kVertices + 2 * kMaxFactors * 4 * 3;
 double* Vertex(double* slot, int side, int factor, int vertex) {
   return slot + kVertices + ((side * kMaxFactors + factor) * 4 + vertex) * 3;
 }
-
-/// As the cell search's (kernels/cell_solver.cpp): a part of the pair whose
-/// squared distance stays at or above this cannot beat `best2` by more than
-/// tau; `slack` covers the nets' rounding.
-double ExclusionLevel(double best2, double tau, double slack) {
-  return best2 - std::max(2.0 * tau * std::sqrt(best2), tau * tau) + slack;
-}
-
-/// Slots of the workspace, allocated by index (growing the pool moves it).
-class SlotPool {
- public:
-  SlotPool(PairWorkspace* ws, int slotSize) : ws_(ws), slotSize_(slotSize) { ws_->freeSlots.clear(); }
-  int Allocate() {
-    if (!ws_->freeSlots.empty()) {
-      const int s = ws_->freeSlots.back();
-      ws_->freeSlots.pop_back();
-      return s;
-    }
-    const size_t need = static_cast<size_t>(used_ + 1) * slotSize_;
-    if (ws_->slots.size() < need) ws_->slots.resize(std::max(need, 2 * ws_->slots.size()));
-    return used_++;
-  }
-  void Free(int s) { ws_->freeSlots.push_back(s); }
-  double* operator[](int s) { return ws_->slots.data() + static_cast<size_t>(s) * slotSize_; }
-
- private:
-  PairWorkspace* ws_;
-  int slotSize_;
-  int used_ = 0;
-};
 
 /// The vertex control points of an affine segment or triangle.
 void SimplexVertices(const PairSide& side, double vertices[3][3]) {
@@ -198,26 +170,8 @@ bool PairSearch::Contains(double* slot, const double* w) const {
     const double* ref = w + layout_.offset(side);
     for (int f = 0; f < shape.numFactors(); ++f) {
       const SimplexFactor& fac = shape.factor(f);
-      const int d = fac.dim;
-      const double* v0 = Vertex(slot, side, f, 0);
-      if (d == 1) {
-        const double mu = (ref[fac.offset] - v0[0]) / (Vertex(slot, side, f, 1)[0] - v0[0]);
-        if (mu < -kInsideTolerance || 1.0 - mu < -kInsideTolerance) return false;
-        continue;
-      }
-      Eigen::Matrix3d edges = Eigen::Matrix3d::Identity();
-      Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-      for (int k = 1; k <= d; ++k) {
-        for (int i = 0; i < d; ++i) edges(i, k - 1) = Vertex(slot, side, f, k)[i] - v0[i];
-      }
-      for (int i = 0; i < d; ++i) rhs[i] = ref[fac.offset + i] - v0[i];
-      const Eigen::Vector3d mu = edges.partialPivLu().solve(rhs);
-      double sum = 0.0;
-      for (int k = 0; k < d; ++k) {
-        if (mu[k] < -kInsideTolerance) return false;
-        sum += mu[k];
-      }
-      if (1.0 - sum < -kInsideTolerance) return false;
+      const auto vertex = [&](int v) { return Vertex(slot, side, f, v); };
+      if (!InSimplexSubdomain(fac.dim, ref + fac.offset, vertex)) return false;
     }
   }
   return true;
@@ -414,30 +368,12 @@ bool PairSearch::CertifyWith(double* slot, const double* w, double value, const 
 }
 
 void PairSearch::ChooseSplit(double* slot, int* side, int* factor, int* vi, int* vj) const {
-  double longest = -1.0;
-  for (int s = 0; s < 2; ++s) {
-    const CellShape& shape = layout_.shape(s);
-    for (int f = 0; f < shape.numFactors(); ++f) {
-      const SimplexFactor& fac = shape.factor(f);
-      for (int p = 0; p <= fac.dim; ++p) {
-        for (int q = p + 1; q <= fac.dim; ++q) {
-          double length2 = 0.0;
-          for (int i = 0; i < fac.dim; ++i) {
-            const double e = (Vertex(slot, s, f, p)[i] - Vertex(slot, s, f, q)[i]) *
-                             paramScale_[layout_.offset(s) + fac.offset + i];
-            length2 += e * e;
-          }
-          if (length2 > longest) {
-            longest = length2;
-            *side = s;
-            *factor = f;
-            *vi = p;
-            *vj = q;
-          }
-        }
-      }
-    }
-  }
+  const PairEdge edge =
+      LongestPairEdge(layout_, paramScale_, [slot](int s, int f, int v) { return Vertex(slot, s, f, v); });
+  *side = edge.side;
+  *factor = edge.factor;
+  *vi = edge.vi;
+  *vj = edge.vj;
 }
 
 void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, int* vi, int* vj) const {
@@ -611,7 +547,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     const PairNets nets(a_, b_);
     slack_ = nets.RoundingSlack();
     const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
-    SlotPool pool(ws_, slotSize);
+    SlotPool pool(&ws_->slots, &ws_->freeSlots, slotSize);
     const int root = pool.Allocate();
     SetRoot(pool[root]);
     double* sideA = pool[root] + kHeaderSize;
@@ -649,7 +585,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
 
   const PairNets nets(a_, b_);
   const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
-  SlotPool pool(ws_, slotSize);
+  SlotPool pool(&ws_->slots, &ws_->freeSlots, slotSize);
   const int root = pool.Allocate();
   {
     double* slot = pool[root];

@@ -1,4 +1,4 @@
-// Multi-indices of Bernstein polynomials on a simplex, in FORMATS.md order.
+// Multi-indices of Bernstein polynomials on a simplex, in docs/formats.md order.
 #pragma once
 
 #include <array>
@@ -15,7 +15,7 @@ constexpr int kMaxNetDegree = 16;
 ///
 /// A multi-index is stored in full barycentric form a = (a0, a1, .., ad) with
 /// a0 = degree - (a1 + .. + ad). They are listed with a1 fastest, then a2,
-/// then a3 (FORMATS.md section 1), so position k in this list is the position
+/// then a3 (docs/formats.md section 1), so position k in this list is the position
 /// of the control point in a cell's net.
 class SimplexIndex {
  public:

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "kernels/tolerances.h"
+
 namespace invmap::kernels {
 
 double TangentPlaneLowerBound(const CellShape& shape, int ambientDim, const MapJet& jet, const double* point,
@@ -44,7 +46,7 @@ double TangentPlaneLowerBound(const CellShape& shape, int ambientDim, const MapJ
     for (int k = 0; k < ambientDim; ++k) columns += std::abs(jet.d1[k][i]);
     weightSlope += 2.0 * std::abs(jet.logWeightSlope[i]);
   }
-  const double delta = 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  const double delta = kMapRounding * magnitude;
   const double rounding = (2.0 * delta * (std::sqrt(f) + columns) + delta * delta) * (1.0 + weightSlope);
   const double bound = least - rounding;
   return std::isfinite(bound) ? bound : -std::numeric_limits<double>::infinity();

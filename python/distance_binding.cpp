@@ -51,18 +51,8 @@ Pose ToPose(const py::handle& value, const char* name, int dimension) {
 DistanceOptions MakeOptions(bool allMinima, std::optional<double> maxDistance, std::optional<int> threads) {
   DistanceOptions options;
   options.allMinima = allMinima;
-  if (maxDistance) {
-    if (std::isnan(*maxDistance) || *maxDistance < 0.0) {
-      std::ostringstream message;
-      message << "max_distance: " << *maxDistance << ", expected a number >= 0";
-      throw InputError(message.str());
-    }
-    options.maxDistance = *maxDistance;
-  }
-  if (threads) {
-    if (*threads < 0) throw InputError("threads: " + std::to_string(*threads) + ", expected >= 0 (0: all cores)");
-    options.threads = *threads;
-  }
+  if (maxDistance) options.maxDistance = CheckedMaxDistance(*maxDistance);
+  if (threads) options.threads = CheckedThreads(*threads);
   return options;
 }
 

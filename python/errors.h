@@ -3,7 +3,10 @@
 // "invmap: " prefix).
 #pragma once
 
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace invmap::python {
 
@@ -20,5 +23,21 @@ class FileError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// max_distance as given from Python: a number >= 0, else InputError.
+inline double CheckedMaxDistance(double maxDistance) {
+  if (std::isnan(maxDistance) || maxDistance < 0.0) {
+    std::ostringstream message;
+    message << "max_distance: " << maxDistance << ", expected a number >= 0";
+    throw InputError(message.str());
+  }
+  return maxDistance;
+}
+
+/// threads as given from Python: >= 0 (0: all cores), else InputError.
+inline int CheckedThreads(int threads) {
+  if (threads < 0) throw InputError("threads: " + std::to_string(threads) + ", expected >= 0 (0: all cores)");
+  return threads;
+}
 
 }  // namespace invmap::python

@@ -13,7 +13,7 @@ namespace {
 
 /// "invmapG" plus the format version: a later version may add fields, and an
 /// old reader must then refuse rather than misread.
-constexpr char kMagic[8] = {'i', 'n', 'v', 'm', 'a', 'p', 'G', '1'};
+constexpr char kMagic[8] = {'i', 'n', 'v', 'm', 'a', 'p', 'G', '2'};  // G2: patches carry chartControlPoints
 /// Read back as another value when the writer had the other byte order.
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 
@@ -38,6 +38,7 @@ std::string SerializeGeometry(const Geometry& geometry) {
     w.Vector(patch.cellTypes);
     w.Vector(patch.cellDegrees);
     w.Vector(patch.cellOffsets);
+    w.Vector(patch.chartControlPoints);
   }
   return out;
 }
@@ -57,7 +58,7 @@ Geometry DeserializeGeometry(const std::string& state) {
     Patch patch;
     const auto kind = r.Value<std::uint8_t>();
     const auto cell = r.Value<std::uint8_t>();
-    if (kind > static_cast<std::uint8_t>(Patch::Kind::BezierCells) ||
+    if (kind > static_cast<std::uint8_t>(Patch::Kind::PouManifold) ||
         cell > static_cast<std::uint8_t>(CellType::Wedge)) {
       throw std::invalid_argument("geometry state: patch " + std::to_string(p) + ": unknown kind or cell type");
     }
@@ -79,6 +80,7 @@ Geometry DeserializeGeometry(const std::string& state) {
     }
     patch.cellDegrees = r.Vector<int>();
     patch.cellOffsets = r.Vector<std::int64_t>();
+    patch.chartControlPoints = r.Vector<double>();
     geometry.patches.push_back(std::move(patch));
   }
   if (!r.AtEnd()) throw std::invalid_argument("geometry state: unexpected bytes after the last patch");

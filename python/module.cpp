@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <memory>
 #include <new>
@@ -18,13 +19,16 @@
 #include <string>
 #include <vector>
 
+#include "cad/register_readers.h"
 #include "fem/register_readers.h"
 #include "invmap/fields.h"
 #include "invmap/invmap.h"
 #include "io/field_geometry_file.h"
 #include "io/geometry_file.h"
 #include "io/geometry_json.h"
+#include "io/geometry_source.h"
 #include "io/input_error.h"
+#include "python/cad_binding.h"
 #include "python/errors.h"
 #include "python/fields_binding.h"
 #include "python/geometry_state.h"
@@ -32,6 +36,7 @@
 #include "python/numpy_points.h"
 #include "python/distance_binding.h"
 #include "python/point_files_binding.h"
+#include "python/pou_binding.h"
 #include "python/py_manifold.h"
 
 namespace py = pybind11;
@@ -49,14 +54,16 @@ bool IsReadableFile(const std::string& path) {
 /// invmap.load of a path: ReadGeometryFile, then the build, without the GIL.
 PyManifold LoadFile(const std::string& path) {
   py::gil_scoped_release noGil;
+  if (IsCadPath(path)) return PyManifold(LoadCad(path), path);
   FieldGeometry model;
+  io::GeometrySource source;
   try {
-    model = io::ReadGeometryWithFields(path);
+    model = io::ReadGeometryWithFields(path, {}, &source);
   } catch (const io::InputError& e) {
     if (!IsReadableFile(path)) throw FileError(e.what());
     throw InputError(e.what());
   }
-  return PyManifold(std::move(model), path);
+  return PyManifold(std::move(model), path, &source);
 }
 
 /// invmap.load of JSON text (or a dict, dumped to text by __init__.py).
@@ -64,18 +71,20 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
   py::gil_scoped_release noGil;
   std::istringstream in(text);
   Geometry geometry;
+  io::GeometrySource source;
   try {
-    geometry = io::ReadGeometryJson(in, nameForMessages);
+    geometry = io::ReadGeometryJson(in, nameForMessages, &source);
   } catch (const io::InputError& e) {
     throw InputError(e.what());
   }
-  return PyManifold(geometry, nameForMessages);
+  return PyManifold(geometry, nameForMessages, &source);
 }
 
 /// Unpickling: rebuilds from PyManifold::state().
 PyManifold FromState(const py::bytes& state) {
   const std::string bytes = state;
   py::gil_scoped_release noGil;
+  if (IsCadState(bytes)) return PyManifold(LoadCadState(bytes), "pickled CAD model");
   FieldGeometry model;
   try {
     std::string geometryState;
@@ -90,46 +99,17 @@ PyManifold FromState(const py::bytes& state) {
   return PyManifold(std::move(model), "pickled manifold");
 }
 
-/// `values` as a C-ordered float64 array (converted when needed), or
-/// InputError naming `field`.
-py::array_t<double, py::array::c_style | py::array::forcecast> RealArray(const py::handle& values, const char* field) {
-  const py::array array = py::array::ensure(values);
-  if (!array || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' && array.dtype().kind() != 'u')) {
-    throw InputError(std::string(field) + ": expected an array of real numbers");
-  }
-  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
-}
-
-/// The elements of a C-ordered array. memcpy, because numpy arrays need not
-/// be aligned.
-template <typename T, int Flags>
-std::vector<T> CopyElements(const py::array_t<T, Flags>& array) {
-  static_assert((Flags & py::array::c_style) != 0);
-  std::vector<T> values(static_cast<std::size_t>(array.size()));
-  if (!values.empty()) std::memcpy(values.data(), array.data(), values.size() * sizeof(T));
-  return values;
-}
-
-/// Cell type names of FORMATS.md section 1, with their linear vertex counts.
-struct CellName {
-  const char* name;
-  CellType type;
-  int vertices;
-};
-constexpr CellName kCellNames[] = {{"line", CellType::Line, 2}, {"tri", CellType::Tri, 3},
-                                   {"quad", CellType::Quad, 4}, {"tet", CellType::Tet, 4},
-                                   {"hex", CellType::Hex, 8},   {"wedge", CellType::Wedge, 6}};
-
-const CellName& ParseCell(const std::string& name) {
-  for (const CellName& cell : kCellNames) {
-    if (name == cell.name) return cell;
-  }
-  throw InputError("cell: '" + name + "', expected line, tri, quad, tet, hex or wedge");
+/// The cell type called `name` (invmap/cell_type.h).
+CellType ParseCell(const std::string& name) {
+  CellType type = CellType::Line;
+  if (!ParseCellType(name, &type)) throw InputError("cell: '" + name + "', expected " + kCellTypeNames);
+  return type;
 }
 
 /// invmap.from_mesh: one mesh patch from numpy vertices and cells.
 PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const std::string& cellName) {
-  const CellName& cell = ParseCell(cellName);
+  const CellType cell = ParseCell(cellName);
+  const int cellVertices = TraitsOf(cell).vertices;
   const auto vertexArray = RealArray(vertices, "vertices");
   if (vertexArray.ndim() != 2 || (vertexArray.shape(1) != 2 && vertexArray.shape(1) != 3)) {
     throw InputError("vertices: shape " + ShapeText(vertexArray) + ", expected (V, 2) or (V, 3)");
@@ -139,16 +119,28 @@ PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const s
   if (!cellInput || (cellInput.dtype().kind() != 'i' && cellInput.dtype().kind() != 'u')) {
     throw InputError("cells: expected an array of integer vertex indices");
   }
-  if (cellInput.ndim() != 2 || cellInput.shape(1) != cell.vertices) {
+  if (cellInput.ndim() != 2 || cellInput.shape(1) != cellVertices) {
     throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
-                     std::to_string(cell.vertices) + " vertices");
+                     std::to_string(cellVertices) + " vertices");
+  }
+  // An unsigned index beyond the int64 range would wrap to a negative one in
+  // the cast below and be reported as such: name it as given.
+  if (cellInput.dtype().kind() == 'u') {
+    const auto unsignedCells = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
+    for (py::ssize_t i = 0; i < unsignedCells.size(); ++i) {
+      const std::uint64_t index = unsignedCells.data()[i];
+      if (index > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+        throw InputError("from_mesh: patch 0: cells[" + std::to_string(i / cellVertices) + "]: vertex index " +
+                         std::to_string(index) + " out of range [0, " + std::to_string(vertexArray.shape(0)) + ")");
+      }
+    }
   }
   const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
   Geometry geometry;
   geometry.dimension = static_cast<int>(vertexArray.shape(1));
   Patch& patch = geometry.patches.emplace_back();
   patch.kind = Patch::Kind::Mesh;
-  patch.cell = cell.type;
+  patch.cell = cell;
   patch.points = CopyElements(vertexArray);
   patch.cells = CopyElements(cellArray);
   py::gil_scoped_release noGil;
@@ -202,20 +194,11 @@ py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape, const p
 }
 
 /// The options of invert and trim, validated (None means the default).
-InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads) {
+InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads, bool pointwise) {
   InversionOptions options;
-  if (maxDistance) {
-    if (std::isnan(*maxDistance) || *maxDistance < 0.0) {
-      std::ostringstream message;
-      message << "max_distance: " << *maxDistance << ", expected a number >= 0";
-      throw InputError(message.str());
-    }
-    options.maxDistance = *maxDistance;
-  }
-  if (threads) {
-    if (*threads < 0) throw InputError("threads: " + std::to_string(*threads) + ", expected >= 0 (0: all cores)");
-    options.threads = *threads;
-  }
+  options.pointwise = pointwise;
+  if (maxDistance) options.maxDistance = CheckedMaxDistance(*maxDistance);
+  if (threads) options.threads = CheckedThreads(*threads);
   return options;
 }
 
@@ -246,7 +229,7 @@ py::dict ResultsDict(Results&& results, int dim) {
     }
     results.closest.resize(2 * n);
   }
-  // Status is a uint8 enum holding the FORMATS.md codes: its vector is the uint8 array.
+  // Status is a uint8 enum holding the codes of docs/formats.md section 5: its vector is the uint8 array.
   static_assert(sizeof(Status) == sizeof(std::uint8_t));
   py::dict out;
   out["status"] = Adopt(std::move(results.status), {n}, py::dtype::of<std::uint8_t>());
@@ -258,16 +241,41 @@ py::dict ResultsDict(Results&& results, int dim) {
   return out;
 }
 
+/// The signed distances of the points of `results` (the `signed` option of
+/// invert and trim): InputError unless the manifold is a CAD model whose
+/// shells are closed.
+std::vector<double> Signed(const PyManifold& self, const py::handle& points, const Results& results, int threads) {
+  if (!self.cad()) throw InputError("signed: needs a CAD model (.step, .stp, .iges, .igs, .brep) with closed solids");
+  const NumpyPoints view = ReadNumpyPoints(points, self.dimension());
+  const std::size_t n = view.view.count;
+  std::vector<double> xyz(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      xyz[3 * i + k] = view.view.scalar == Scalar::Float64
+                           ? static_cast<const double*>(view.view.coord[k])[i * view.view.stride]
+                           : static_cast<const float*>(view.view.coord[k])[i * view.view.stride];
+    }
+  }
+  py::gil_scoped_release noGil;
+  return SignedDistances(*self.cad(), xyz.data(), n, results, threads);
+}
+
 /// Manifold.invert: the Results as numpy arrays.
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads) {
-  return ResultsDict(InvertPoints(self, points, MakeOptions(maxDistance, threads)), self.dimension());
+                std::optional<int> threads, bool pointwise, bool signedDistance) {
+  Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise));
+  if (!signedDistance) return ResultsDict(std::move(results), self.dimension());
+  std::vector<double> sd = Signed(self, points, results, threads.value_or(0));
+  const auto n = static_cast<py::ssize_t>(sd.size());
+  py::dict out = ResultsDict(std::move(results), self.dimension());
+  out["signed_distance"] = Adopt(std::move(sd), {n}, py::dtype::of<double>());
+  return out;
 }
 
 /// Manifold.probe: Manifold.invert's dict with "fields" added.
 py::dict Probe(const PyManifold& self, const py::handle& points, const std::optional<std::vector<std::string>>& names,
                std::optional<double> maxDistance, std::optional<int> threads) {
-  const InversionOptions options = MakeOptions(maxDistance, threads);
+  const InversionOptions options = MakeOptions(maxDistance, threads, false);
   Results results = InvertPoints(self, points, options);
   py::dict fields = ProbeFieldsDict(self.fields(), results, names, options.threads);
   py::dict out = ResultsDict(std::move(results), self.dimension());
@@ -276,10 +284,25 @@ py::dict Probe(const PyManifold& self, const py::handle& points, const std::opti
 }
 
 /// Manifold.trim: the mask of the points `invmap trim` keeps.
-py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep) {
+py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep,
+                       bool pointwise, bool signedDistance) {
   if (keep != "near" && keep != "far") throw InputError("keep: '" + keep + "', expected 'near' or 'far'");
-  const Results results = InvertPoints(self, points, MakeOptions(maxDistance, std::nullopt));
   const bool keepFar = keep == "far";
+  InversionOptions options = MakeOptions(maxDistance, std::nullopt, pointwise);
+  if (signedDistance) {
+    // As `invmap trim --signed`: near is at most max_distance outside (the
+    // inside however deep), so every point needs its side.
+    options.maxDistance = std::numeric_limits<double>::infinity();
+    const Results results = InvertPoints(self, points, options);
+    const std::vector<double> sd = Signed(self, points, results, 0);
+    py::array_t<bool> mask(static_cast<py::ssize_t>(sd.size()));
+    bool* out = mask.mutable_data();
+    for (std::size_t i = 0; i < sd.size(); ++i) {
+      out[i] = !std::isnan(sd[i]) && (keepFar ? sd[i] > maxDistance : sd[i] <= maxDistance);
+    }
+    return mask;
+  }
+  const Results results = InvertPoints(self, points, options);
   py::array_t<bool> mask(static_cast<py::ssize_t>(results.status.size()));
   bool* out = mask.mutable_data();
   // As `invmap trim`: Found means within max_distance, None beyond it;
@@ -308,6 +331,7 @@ py::dict Info(const PyManifold& self) {
   out["bounds_lo"] = py::tuple(lo);
   out["bounds_hi"] = py::tuple(hi);
   out["memory_bytes"] = info.memoryBytes;
+  if (self.cad()) out["cad"] = CadInfo(*self.cad());
   return out;
 }
 
@@ -317,6 +341,7 @@ py::dict Info(const PyManifold& self) {
 PYBIND11_MODULE(_invmap, m) {
   using namespace invmap::python;
   invmap::fem::RegisterFemReaders();
+  invmap::cad::RegisterCadReaders();
   m.doc() = "Compiled core of the invmap package; use `import invmap`.";
   m.attr("__version__") = invmap::Version();
 
@@ -341,11 +366,13 @@ Counts describing the manifold, as `invmap info` prints them.
 
 Returns a dict: dimension (int), patches (int), cells (int), cells_by_shape
 (dict such as {"quad 3x3": 1024}), bounds_lo and bounds_hi (tuples of
-`dimension` floats; zeros when there are no cells) and memory_bytes (heap
-memory of cells, bounds and BVH).
+`dimension` floats) and memory_bytes (heap memory of cells, bounds and BVH). A CAD model adds "cad": format, faces,
+faces_by_surface, edges, vertices, shells, solids, open_parts,
+approximated_faces, approximation_tolerance, approximation_deviation,
+model_bounds_lo and model_bounds_hi, as `invmap info` prints them.
 )doc")
       .def("invert", &Invert, py::arg("points"), py::arg("max_distance") = py::none(),
-           py::arg("threads") = py::none(), R"doc(
+           py::arg("threads") = py::none(), py::arg("pointwise") = false, py::arg("signed") = false, R"doc(
 Closest point, cell and parameters of every query point.
 
 points: (N, dimension) array-like. float32 and float64 arrays are read in
@@ -354,6 +381,12 @@ max_distance: gap tolerance; points farther than this from every cell get
   status 1 (none). Default: unlimited.
 threads: worker threads, default (None or 0) all cores. Results do not
   depend on it.
+pointwise: each answer a function of its point and the geometry only, bit
+  for bit whatever batch or chunk the point comes in (by default a point's
+  solve starts from its neighbour's answer: the same minimum, but the last
+  digits depend on the batch). Slower; see docs/limitations.md.
+signed: CAD models with closed solids only: also return signed_distance,
+  negative inside a solid (InputError naming the open shell otherwise).
 
 Returns a dict of numpy arrays, one row per point in input order:
   status   (N,) uint8: 0 found, 1 none, 2 invalid (NaN or infinite input)
@@ -363,7 +396,10 @@ Returns a dict of numpy arrays, one row per point in input order:
            (Bezier, mesh); NaN where the cell has fewer parameters
   closest  (N, dimension) float64, NaN when not found
   distance (N,) float64, NaN when not found
-The GIL is released while the engine works.
+  signed_distance (N,) float64, with signed=True
+CAD models (invmap.load of .step, .iges, .brep): patch is the face in
+OpenCascade's face-map order, params the face surface's own (u, v)
+(docs/cad.md). The GIL is released while the engine works.
 
 Raises InputError for points of the wrong shape or type and for bad options.
 )doc")
@@ -383,23 +419,35 @@ Raises InputError for an unknown name or a manifold without fields.
 )doc")
       .def_property_readonly("fields", [](const PyManifold& self) { return FieldComponents(self.fields()); },
                              "The node fields the manifold carries: {name: components}.")
-      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near", R"doc(
+      .def("trim", &Trim, py::arg("points"), py::arg("max_distance"), py::arg("keep") = "near",
+           py::arg("pointwise") = false, py::arg("signed") = false, R"doc(
 Boolean mask of the points `invmap trim` keeps: those within max_distance
 of the geometry (keep="near") or beyond it (keep="far"). Points with NaN or
-infinite coordinates are in neither set.
+infinite coordinates are in neither set. pointwise: as in invert.
+signed=True (CAD solids): near is a signed distance <= max_distance (inside
+the solid, however deep, or at most max_distance outside), far the rest.
 )doc")
       .def("__repr__",
            [](const PyManifold& self) {
              return "<invmap.Manifold dimension=" + std::to_string(self.dimension()) +
                     " patches=" + std::to_string(self.patches()) + " cells=" + std::to_string(self.cells()) + ">";
            })
-      .def(py::pickle([](const PyManifold& self) { return py::bytes(self.state()); }, &FromState));
+      .def(py::pickle([](const PyManifold& self) { return py::bytes(self.state()); }, &FromState))
+      // Every pickle protocol (and copy) goes through __reduce__ once it is
+      // defined: protocols 0 and 1 otherwise rebuild through object.__new__,
+      // which a pybind11 class does not allow (the interpreter aborted).
+      .def("__reduce__", [](const PyManifold& self) {
+        return py::make_tuple(py::module_::import("invmap").attr("_unpickle_manifold"),
+                              py::make_tuple(py::bytes(self.state())));
+      });
 
+  m.def("_manifold_from_state", &FromState, py::arg("state"),
+        "Rebuilds a manifold from its pickled state (see invmap._unpickle_manifold).");
   m.def("_load_file", &LoadFile, py::arg("path"), "Reads and builds a geometry file (see invmap.load).");
   m.def("_load_json", &LoadJson, py::arg("text"), py::arg("name"),
         "Reads and builds geometry JSON text; messages name it `name` (see invmap.load).");
   m.def("from_mesh", &FromMesh, py::arg("vertices"), py::arg("cells"), py::arg("cell") = "tri", R"doc(
-A manifold of linear cells sharing vertices (a "mesh" patch, FORMATS.md section 2).
+A manifold of linear cells sharing vertices (a "mesh" patch, docs/formats.md section 2).
 
 vertices: (V, 2) or (V, 3) real array; the geometry's dimension follows.
 cells: (C, k) integer array of 0-based vertex indices in finite-element order,
@@ -415,4 +463,5 @@ Raises InputError for a malformed mesh, e.g. an out-of-range vertex index.
   RegisterGrid(m);
   RegisterDistance(m);
   RegisterPointFiles(m);
+  RegisterPou(m);
 }

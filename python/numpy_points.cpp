@@ -17,6 +17,23 @@ std::string ShapeText(const py::array& array) {
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
+py::array_t<double, py::array::c_style | py::array::forcecast> RealArray(const py::handle& values, const char* field) {
+  const py::array array = py::array::ensure(values);
+  if (!array || (array.dtype().kind() != 'f' && array.dtype().kind() != 'i' && array.dtype().kind() != 'u')) {
+    throw InputError(std::string(field) + ": expected an array of real numbers");
+  }
+  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+}
+
+py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> IndexArray(const py::handle& values,
+                                                                               const char* field) {
+  const py::array array = py::array::ensure(values);
+  if (!array || (array.dtype().kind() != 'i' && array.dtype().kind() != 'u')) {
+    throw InputError(std::string(field) + ": expected an array of integer vertex indices");
+  }
+  return py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(array);
+}
+
 namespace {
 
 /// The view of `array` in place, if PointsView can express its layout: one

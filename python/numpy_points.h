@@ -3,7 +3,10 @@
 
 #include <pybind11/numpy.h>
 
+#include <cstdint>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "invmap/invmap.h"
 
@@ -29,5 +32,25 @@ NumpyPoints ReadNumpyPoints(pybind11::handle points, int dim);
 
 /// An array's shape as Python prints it, "(5, 2)" or "(7,)", for messages.
 std::string ShapeText(const pybind11::array& array);
+
+/// `values` as a C-ordered float64 array (converted when needed), or
+/// InputError naming `field`.
+pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast> RealArray(
+    const pybind11::handle& values, const char* field);
+
+/// `values` as a C-ordered int64 array of indices, or InputError naming
+/// `field` (float indices would be truncated silently by a cast).
+pybind11::array_t<std::int64_t, pybind11::array::c_style | pybind11::array::forcecast> IndexArray(
+    const pybind11::handle& values, const char* field);
+
+/// The elements of a C-ordered array. memcpy, because numpy arrays need not
+/// be aligned.
+template <typename T, int Flags>
+std::vector<T> CopyElements(const pybind11::array_t<T, Flags>& array) {
+  static_assert((Flags & pybind11::array::c_style) != 0);
+  std::vector<T> values(static_cast<std::size_t>(array.size()));
+  if (!values.empty()) std::memcpy(values.data(), array.data(), values.size() * sizeof(T));
+  return values;
+}
 
 }  // namespace invmap::python

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <utility>
 
 namespace invmap::samples {
@@ -40,7 +39,14 @@ struct Circle {
   }
 };
 
-/// The bent, lifted beam: reference cube [0, 1]^3 to physical space.
+/// The golden ratio: the icosahedron's corners are (0, +-1, +-t) and their
+/// cyclic permutations.
+const double kGolden = (1.0 + std::sqrt(5.0)) / 2.0;
+
+}  // namespace
+
+namespace detail {
+
 std::array<double, 3> BeamMap(double a, double b, double c) {
   const double theta = 1.5 * a;
   const double radius = 2.0 + 0.8 * (b - 0.5);
@@ -48,7 +54,17 @@ std::array<double, 3> BeamMap(double a, double b, double c) {
   return {radius * std::cos(theta), radius * std::sin(theta), z};
 }
 
-}  // namespace
+const int kIcosahedronFaces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                      {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                      {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                      {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+
+std::array<double, 3> Bump(double x, double y, double z) {
+  const double radius = 1.0 + 0.08 * std::sin(6 * x) * std::sin(5 * y) * std::sin(4 * z);
+  return {radius * x, radius * y, radius * z};
+}
+
+}  // namespace detail
 
 Geometry WavySurface(int spans) {
   const int p = 3;
@@ -113,45 +129,21 @@ Geometry NurbsCurve2D() {
   return geometry;
 }
 
+CurvedTetGrid::CurvedTetGrid(int resolution) : resolution_(resolution), m_(2 * resolution + 1) {}
+
+// Nodes on the doubled grid: corners at even indices, edge midpoints of the
+// Kuhn tets on the odd ones, so shared nodes are shared by index.
+std::int64_t CurvedTetGrid::NumNodes() const { return static_cast<std::int64_t>(m_) * m_ * m_; }
+
+std::int64_t CurvedTetGrid::NumTets() const { return 6 * static_cast<std::int64_t>(resolution_) * resolution_ * resolution_; }
+
 QuadraticTetMesh CurvedTetMesh(int resolution) {
+  const CurvedTetGrid grid(resolution);
   QuadraticTetMesh mesh;
-  // Nodes on the doubled grid: corners at even indices, edge midpoints of
-  // the Kuhn tets on the odd ones, so shared nodes are shared by index.
-  const int m = 2 * resolution + 1;
-  auto nodeIndex = [m](int i, int j, int k) { return static_cast<std::int64_t>((k * m + j) * m + i); };
-  for (int k = 0; k < m; ++k) {
-    for (int j = 0; j < m; ++j) {
-      for (int i = 0; i < m; ++i) {
-        const std::array<double, 3> x = BeamMap(i / (m - 1.0), j / (m - 1.0), k / (m - 1.0));
-        mesh.nodes.insert(mesh.nodes.end(), x.begin(), x.end());
-      }
-    }
-  }
-  // Kuhn split: one tet per ordering of the axes, from corner 000 to 111.
-  const int axesOrders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  // gmsh tet10: vertices 0..3, then edges (0,1), (1,2), (0,2), (0,3), (2,3), (1,3).
-  const int edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}};
-  for (int k = 0; k < resolution; ++k) {
-    for (int j = 0; j < resolution; ++j) {
-      for (int i = 0; i < resolution; ++i) {
-        for (const auto& order : axesOrders) {
-          std::array<std::array<int, 3>, 4> v;
-          std::array<int, 3> corner{2 * i, 2 * j, 2 * k};
-          v[0] = corner;
-          for (int s = 0; s < 3; ++s) {
-            corner[order[s]] += 2;
-            v[s + 1] = corner;
-          }
-          for (int s = 0; s < 4; ++s) mesh.tets.push_back(nodeIndex(v[s][0], v[s][1], v[s][2]));
-          for (const auto& e : edges) {
-            const std::array<int, 3>& a = v[e[0]];
-            const std::array<int, 3>& b = v[e[1]];
-            mesh.tets.push_back(nodeIndex((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2));
-          }
-        }
-      }
-    }
-  }
+  mesh.nodes.reserve(3 * static_cast<std::size_t>(grid.NumNodes()));
+  mesh.tets.reserve(10 * static_cast<std::size_t>(grid.NumTets()));
+  grid.ForEachNode([&](double x, double y, double z) { mesh.nodes.insert(mesh.nodes.end(), {x, y, z}); });
+  grid.ForEachTet([&](const std::int64_t* nodes) { mesh.tets.insert(mesh.tets.end(), nodes, nodes + 10); });
   return mesh;
 }
 
@@ -189,46 +181,61 @@ Geometry ToBezierGeometry(const QuadraticTetMesh& mesh) {
   return geometry;
 }
 
-Geometry BumpySphere(std::int64_t minTriangles) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<std::array<double, 3>> vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                                                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<std::array<std::int64_t, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  while (static_cast<std::int64_t>(faces.size()) < minTriangles) {
-    std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> midpoints;
-    auto midpoint = [&](std::int64_t a, std::int64_t b) {
-      const auto key = std::minmax(a, b);
-      const auto found = midpoints.find(key);
-      if (found != midpoints.end()) return found->second;
-      std::array<double, 3> m;
-      for (int k = 0; k < 3; ++k) m[k] = 0.5 * (vertices[a][k] + vertices[b][k]);
-      vertices.push_back(m);
-      return midpoints[key] = static_cast<std::int64_t>(vertices.size() - 1);
-    };
-    std::vector<std::array<std::int64_t, 3>> finer;
-    finer.reserve(faces.size() * 4);
-    for (const auto& f : faces) {
-      const std::int64_t a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
-      finer.push_back({f[0], a, c});
-      finer.push_back({f[1], b, a});
-      finer.push_back({f[2], c, b});
-      finer.push_back({a, b, c});
+BumpySphereMesh::BumpySphereMesh(std::int64_t minTriangles) {
+  while (20 * n_ * n_ < minTriangles) n_ *= 2;
+  int count = 0;
+  for (auto& row : edgeOf_) std::fill(std::begin(row), std::end(row), -1);
+  for (const auto& face : detail::kIcosahedronFaces) {
+    for (int e = 0; e < 3; ++e) {
+      const int P = std::min(face[e], face[(e + 1) % 3]), Q = std::max(face[e], face[(e + 1) % 3]);
+      if (edgeOf_[P][Q] >= 0) continue;
+      edgeOf_[P][Q] = edgeOf_[Q][P] = count;
+      edges_[count++] = {P, Q};
     }
-    faces.swap(finer);
   }
+}
+
+std::int64_t BumpySphereMesh::NumVertices() const { return 10 * n_ * n_ + 2; }
+
+std::int64_t BumpySphereMesh::NumTriangles() const { return 20 * n_ * n_; }
+
+std::array<double, 3> BumpySphereMesh::Corner(int c) const {
+  const double t = kGolden;
+  static const double kCorners[12][3] = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  return {kCorners[c][0], kCorners[c][1], kCorners[c][2]};
+}
+
+std::int64_t BumpySphereMesh::GridVertex(int f, std::int64_t i, std::int64_t j) const {
+  const int* corner = detail::kIcosahedronFaces[f];
+  const std::int64_t a = n_ - i - j;
+  if (i == 0 && j == 0) return corner[0];
+  if (i == n_) return corner[1];
+  if (j == n_) return corner[2];
+  // On an edge (P, Q), `steps` from P: counted from the edge's lower corner.
+  const auto onEdge = [&](int P, int Q, std::int64_t steps) {
+    const std::int64_t t = P < Q ? steps : n_ - steps;
+    return 12 + edgeOf_[P][Q] * (n_ - 1) + (t - 1);
+  };
+  if (j == 0) return onEdge(corner[0], corner[1], i);
+  if (i == 0) return onEdge(corner[0], corner[2], j);
+  if (a == 0) return onEdge(corner[1], corner[2], j);
+  // Inside: rows j = 1 .. n - 2 of n - 1 - j vertices each.
+  const std::int64_t perFace = (n_ - 1) * (n_ - 2) / 2;
+  const std::int64_t row = (j - 1) * (n_ - 1) - (j - 1) * j / 2;
+  return 12 + 30 * (n_ - 1) + f * perFace + row + (i - 1);
+}
+
+Geometry BumpySphere(std::int64_t minTriangles) {
+  const BumpySphereMesh mesh(minTriangles);
   Patch patch;
   patch.kind = Patch::Kind::Mesh;
   patch.cell = CellType::Tri;
-  for (const auto& v : vertices) {
-    const double norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    const double x = v[0] / norm, y = v[1] / norm, z = v[2] / norm;
-    const double radius = 1.0 + 0.08 * std::sin(6 * x) * std::sin(5 * y) * std::sin(4 * z);
-    patch.points.insert(patch.points.end(), {radius * x, radius * y, radius * z});
-  }
-  for (const auto& f : faces) patch.cells.insert(patch.cells.end(), f.begin(), f.end());
+  patch.points.reserve(3 * static_cast<std::size_t>(mesh.NumVertices()));
+  patch.cells.reserve(3 * static_cast<std::size_t>(mesh.NumTriangles()));
+  mesh.ForEachVertex([&](double x, double y, double z) { patch.points.insert(patch.points.end(), {x, y, z}); });
+  mesh.ForEachTriangle(
+      [&](std::int64_t a, std::int64_t b, std::int64_t c) { patch.cells.insert(patch.cells.end(), {a, b, c}); });
   Geometry geometry;
   geometry.dimension = 3;
   geometry.patches.push_back(std::move(patch));

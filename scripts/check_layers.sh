@@ -13,20 +13,22 @@ root=$(cd "${1:-$(dirname "$0")/..}" && pwd)
 # What each folder may include besides its own headers. "invmap" is the
 # public API (include/invmap/); tests, benchmarks and fuzzers may use every
 # library but not the command or the Python module.
-libraries="common kernels engine implicit fields io implicit_io fem samples invmap"
+libraries="common kernels pou engine implicit fields io implicit_io fem cad samples invmap"
 declare -A may_use=(
   [include]="invmap"
   [common]=""
-  [kernels]="common"
-  [engine]="common kernels invmap"
+  [kernels]="common invmap"
+  [pou]="common invmap"
+  [engine]="common kernels pou invmap"
   [implicit]="common invmap"
   [fields]="common kernels engine invmap"
   [io]="common kernels invmap"
   [fem]="common kernels io invmap"
+  [cad]="common kernels engine io invmap"
   [implicit_io]="common implicit io invmap"
   [samples]="invmap"
-  [cli]="common io implicit_io fem samples invmap"
-  [python]="common io implicit_io fem invmap"
+  [cli]="common io implicit_io fem cad samples invmap"
+  [python]="common io implicit_io fem cad invmap"
   [examples]="invmap"
   [bench]="$libraries"
   [fuzz]="$libraries"

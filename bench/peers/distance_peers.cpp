@@ -34,6 +34,8 @@
 #include "invmap/invmap.h"
 
 #if INVMAP_PEER_OCC
+#include "bench/peers/occ_bspline.h"
+
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
@@ -42,10 +44,6 @@
 #include <Precision.hxx>
 #include <Standard_Failure.hxx>
 #include <Standard_Version.hxx>
-#include <TColStd_Array1OfInteger.hxx>
-#include <TColStd_Array1OfReal.hxx>
-#include <TColStd_Array2OfReal.hxx>
-#include <TColgp_Array2OfPnt.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shape.hxx>
@@ -174,25 +172,6 @@ std::vector<Workload> MakeWorkloads(bool quick) {
 // -------------------------------------------------------------------- peers
 
 #if INVMAP_PEER_OCC
-void SplitKnots(const std::vector<double>& knots, TColStd_Array1OfReal* values, TColStd_Array1OfInteger* mults) {
-  std::vector<double> distinct;
-  std::vector<int> count;
-  for (double k : knots) {
-    if (distinct.empty() || k != distinct.back()) {
-      distinct.push_back(k);
-      count.push_back(1);
-    } else {
-      ++count.back();
-    }
-  }
-  values->Resize(1, static_cast<int>(distinct.size()), false);
-  mults->Resize(1, static_cast<int>(distinct.size()), false);
-  for (std::size_t i = 0; i < distinct.size(); ++i) {
-    values->SetValue(static_cast<int>(i) + 1, distinct[i]);
-    mults->SetValue(static_cast<int>(i) + 1, count[i]);
-  }
-}
-
 /// The geometry as an OpenCascade shape: a B-spline surface patch as a face
 /// on a Geom_BSplineSurface (same poles, weights and knots), a triangle mesh
 /// as a compound of planar triangular faces.
@@ -202,25 +181,7 @@ TopoDS_Shape ToOccShape(const Geometry& g) {
   builder.MakeCompound(compound);
   for (const invmap::Patch& patch : g.patches) {
     if (patch.kind == invmap::Patch::Kind::BSpline && patch.degrees.size() == 2) {
-      const int nu = patch.counts[0], nv = patch.counts[1];
-      TColgp_Array2OfPnt poles(1, nu, 1, nv);
-      TColStd_Array2OfReal weights(1, nu, 1, nv);
-      for (int j = 0; j < nv; ++j) {
-        for (int i = 0; i < nu; ++i) {
-          const double* x = &patch.points[3 * (static_cast<std::size_t>(j) * nu + i)];
-          poles.SetValue(i + 1, j + 1, gp_Pnt(x[0], x[1], x[2]));
-          weights.SetValue(i + 1, j + 1, patch.weights.empty() ? 1.0 : patch.weights[j * nu + i]);
-        }
-      }
-      TColStd_Array1OfReal uKnots, vKnots;
-      TColStd_Array1OfInteger uMults, vMults;
-      SplitKnots(patch.knots[0], &uKnots, &uMults);
-      SplitKnots(patch.knots[1], &vKnots, &vMults);
-      Handle(Geom_BSplineSurface) surface =
-          patch.weights.empty()
-              ? new Geom_BSplineSurface(poles, uKnots, vKnots, uMults, vMults, patch.degrees[0], patch.degrees[1])
-              : new Geom_BSplineSurface(poles, weights, uKnots, vKnots, uMults, vMults, patch.degrees[0],
-                                        patch.degrees[1]);
+      const Handle(Geom_BSplineSurface) surface = invmap::bench::ToOccSurface(patch);
       builder.Add(compound, BRepBuilderAPI_MakeFace(surface, Precision::Confusion()).Face());
     } else if (patch.kind == invmap::Patch::Kind::Mesh && patch.cell == invmap::CellType::Tri) {
       for (std::size_t c = 0; c + 2 < patch.cells.size(); c += 3) {

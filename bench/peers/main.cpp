@@ -60,7 +60,8 @@ void PrintHelp() {
       "  --scaling-csv F     CSV of the scaling study (default peers_scaling.csv)\n"
       "  --work-dir D        where the gmsh meshes are written (default peers_work)\n"
       "  --only NAME         only workloads whose geometry name contains NAME\n"
-      "                      (surface, torus, curve, trimesh, small trimesh, tets order 2, tets order 3)\n"
+      "                      (surface, torus, curve, trimesh, small trimesh, tets order 2, tets order 3,\n"
+      "                      cad bracket, cad screw, cad bearing)\n"
       "  --list-disagreements K  print up to K points per peer and workload where the distances disagree\n"
       "  --invmap-only       run invmap and its oracle but no peer (for profiling invmap)\n"
       "  --no-scaling        skip the scaling study\n"
@@ -178,6 +179,9 @@ PeerList AllPeers(const GeometryCase& c) {
   };
 #if defined(INVMAP_PEER_OCC)
   add(MakeOccPeers(c));
+#endif
+#if defined(INVMAP_PEER_OCC) && defined(INVMAP_BENCH_CAD)
+  add(MakeOccCadPeers(c));
 #endif
 #if defined(INVMAP_PEER_SISL)
   add(MakeSislPeers(c));

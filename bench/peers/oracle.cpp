@@ -7,6 +7,7 @@
 
 #include "bench/peers/harness.h"
 #include "engine/cell_store.h"
+#include "engine/geometry_validation.h"
 #include "kernels/cell_solver.h"
 
 namespace invmap::bench {
@@ -16,12 +17,11 @@ OracleRun RunOracle(const Geometry& geometry, const PointSet& set, std::int64_t 
   OracleRun run;
   // A second copy of the cells, built the same way as the manifold's, so the
   // oracle reaches the solvers without going through the engine's private Impl.
-  engine::CellStore store;
-  const std::string error = store.Build(geometry, 0);
-  if (!error.empty()) {
-    std::fprintf(stderr, "invmap_bench_peers: oracle: %s\n", error.c_str());
+  if (const GeometryError problem = engine::ValidateGeometry(geometry)) {
+    std::fprintf(stderr, "invmap_bench_peers: oracle: %s\n", Describe(problem).c_str());
     std::exit(2);
   }
+  const engine::CellStore store = engine::CellStore::Build(geometry, 0);
   std::vector<std::int64_t> cells(count, -1);
   for (std::int64_t i = 0; i < count; ++i) {
     if (invmapResults.status[i] != Status::Found) continue;

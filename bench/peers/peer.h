@@ -68,6 +68,8 @@ using PeerList = std::vector<PeerFactory>;
 /// found at configure time (see bench/peers/CMakeLists.txt). The factories
 /// refer to `geometryCase`, which must outlive them.
 PeerList MakeOccPeers(const GeometryCase& geometryCase);
+/// OpenCascade's BRepExtrema on CAD cases (with invmap's CAD library only).
+PeerList MakeOccCadPeers(const GeometryCase& geometryCase);
 PeerList MakeSislPeers(const GeometryCase& geometryCase);
 PeerList MakeEmbreePeers(const GeometryCase& geometryCase);
 PeerList MakeCgalPeers(const GeometryCase& geometryCase);

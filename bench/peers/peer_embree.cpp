@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include "bench/peers/peer.h"
 #include "bench/peers/triangle_distance.h"
@@ -70,7 +72,9 @@ class EmbreeWorker : public PeerWorker {
 
 class EmbreeMethod : public PeerMethod {
  public:
-  explicit EmbreeMethod(const Patch& patch) {
+  /// `label`: what the mesh is, when it stands for another geometry (a CAD
+  /// model's tessellation), added to the name and the note.
+  explicit EmbreeMethod(const Patch& patch, std::string label = {}) : label_(std::move(label)) {
     device_ = rtcNewDevice(nullptr);
     scene_ = rtcNewScene(device_);
     const std::size_t numVertices = patch.points.size() / 3, numTriangles = patch.cells.size() / 3;
@@ -85,6 +89,7 @@ class EmbreeMethod : public PeerMethod {
       maxAbs = std::max(maxAbs, std::abs(patch.points[i]));
     }
     for (std::size_t i = 0; i < 3 * numTriangles; ++i) indices[i] = static_cast<unsigned>(patch.cells[i]);
+    numTriangles_ = numTriangles;
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene_, geometry);
     rtcReleaseGeometry(geometry);
@@ -100,15 +105,23 @@ class EmbreeMethod : public PeerMethod {
     rtcReleaseScene(scene_);
     rtcReleaseDevice(device_);
   }
-  std::string name() const override { return "Embree rtcPointQuery"; }
+  std::string name() const override {
+    return label_.empty() ? "Embree rtcPointQuery" : "Embree rtcPointQuery on " + label_;
+  }
   bool threadSafe() const override { return true; }
   std::unique_ptr<PeerWorker> NewWorker() override { return std::make_unique<EmbreeWorker>(scene_, &mesh_); }
   std::string note() const override {
-    return "triangle geometry (float), default build quality; callback: exact double point-triangle distance, "
-           "radius = distance + 16 float ulps";
+    return (label_.empty() ? std::string() : label_ + " of " + std::to_string(numTriangles_) + " triangles: ") +
+           "triangle geometry (float), default build quality; callback: exact double point-triangle distance, "
+           "radius = distance + 16 float ulps" +
+           (label_.empty() ? std::string()
+                           : "; the mesh is not the model, so its farther columns and max diff are the "
+                             "tessellation's error against the exact distance, not wrong answers");
   }
 
  private:
+  std::string label_;
+  std::size_t numTriangles_ = 0;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   MeshData mesh_;
@@ -123,6 +136,13 @@ PeerList MakeEmbreePeers(const GeometryCase& geometryCase) {
   if (geometryCase.kind == CaseKind::TriangleMesh) {
     const Patch& patch = geometryCase.geometry.patches[0];
     peers.push_back([&patch] { return std::make_unique<EmbreeMethod>(patch); });
+  }
+  // A CAD model's tessellations: the distance to the mesh, not to the model,
+  // whose difference the comparison's "max diff" column shows.
+  for (const GeometryCase::Tessellation& t : geometryCase.tessellations) {
+    char label[64];
+    std::snprintf(label, sizeof label, "tessellation (deflection %.2g)", t.deflection);
+    peers.push_back([&t, name = std::string(label)] { return std::make_unique<EmbreeMethod>(t.mesh, name); });
   }
   return peers;
 }

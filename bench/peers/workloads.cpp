@@ -437,6 +437,9 @@ std::vector<GeometryCase> MakeCases(const WorkloadOptions& options) {
     c.pointSets.push_back(BallPoints(n, 50 + order));
     cases.push_back(std::move(c));
   }
+#if defined(INVMAP_BENCH_CAD)
+  AddCadCases(options, &cases);
+#endif
   return cases;
 }
 

@@ -17,6 +17,7 @@ enum class CaseKind {
   SplineCurve,    ///< One planar B-spline/NURBS curve patch (OpenCascade, SISL).
   TriangleMesh,   ///< One linear triangle mesh patch (Embree, CGAL).
   TetMesh,        ///< A high-order tet mesh made by gmsh, in a .msh file (gmsh).
+  CadModel,       ///< A CAD model file (OpenCascade's BRepExtrema; Embree on tessellations of it).
 };
 
 /// One set of query points of a case.
@@ -43,6 +44,15 @@ struct GeometryCase {
   std::string mshPath;
   /// TetMesh: the element order.
   int order = 0;
+  /// CadModel: the model file OpenCascade reads (invmap's geometry is its
+  /// faces), and tessellations of it for the mesh peers, each with the
+  /// chordal deflection OpenCascade's mesher was given.
+  std::string cadPath;
+  struct Tessellation {
+    double deflection = 0.0;
+    Patch mesh;  ///< A triangle mesh patch.
+  };
+  std::vector<Tessellation> tessellations;
 };
 
 /// Sizes of the workloads.
@@ -58,6 +68,11 @@ struct WorkloadOptions {
 /// Builds every case. A case that cannot be made (no gmsh to mesh the tet
 /// solid) is left out with a message on stderr.
 std::vector<GeometryCase> MakeCases(const WorkloadOptions& options);
+
+/// Appends the CAD cases (bench/peers/cad_workloads.cpp; built only with
+/// invmap's CAD library): the demo's bracket and two of OpenCascade's sample
+/// models, with simulated scans of them.
+void AddCadCases(const WorkloadOptions& options, std::vector<GeometryCase>* cases);
 
 /// Point of a B-spline/NURBS patch (curve or surface) at knot parameters
 /// `params` (one per parametric direction), written to `point` (`dim` values).

@@ -6,7 +6,7 @@
 // set of the complex (surfaces f_i = 0, curves f_i = f_j = 0, points
 // f_i = f_j = f_l = 0; or the interfaces of a material partition, or the
 // boundary of a CSG solid) is within `epsilon` of its piecewise-linear
-// discretization (../shared/seeds/adaptive-grid-implicit-complexes.txt).
+// discretization (docs/grids.md).
 //
 //   std::vector<invmap::implicit::Function> functions = {
 //       invmap::implicit::Function::Sphere({0.5, 0.5, 0.5}, 0.3)};
@@ -39,7 +39,7 @@ using Vec3 = std::array<double, 3>;
 using EvaluateFn = std::function<void(const double* xyz, std::size_t count, double* values, double* gradients)>;
 
 /// One implicit function f: R^n -> R with its gradient. The built-ins follow
-/// ../shared/benchmarks/implicit/README.md: positive inside.
+/// docs/grids.md (function objects): positive inside.
 struct Function {
   std::string name;  ///< For messages and output labels ("sphere", or the user's).
   EvaluateFn evaluate;
@@ -57,7 +57,7 @@ struct Function {
   /// a . (x - apex) - cos(apexAngle) |x - apex| with a the normalized axis:
   /// positive inside the cone of half angle `apexAngle` (radians) around +a.
   static Function Cone(const Vec3& apex, const Vec3& axisVector, double apexAngle);
-  /// The seed's scalar field x^5 + x^4 - 2 y^2 of (x - c).
+  /// The adaptive-grid paper's scalar field x^5 + x^4 - 2 y^2 of (x - c).
   static Function Quintic(const Vec3& center);
   /// Gyroid sin(sx) cos(sy) + sin(sy) cos(sz) + sin(sz) cos(sx) with s = 2 pi / period.
   static Function Gyroid(double period);
@@ -71,7 +71,7 @@ enum class Mode {
 };
 
 /// One node of a CSG tree, as in the tree files of
-/// ../shared/benchmarks/implicit/README.md: node 1 is the root; an operand
+/// docs/grids.md (CSG trees): node 1 is the root; an operand
 /// k > 0 is node k, k < 0 is function -k (1-based). Negation uses `a` only.
 /// As in those files (and the reference implementation), an operand's region
 /// is where it is <= 0: Intersection is max(a, b), Union min(a, b), Negation

@@ -3,7 +3,7 @@
 // implicit-complex grids) it is what include/invmap/ installs, and all a
 // program of libinvmap (CMake: invmap::invmap) includes.
 //
-//   invmap::Geometry geometry = ...;                 // patches in memory (FORMATS.md section 2)
+//   invmap::Geometry geometry = ...;                 // patches in memory (docs/formats.md section 2)
 //   invmap::BuildResult built = invmap::Manifold::Build(geometry);
 //   if (!built.error.empty()) { ... }                // malformed geometry, with the reason
 //   invmap::Results results;
@@ -19,12 +19,44 @@
 #include <string>
 #include <vector>
 
+#include "invmap/cell_type.h"
+#include "invmap/geometry_error.h"
+
 namespace invmap {
 
-/// Reference cell types (FORMATS.md section 1).
-enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
+/// A B-spline or NURBS curve: the trimming loops and the edges of a
+/// TrimmedSurface patch.
+struct SplineCurve {
+  int degree = 1;
+  /// count + degree + 1 non-decreasing knots; the curve is the part over
+  /// [knots[degree], knots[count]].
+  std::vector<double> knots;
+  /// Control points, point-major: 2 coordinates each for a curve in a
+  /// surface's parameters, 3 for a curve in space.
+  std::vector<double> points;
+  /// Optional: one positive weight per control point.
+  std::vector<double> weights;
+  /// The curve's own parameter is an angle (an arc of a circle or an
+  /// ellipse): degree 2, and every knot span [a, b] is one symmetric rational
+  /// quadratic arc (end weights equal, middle weight cos((b - a) / 2) times
+  /// theirs) whose knots a, b are the angles at its ends. False: the own
+  /// parameter is the knot value.
+  bool angular = false;
+};
 
-/// One patch of a geometry, as in the geometry file (FORMATS.md section 2).
+/// An edge of a TrimmedSurface patch: a boundary curve of the face, whose
+/// points are answers too (searched as curve cells).
+struct PatchEdge {
+  /// The edge in space (3 coordinates per control point).
+  SplineCurve curve;
+  /// The same edge in the surface's own parameters (2 coordinates per
+  /// control point), over the same own parameter as `curve`: an answer on
+  /// the edge reports pcurve's (u, v) there. No points: unknown (the
+  /// answer's u and v are NaN).
+  SplineCurve pcurve;
+};
+
+/// One patch of a geometry, as in the geometry file (docs/formats.md section 2).
 /// Fields not used by a kind are left empty.
 ///  - BSpline: degrees, knots, counts, points, optional weights.
 ///  - Bezier: one cell: cell, degrees, points, optional weights.
@@ -32,8 +64,26 @@ enum class CellType : std::uint8_t { Line, Tri, Quad, Tet, Hex, Wedge };
 ///  - BezierCells: many Bezier cells of any types and degrees (a high-order
 ///    mesh after the change to Bernstein form, e.g. one gmsh physical group):
 ///    cellTypes, cellDegrees, cellOffsets, points, optional weights.
+///  - TrimmedSurface: a trimmed face of a CAD model (docs/cad.md): a
+///    B-spline or NURBS surface as for BSpline (degrees [p, q], knots, counts,
+///    points, optional weights; 3D only), optional `angular`, restricted to
+///    the region of its parameter plane that `trimLoops` enclose, with the
+///    face's `edges`. Its cells are the surface's knot spans, numbered as a
+///    BSpline patch's (u fastest; spans wholly outside the region have no
+///    cell), then the spans of each edge's curve, edge after edge, numbered
+///    on from the surface's span count. Surface cells report the surface's
+///    own (u, v); edge cells the edge's pcurve (u, v) at the answer.
+///    The closest point of a face is either inside its region or on the
+///    region's boundary, so every curve of that boundary must be an edge
+///    of some TrimmedSurface patch of the geometry (of this one or of the
+///    face across it).
+///  - PouManifold: a partition-of-unity surface over a closed triangle mesh
+///    (include/invmap/pou.h, docs/manifold.md): points (the mesh's vertices),
+///    cells (its triangles, 3 indices each), degrees (one bidegree per
+///    vertex's chart), chartControlPoints. Its cells are the charts (one per
+///    vertex), their parameters the chart's local coordinates (u, v).
 struct Patch {
-  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells };
+  enum class Kind : std::uint8_t { BSpline, Bezier, Mesh, BezierCells, TrimmedSurface, PouManifold };
   Kind kind = Kind::Bezier;
   /// Bezier and Mesh: the cell type. BSpline: ignored (the parametric
   /// dimension is degrees.size(): line, quad or hex cells).
@@ -46,7 +96,7 @@ struct Patch {
   /// BSpline: control points per direction, n_u, (n_v, (n_w)).
   std::vector<int> counts;
   /// BSpline, Bezier: control points, point-major, `dimension` values each,
-  /// in FORMATS.md order. Mesh: the vertices, the same layout.
+  /// in docs/formats.md order. Mesh: the vertices, the same layout.
   std::vector<double> points;
   /// Optional: one positive weight per control point (rational patch).
   std::vector<double> weights;
@@ -61,6 +111,23 @@ struct Patch {
   /// BezierCells: cellTypes.size() + 1 offsets; cell c's control points (and
   /// weights) are points [cellOffsets[c], cellOffsets[c + 1]) of `points`.
   std::vector<std::int64_t> cellOffsets;
+  /// TrimmedSurface: per direction (u, v), 1 when the surface's own parameter
+  /// there is an angle (see SplineCurve::angular: degree 2, every knot span
+  /// one symmetric arc of every row of control points), 0 when it is the knot
+  /// value. Empty: neither.
+  std::vector<std::uint8_t> angular;
+  /// TrimmedSurface: closed loops in the surface's own parameters, each a
+  /// list of 2D curves following each other end to end (a gap between one
+  /// curve's end and the next one's start, the last's and the first's
+  /// included, is closed by a straight segment). The region is what they
+  /// enclose by the even-odd rule, so their orientation does not matter.
+  /// No loops: the whole surface.
+  std::vector<std::vector<SplineCurve>> trimLoops;
+  /// TrimmedSurface: the boundary curves of the face answered from this patch.
+  std::vector<PatchEdge> edges;
+  /// PouManifold: the shape functions' control points, chart after chart:
+  /// (degrees[v] + 1)^2 points of 3 coordinates for vertex v, x fastest.
+  std::vector<double> chartControlPoints;
 };
 
 /// A geometry: its ambient dimension (2 or 3) and its patches.
@@ -69,7 +136,7 @@ struct Geometry {
   std::vector<Patch> patches;
 };
 
-/// Per-point result status (FORMATS.md section 4 codes).
+/// Per-point result status (docs/formats.md section 5 codes).
 enum class Status : std::uint8_t {
   Found = 0,    ///< The closest point is in the results.
   None = 1,     ///< No cell within InversionOptions::maxDistance.
@@ -108,13 +175,27 @@ struct PointsView {
 /// Options of a batch inversion.
 struct InversionOptions {
   /// Gap tolerance (model units): points farther than this from every cell
-  /// get Status::None. Default: unlimited.
+  /// get Status::None. Default: unlimited. Any D >= 0 is exact on the near
+  /// side: a point at distance <= D is always found (D = 0 finds every point
+  /// on the geometry, and every point inside a volume, at distance 0). A
+  /// point is None only when every cell is certified farther than D; a
+  /// cell's distance is computed to 1e-11 of its size, so a found point may
+  /// report a distance up to that much beyond D.
   double maxDistance = std::numeric_limits<double>::infinity();
-  /// Worker threads; 0 means all cores. Results do not depend on it.
+  /// Worker threads; 0 means all cores, and more than the cores this process
+  /// may use runs as many as the cores. Results do not depend on it.
   int threads = 0;
   /// Query points per spatial bucket (a bucket shares one BVH traversal).
   /// Cost: larger buckets cull less precisely; smaller ones traverse more.
   int bucketSize = 32;
+  /// Optional: every point searched on its own, from a start of its own,
+  /// so that its answer is a function of the point and the geometry only,
+  /// bit for bit, whatever batch (chunk, Dask partition) it comes in. By
+  /// default a point's solve starts from its spatial neighbour's answer and
+  /// its bucket shares one candidate list: the same minimum to the solve's
+  /// tolerance, but its last digits (and which of two equally near cells is
+  /// reported) depend on the batch. Cost: see docs/limitations.md.
+  bool pointwise = false;
 };
 
 /// Results of a batch, structure of arrays, one entry per query point in
@@ -125,7 +206,7 @@ struct Results {
   std::vector<std::int64_t> cell;    ///< Cell index within the patch; -1 when not found.
   /// Parameters (u, v, w) of the closest point, 3 per point: B-spline
   /// patches report knot values, Bezier and mesh cells reference coordinates
-  /// (FORMATS.md section 2); unused ones are NaN.
+  /// (docs/formats.md section 2); unused ones are NaN.
   std::vector<double> params;
   /// Closest point, 3 per point (z = 0 in 2D); NaN when not found.
   std::vector<double> closest;
@@ -150,8 +231,7 @@ struct ManifoldInfo {
 class Manifold;
 struct ManifoldAccess;
 
-/// Result of Manifold::Build: a manifold, or an error message naming the
-/// patch and field that is wrong.
+/// Result of Manifold::Build: a manifold, or what is wrong with the geometry.
 struct BuildResult;
 
 /// An immutable geometry ready for queries: Bezier cells with their bounds and
@@ -159,7 +239,10 @@ struct BuildResult;
 class Manifold {
  public:
   /// Builds from patches in memory. Never throws: a malformed geometry gives
-  /// an error message (e.g. "patch 2: knots[1]: decreasing at index 4").
+  /// BuildResult::problem, the patch, field and element at fault, and
+  /// BuildResult::error, its text (e.g. "patch 2: knots[1]: decreasing at
+  /// index 4 (0.5 > 0.25)"). Every geometry is checked here, whatever
+  /// produced it.
   static BuildResult Build(const Geometry& geometry);
 
   Manifold();
@@ -197,7 +280,14 @@ class Manifold {
 
 struct BuildResult {
   Manifold manifold;
-  std::string error;  ///< Empty on success.
+  /// What is wrong with the geometry; no error (empty message) on success.
+  /// An error of the build itself (out of memory) has no place: patch -1,
+  /// field None.
+  GeometryError problem;
+  std::string error;  ///< Describe(problem): empty on success.
+  /// Why it failed: InvalidArgument for a malformed geometry (`problem`
+  /// says where), OutOfMemory, or Internal (a bug); Ok on success.
+  Error code = Error::Ok;
 };
 
 /// Library version, "major.minor.patch".

@@ -19,11 +19,11 @@ import os
 import numpy as np
 
 from ._invmap import (DistanceTracker, FileError, InputError, Manifold, PointTracker, __version__, distance,
-                      from_mesh, read_points)
+                      from_mesh, manifold, read_points)
 from . import _invmap
 
 __all__ = ["DistanceTracker", "FileError", "InputError", "Manifold", "PointTracker", "distance", "from_bspline",
-           "from_mesh", "grid", "load", "read_points"]
+           "from_mesh", "grid", "load", "manifold", "read_points"]
 
 # Public names live in `invmap`, not in the private extension module: this
 # is also where pickle looks classes up (manifolds and exceptions travel
@@ -31,6 +31,12 @@ __all__ = ["DistanceTracker", "FileError", "InputError", "Manifold", "PointTrack
 for _public in (DistanceTracker, FileError, InputError, Manifold, PointTracker):
     _public.__module__ = __name__
 del _public
+
+
+def _unpickle_manifold(state):
+    """Rebuilds a pickled Manifold from its geometry bytes (what
+    Manifold.__reduce__ names, for every pickle protocol)."""
+    return _invmap._manifold_from_state(state)
 
 
 def load(source):
@@ -41,9 +47,10 @@ def load(source):
         --geometry` reads it: .json (invmap's geometry, docs/formats.md, or
         Coreform Cubit's Bezier extraction JSON), .obj, .stl, .off, .ply
         meshes, .msh gmsh meshes, .vtu VTK grids, .exo/.e Exodus II files,
-        .bext/.bxt Cubit LS-DYNA Bezier extraction. Node fields of the file
-        (gmsh $NodeData, VTU point data, Exodus nodal variables at the last
-        time step) come with it: Manifold.fields, Manifold.probe;
+        .bext/.bxt Cubit LS-DYNA Bezier extraction, CAD models (.step, .stp,
+        .iges, .igs, .brep: one patch per face, docs/cad.md). Node fields of
+        the file (gmsh $NodeData, VTU point data, Exodus nodal variables at
+        the last time step) come with it: Manifold.fields, Manifold.probe;
       - JSON text of an invmap geometry (a str starting with "{");
       - a dict in the same schema (as json.load returns it); numpy arrays
         inside are accepted.
@@ -94,7 +101,7 @@ def from_bspline(control_points, knots, degrees, weights=None):
     if np.ndim(degrees) == 0:
         degrees = [degrees] * directions
     counts = list(points.shape[:-1])
-    # FORMATS.md lists control points u fastest; reversing the parameter axes
+    # docs/formats.md lists control points u fastest; reversing the parameter axes
     # makes numpy's C order run u fastest.
     axes = tuple(reversed(range(directions)))
     flat_points = np.ascontiguousarray(points.transpose(axes + (directions,))).reshape(-1, points.shape[-1])

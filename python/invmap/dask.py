@@ -92,12 +92,29 @@ def clear_cache():
         _cache_stats.update(builds=0, hits=0)
 
 
-def _invert_block(points, ref, max_distance, threads):
-    return ref.manifold().invert(points, max_distance=max_distance, threads=threads)
+def _task_threads(threads):
+    """The threads a chunk task inverts with: `threads` when given, else the
+    thread budget of the dask.distributed worker running the task (its
+    nthreads), else None (all cores: Dask's local schedulers)."""
+    if threads is not None:
+        return threads
+    try:
+        from distributed import get_worker
+        worker = get_worker()
+    except (ImportError, ValueError):
+        return None
+    # distributed 2022.12 keeps nthreads on the worker's state (the worker's
+    # own attribute is deprecated there); older releases have only the latter.
+    return getattr(getattr(worker, "state", worker), "nthreads", None)
+
+
+def _invert_block(points, ref, max_distance, threads, pointwise, signed=False):
+    return ref.manifold().invert(points, max_distance=max_distance, threads=_task_threads(threads),
+                                 pointwise=pointwise, signed=signed)
 
 
 def _probe_block(points, ref, names, max_distance, threads):
-    return ref.manifold().probe(points, names, max_distance=max_distance, threads=threads)
+    return ref.manifold().probe(points, names, max_distance=max_distance, threads=_task_threads(threads))
 
 
 def _chunked_points(points, manifold, verb):
@@ -121,7 +138,7 @@ def _select(blocks, rows, key, dtype, columns, name):
                              name=name, **extra)
 
 
-def _result_arrays(blocks, rows, dim):
+def _result_arrays(blocks, rows, dim, signed=False):
     """Manifold.invert's keys as dask arrays over the blocks."""
     fields = {
         "status": (np.uint8, ()),
@@ -131,35 +148,48 @@ def _result_arrays(blocks, rows, dim):
         "closest": (np.float64, (dim,)),
         "distance": (np.float64, ()),
     }
+    if signed:
+        fields["signed_distance"] = (np.float64, ())
     return {key: _select(blocks, rows, operator.itemgetter(key), dtype, columns, f"invmap-{key}")
             for key, (dtype, columns) in fields.items()}
 
 
-def invert(points, manifold, max_distance=None, threads=None):
+def invert(points, manifold, max_distance=None, threads=None, pointwise=False, signed=False):
     """Manifold.invert over a Dask array of points, chunk by chunk.
 
     points: (N, dim) dask array (a numpy array is wrapped with
       da.from_array), chunked by rows; column chunks are merged.
     manifold: an invmap.Manifold of dimension dim.
-    max_distance, threads: as Manifold.invert; threads is per task, so with
-      several tasks per worker the default (all cores) oversubscribes only
-      mildly (TBB shares one pool per process).
+    max_distance: as Manifold.invert.
+    threads: per task. Default: on a dask.distributed worker, the worker's
+      own thread budget (its nthreads: a worker started with --nthreads 1
+      inverts with one thread, so n such workers on n cores scale like n
+      cores rather than each using every core); under Dask's local
+      schedulers, all cores. Results do not depend on it.
+    pointwise: as Manifold.invert: each row a function of its point alone,
+      bit for bit whatever the chunking (by default the last digits of a
+      row can depend on the other points of its chunk).
+    signed: as Manifold.invert (CAD models of closed solids): adds
+      "signed_distance"; a manifold that cannot sign raises InputError here.
 
     Returns a dict of dask arrays with Manifold.invert's keys (status, patch,
-    cell, params, closest, distance) and the points' row chunks. One compute
+    cell, params, closest, distance[, signed_distance]) and the points' row
+    chunks. One compute
     call inverts each chunk once, whichever of the arrays it asks for; a
     second call inverts again, so compute what you need together
     (dask.compute(result) or dask.compute(result["status"], result["cell"])).
     Each chunk's rows are exactly Manifold.invert's results on that chunk.
     """
     points = _chunked_points(points, manifold, "invert")
+    if signed:  # the usage error now, not in a worker: no inside, or an open shell
+        manifold.invert(np.empty((0, manifold.dimension)), signed=True)
     ref = _GeometryRef(manifold)
     geometry = dask.delayed(ref, name="invmap-geometry-" + ref.key, traverse=False)
     # Blocks of dicts (never computed as an array): one task per chunk, which
     # the per-key arrays below select from.
-    blocks = da.map_blocks(_invert_block, points, geometry, max_distance, threads,
+    blocks = da.map_blocks(_invert_block, points, geometry, max_distance, threads, pointwise, bool(signed),
                            drop_axis=1, dtype=object, meta=np.empty((0,), dtype=object), name="invmap-invert")
-    return _result_arrays(blocks, points.chunks[0], manifold.dimension)
+    return _result_arrays(blocks, points.chunks[0], manifold.dimension, bool(signed))
 
 
 def probe(points, manifold, names=None, max_distance=None, threads=None):

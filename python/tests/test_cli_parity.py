@@ -12,7 +12,7 @@ STATUS_CODES = {"found": 0, "none": 1, "invalid": 2}
 
 
 def read_result_csv(path, dim):
-    """An `invmap invert` CSV (FORMATS.md section 4) as invert()'s dict."""
+    """An `invmap invert` CSV (docs/formats.md section 5) as invert()'s dict."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     assert rows[0] == ["index", "status", "patch", "cell", "u", "v", "w", "x", "y", "z", "distance"]

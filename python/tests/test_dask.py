@@ -82,6 +82,15 @@ def test_numpy_input_and_column_chunks(surface, points):
     assert_results_equal(computed, per_chunk(surface, points))
 
 
+def test_pointwise_rows_do_not_depend_on_the_chunking(surface, points):
+    # By default a row's last digits follow its chunk's other points (the
+    # solves start from neighbours' answers); pointwise, they do not.
+    for chunk in (CHUNK, 1000, len(points)):
+        (computed,) = dask.compute(invmap.dask.invert(da.from_array(points, chunks=(chunk, 3)), surface,
+                                                      pointwise=True), scheduler="threads")
+        assert_results_equal(computed, surface.invert(points, pointwise=True))
+
+
 def test_bad_arguments(surface, points):
     with pytest.raises(invmap.InputError, match=r"points: shape \(10, 2\), expected \(N, 3\)"):
         invmap.dask.invert(da.zeros((10, 2)), surface)
@@ -120,6 +129,17 @@ def test_cluster_matches_in_process_and_builds_once_per_worker(client, surface, 
     assert all(cache["builds"] <= 1 for cache in caches.values()), caches
     assert sum(cache["builds"] for cache in caches.values()) >= 1
     assert sum(cache["hits"] for cache in caches.values()) >= 8 + 8 - 2
+
+
+def test_a_task_uses_its_workers_thread_budget(client):
+    # Each worker of the cluster has 1 thread: a chunk task inverts with 1
+    # (with all cores, 2 single-thread workers ran 4 threads on 2 cores).
+    workers = list(client.scheduler_info()["workers"])
+    budgets = client.gather([client.submit(invmap.dask._task_threads, None, workers=[w], pure=False) for w in workers])
+    assert budgets == [1] * len(workers)
+    assert client.submit(invmap.dask._task_threads, 3, pure=False).result() == 3
+    # Outside a worker (the local schedulers): all cores.
+    assert invmap.dask._task_threads(None) is None
 
 
 def die_once(block, marker, block_id=None):

@@ -90,6 +90,15 @@ def test_from_mesh_errors(vertices, cells, cell, message):
         invmap.from_mesh(vertices, np.asarray(cells), cell=cell)
 
 
+def test_from_mesh_names_an_unsigned_index_beyond_int64_as_given():
+    cells = np.array([[0, 1, 2**64 - 1]], dtype=np.uint64)
+    with pytest.raises(invmap.InputError,
+                       match=r"^from_mesh: patch 0: cells\[0\]: vertex index 18446744073709551615 out of range \[0, 3\)"):
+        invmap.from_mesh(TRIANGLE, cells)
+    with pytest.raises(invmap.InputError, match=r"vertex index 3 out of range"):
+        invmap.from_mesh(TRIANGLE, np.array([[0, 1, 3]], dtype=np.uint64))
+
+
 def test_from_bspline_errors():
     control = np.array([[0, 0], [1, 2], [3, 2], [4, 0]], dtype=np.float64)
     with pytest.raises(invmap.InputError, match=r"^from_bspline: patch 0: knots\[0\]: length 7, expected"):

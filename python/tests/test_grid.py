@@ -17,7 +17,7 @@ def test_sphere_matches_the_reference_count_and_the_true_surface():
     result = invmap.grid(os.path.join(DATA, "1-sphere.json"), epsilon=1e-3,
                          initial_grid=os.path.join(DATA, "cube6.msh"))
     stats = result["stats"]
-    # ../shared/benchmarks/implicit/README.md: 30,218 tets, 14,636 active.
+    # The reference implementation's published count: 30,218 tets, 14,636 active.
     assert abs(stats["cells"] - 30218) <= 30
     assert stats["active_cells"] == 14636
     assert result["cells"].shape == (stats["cells"], 4)

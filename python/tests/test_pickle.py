@@ -17,13 +17,21 @@ from test_api import bspline_surface_dict
 
 
 @pytest.mark.parametrize("name", ["surface", "curve", "torus", "tets", "trimesh", "mesh2d"])
-@pytest.mark.parametrize("protocol", [2, pickle.HIGHEST_PROTOCOL])
+@pytest.mark.parametrize("protocol", range(pickle.HIGHEST_PROTOCOL + 1))
 def test_round_trip_every_patch_kind(geometry_files, name, protocol):
     manifold = invmap.load(geometry_files[name])
     again = pickle.loads(pickle.dumps(manifold, protocol=protocol))
     assert isinstance(again, invmap.Manifold)
     assert again.info() == manifold.info()
     points = query_points(manifold, 1000)
+    assert_results_equal(again.invert(points), manifold.invert(points))
+
+
+def test_reduce_rebuilds_the_manifold(geometry_files):
+    manifold = invmap.load(geometry_files["curve"])
+    rebuild, args = manifold.__reduce__()
+    again = rebuild(*args)
+    points = query_points(manifold, 200)
     assert_results_equal(again.invert(points), manifold.invert(points))
 
 

@@ -1,9 +1,12 @@
 // End-to-end tests of the invmap command: formats, exit codes, no partial
 // output, thread-count invariance and trim, against analytic answers.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -118,6 +122,52 @@ TEST_F(CliTest, ResultsDoNotDependOnTheThreadCount) {
   const std::string one = ReadFile(Path("one.csv"));
   EXPECT_EQ(one, ReadFile(Path("two.csv")));
   EXPECT_EQ(one, ReadFile(Path("all.csv")));
+  // More threads than cores: the same results and nothing on stderr (no
+  // raw library warning), even without --quiet's silence.
+  for (const char* threads : {"3", "7", "64"}) {
+    std::string log;
+    ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.npy") + " -o " + Path("many.csv") + " --threads " +
+                  threads + " -q", &log),
+              0);
+    EXPECT_EQ(log, "") << "--threads " << threads;
+    EXPECT_EQ(ReadFile(Path("many.csv")), one) << "--threads " << threads;
+  }
+}
+
+TEST_F(CliTest, PointwiseAnswersDoNotDependOnTheOtherPoints) {
+  // The same points inverted all together and in two halves: with
+  // --pointwise every row is the same, bit for bit (row indices aside).
+  ASSERT_EQ(Run("generate surface --spans 16 -o " + Path("s.json")), 0);
+  ASSERT_EQ(Run("generate points -g " + Path("s.json") + " -n 4000 --kind near --spread 0.05 -o " + Path("p.xyz")), 0);
+  const std::string all = ReadFile(Path("p.xyz"));
+  std::size_t half = 0;
+  for (int line = 0; line < 1700; ++line) half = all.find('\n', half) + 1;
+  WriteFile("a.xyz", all.substr(0, half));
+  WriteFile("b.xyz", all.substr(half));
+  for (const char* name : {"p", "a", "b"}) {
+    ASSERT_EQ(Run("invert --pointwise -g " + Path("s.json") + " -p " + Path(std::string(name) + ".xyz") + " -o " +
+                  Path(std::string(name) + ".csv") + " -q"),
+              0);
+  }
+  std::string header;
+  const auto whole = CsvRows(ReadFile(Path("p.csv")), &header);
+  auto parts = CsvRows(ReadFile(Path("a.csv")), &header);
+  const auto second = CsvRows(ReadFile(Path("b.csv")), &header);
+  parts.insert(parts.end(), second.begin(), second.end());
+  ASSERT_EQ(parts.size(), whole.size());
+  int differ = 0;
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    differ += !std::equal(whole[i].begin() + 1, whole[i].end(), parts[i].begin() + 1, parts[i].end());
+  }
+  EXPECT_EQ(differ, 0);
+  // And the answers are those of the default search, to its tolerance.
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("default.csv") + " -q"), 0);
+  const auto usual = CsvRows(ReadFile(Path("default.csv")), &header);
+  ASSERT_EQ(usual.size(), whole.size());
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    EXPECT_EQ(usual[i][1], whole[i][1]);
+    EXPECT_NEAR(std::stod(usual[i][10]), std::stod(whole[i][10]), 1e-12) << "row " << i;
+  }
 }
 
 TEST_F(CliTest, TrimKeepsPassedThroughAttributesInInputOrder) {
@@ -171,6 +221,9 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   // Usage errors: 2.
   EXPECT_EQ(Run("invert -g " + Path("s.json"), &log), 2);
   EXPECT_EQ(Run("frobnicate", &log), 2);
+  EXPECT_NE(log.find("unknown command 'frobnicate' (commands: invert, trim, info, generate, grid, manifold, probe, distance)"),
+            std::string::npos)
+      << log;
   EXPECT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("t.xyz"), &log), 2)
       << "trim needs --max-distance";
   // A negative or non-numeric option value: named in a short message.
@@ -188,6 +241,16 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   WriteFile("bad.json", "{\"format\": \"invmap-geometry\", \"version\": 1,\n \"dimension\": 3,\n \"patches\": [ {\"kind\": \"blob\"} ]}\n");
   EXPECT_EQ(Run("invert -g " + Path("bad.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3);
   EXPECT_NE(log.find("bad.json:3"), std::string::npos) << log;
+  // A problem the build finds (Manifold::Build validates every geometry):
+  // named at the file and line of the value at fault, no output.
+  WriteFile("knots.json",
+            "{\"format\": \"invmap-geometry\", \"version\": 1, \"dimension\": 3, \"patches\": [\n"
+            " {\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [3],\n"
+            "  \"knots\": [[0, 0, 0.6,\n 0.5, 1]],\n"
+            "  \"control_points\": [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}]}\n");
+  EXPECT_EQ(Run("invert -g " + Path("knots.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3);
+  EXPECT_NE(log.find("knots.json:4: patches[0].knots[0]: decreasing at index 3 (0.6 > 0.5)"), std::string::npos)
+      << log;
   WriteFile("badpoints.xyz", "0.1 0.2 0.3\n0.4 zero 0.6\n");
   EXPECT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("badpoints.xyz") + " -o " + Path("r.csv"), &log), 3);
   EXPECT_NE(log.find("badpoints.xyz:2"), std::string::npos) << log;
@@ -198,9 +261,283 @@ TEST_F(CliTest, ExitCodesAndNoPartialOutput) {
   // A directory listing shows only the files this test wrote (no temporaries).
   for (const auto& entry : fs::directory_iterator(dir_)) {
     const std::string name = entry.path().filename().string();
-    EXPECT_TRUE(name == "s.json" || name == "p.xyz" || name == "bad.json" || name == "badpoints.xyz" ||
-                name == "run.log")
+    EXPECT_TRUE(name == "s.json" || name == "p.xyz" || name == "bad.json" || name == "knots.json" ||
+                name == "badpoints.xyz" || name == "run.log")
         << "left behind: " << name;
+  }
+}
+
+TEST_F(CliTest, AnUnknownOutputExtensionIsAUsageErrorFoundBeforeAnyInputIsRead) {
+  // The geometry is unreadable: the extension must be refused before it is read.
+  WriteFile("bad.json", "{ not json");
+  WriteFile("p.xyz", "0.1 0.2 0.3\n");
+  std::string log;
+  EXPECT_EQ(Run("invert -g " + Path("bad.json") + " -p " + Path("p.xyz") + " -o " + Path("r.xyzq"), &log), 2) << log;
+  EXPECT_NE(log.find("unknown result file extension '.xyzq' (expected .csv, .ply or .npy)"), std::string::npos) << log;
+  // trim writes the points' own format.
+  EXPECT_EQ(Run("trim -g " + Path("bad.json") + " -p " + Path("p.xyz") + " -o " + Path("t.ply") + " --max-distance 1",
+                &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("trim writes the points' own format"), std::string::npos) << log;
+  // An unknown point format is found before the geometry is read too (exit 3: an input problem).
+  EXPECT_EQ(Run("invert -g " + Path("bad.json") + " -p " + Path("p.dat") + " -o " + Path("r.csv"), &log), 3) << log;
+  EXPECT_NE(log.find("p.dat: unknown point file extension"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(Path("r.xyzq")));
+  EXPECT_FALSE(fs::exists(Path("t.ply")));
+}
+
+TEST_F(CliTest, AnOutputOverAnInputIsRefusedByAnyPathBeforeAnythingIsRead) {
+  ASSERT_EQ(Run("generate surface --spans 4 -o " + Path("s.json")), 0);
+  const std::string points = "0.1 0.2 0.3\n0.4 0.5 0.6\n";
+  WriteFile("p.xyz", points);
+  const std::string geometry = ReadFile(Path("s.json"));
+  fs::create_symlink(Path("p.xyz"), Path("link.xyz"));
+  fs::create_hard_link(Path("p.xyz"), Path("hard.xyz"));
+  fs::create_directories(Path("sub"));
+  const std::string g = " -g " + Path("s.json");
+  const std::string p = " -p " + Path("p.xyz");
+  std::string log;
+  for (const std::string& output :
+       {Path("p.xyz"), Path("sub/../p.xyz"), Path("link.xyz"), Path("hard.xyz"), Path("s.json")}) {
+    SCOPED_TRACE(output);
+    EXPECT_EQ(Run("invert" + g + p + " -o " + output + " -q", &log), 2) << log;
+    EXPECT_NE(log.find("writing it would destroy the input"), std::string::npos) << log;
+    EXPECT_EQ(Run("trim" + g + p + " -o " + output + " --max-distance 1 -q", &log), 2) << log;
+  }
+  EXPECT_EQ(Run("generate points" + g + " -o " + Path("s.json"), &log), 2) << log;
+  // A PLY mesh geometry as the output of its own points' inversion.
+  ASSERT_EQ(Run("generate trimesh --triangles 20 -o " + Path("m.ply")), 0);
+  const std::string mesh = ReadFile(Path("m.ply"));
+  EXPECT_EQ(Run("invert -g " + Path("m.ply") + p + " -o " + Path("m.ply"), &log), 2) << log;
+  EXPECT_EQ(ReadFile(Path("p.xyz")), points);
+  EXPECT_EQ(ReadFile(Path("s.json")), geometry);
+  EXPECT_EQ(ReadFile(Path("m.ply")), mesh);
+  EXPECT_TRUE(fs::is_symlink(Path("link.xyz")));
+}
+
+TEST_F(CliTest, GenerateWritesOnlyFilesNamedForTheirFormat) {
+  // A sample's output must carry its format's extension: a gmsh mesh named
+  // .json would be read back as a geometry file and fail there.
+  std::string log;
+  const struct {
+    const char* command;
+    const char* wrong;
+    const char* right;
+  } cases[] = {{"generate tets --resolution 1", "t.json", "t.msh"},
+               {"generate trimesh --triangles 20", "m.json", "m.ply"},
+               {"generate surface --spans 2", "s.msh", "s.json"},
+               {"generate torus", "t.ply", "torus.json"},
+               {"generate curve", "c.obj", "c.json"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command);
+    EXPECT_EQ(Run(std::string(c.command) + " -o " + Path(c.wrong), &log), 2) << log;
+    EXPECT_NE(log.find("--output " + Path(c.wrong) + ": generate"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(Path(c.wrong)));
+    ASSERT_EQ(Run(std::string(c.command) + " -o " + Path(c.right), &log), 0) << log;
+    EXPECT_EQ(Run("info -g " + Path(c.right), &log), 0) << log;
+  }
+}
+
+TEST_F(CliTest, AnOutputThroughASymbolicLinkIsWrittenToItsTarget) {
+  ASSERT_EQ(Run("generate surface --spans 4 -o " + Path("s.json")), 0);
+  WriteFile("p.xyz", "0.1 0.2 0.3\n0.4 0.5 0.6\n");
+  fs::create_directories(Path("results"));
+  WriteFile("results/old.csv", "old results\n");
+  fs::create_symlink("results/old.csv", Path("latest.csv"));  // relative to the link's directory
+  fs::create_symlink(Path("results/new.csv"), Path("dangling.csv"));
+  fs::create_symlink(Path("latest.csv"), Path("chain.csv"));
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("latest.csv") + " -q"), 0);
+  EXPECT_TRUE(fs::is_symlink(Path("latest.csv")));
+  EXPECT_EQ(ReadFile(Path("results/old.csv")).rfind("index,status,", 0), 0u);
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("dangling.csv") + " -q"), 0);
+  EXPECT_TRUE(fs::is_symlink(Path("dangling.csv")));
+  EXPECT_EQ(ReadFile(Path("results/new.csv")).rfind("index,status,", 0), 0u);
+  // A link to a link reaches the same file; the results are the same.
+  fs::remove(Path("results/old.csv"));
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("chain.csv") + " -q"), 0);
+  EXPECT_TRUE(fs::is_symlink(Path("chain.csv")));
+  EXPECT_EQ(ReadFile(Path("results/old.csv")), ReadFile(Path("results/new.csv")));
+  // A loop of links is an unwritable output.
+  fs::create_symlink(Path("loop2.csv"), Path("loop1.csv"));
+  fs::create_symlink(Path("loop1.csv"), Path("loop2.csv"));
+  std::string log;
+  EXPECT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -o " + Path("loop1.csv") + " -q", &log), 4)
+      << log;
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_NE(entry.path().filename().string()[0], '.') << "left behind: " << entry.path();
+  }
+}
+
+/// Names in `dir` that start with a dot: the hidden temporary outputs.
+std::vector<std::string> HiddenFiles(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name[0] == '.') names.push_back(name);
+  }
+  return names;
+}
+
+TEST_F(CliTest, ASignalDuringAnInversionRemovesItsTemporaryOutput) {
+  ASSERT_EQ(Run("generate surface --spans 16 -o " + Path("s.json")), 0);
+  // A first chunk of 2^20 points takes seconds: the signal comes while it is solved.
+  ASSERT_EQ(Run("generate points -g " + Path("s.json") + " -n 1100000 -o " + Path("p.npy")), 0);
+  for (const int signo : {SIGINT, SIGTERM, SIGHUP}) {
+    SCOPED_TRACE(signo);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      std::freopen("/dev/null", "w", stdout);
+      std::freopen("/dev/null", "w", stderr);
+      execl(INVMAP_CLI_PATH, INVMAP_CLI_PATH, "invert", "-g", Path("s.json").c_str(), "-p", Path("p.npy").c_str(), "-o",
+            Path("r.csv").c_str(), "--threads", "1", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    // Until the temporary output exists (polling; no time limit matters here).
+    for (int i = 0; i < 60000 && HiddenFiles(dir_).empty(); ++i) usleep(1000);
+    ASSERT_EQ(HiddenFiles(dir_).size(), 1u);
+    kill(pid, signo);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    // Ended by the signal itself, as the shell expects (it reports 128 + signo).
+    ASSERT_TRUE(WIFSIGNALED(status)) << "exit status " << WEXITSTATUS(status);
+    EXPECT_EQ(WTERMSIG(status), signo);
+    EXPECT_TRUE(HiddenFiles(dir_).empty()) << HiddenFiles(dir_)[0];
+    EXPECT_FALSE(fs::exists(Path("r.csv")));
+  }
+}
+
+TEST_F(CliTest, TrimWritesAPlainPlyVertexCount) {
+  ASSERT_EQ(Run("generate surface --spans 4 -o " + Path("s.json")), 0);
+  ASSERT_EQ(Run("generate points -g " + Path("s.json") + " -n 10 --kind far -o " + Path("p.ply")), 0);
+  for (const char* keep : {"near", "far"}) {
+    SCOPED_TRACE(keep);
+    ASSERT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("p.ply") + " -o " + Path("t.ply") +
+                  " --max-distance 1e300 -q --keep " + keep),
+              0);
+    const std::string text = ReadFile(Path("t.ply"));
+    const std::string count = std::string(keep) == "near" ? "10" : "0";
+    EXPECT_NE(text.find("\nelement vertex " + count + "\n"), std::string::npos) << text.substr(0, 200);
+    // Trimming the trimmed file keeps one padding comment, not two.
+    ASSERT_EQ(Run("trim -g " + Path("s.json") + " -p " + Path("t.ply") + " -o " + Path("t2.ply") +
+                  " --max-distance 1e300 -q --keep " + keep),
+              0);
+    const std::string again = ReadFile(Path("t2.ply"));
+    EXPECT_EQ(again, text);
+  }
+  ASSERT_EQ(Run("invert -g " + Path("s.json") + " -p " + Path("p.ply") + " -o " + Path("r.ply") + " -q"), 0);
+  EXPECT_NE(ReadFile(Path("r.ply")).find("\nelement vertex 10\n"), std::string::npos);
+}
+
+TEST_F(CliTest, EndlessAndHugeSparseGeometryFilesFailFast) {
+  std::string log;
+  for (const char* ext : {"json", "stl", "obj", "off"}) {
+    SCOPED_TRACE(ext);
+    const std::string zero = Path(std::string("z.") + ext);
+    fs::create_symlink("/dev/zero", zero);
+    EXPECT_EQ(Run("info -g " + zero, &log), 3) << log;
+    EXPECT_NE(log.find(zero + ":"), std::string::npos) << log;
+    EXPECT_LT(log.size(), 300u) << log;
+  }
+  // Sparse files: gigabytes that cost no disk.
+  const std::pair<const char*, std::uintmax_t> sparse[] = {
+      {"big.stl", std::uintmax_t{6} << 30}, {"big.json", std::uintmax_t{2} << 30}, {"big.obj", std::uintmax_t{2} << 30}};
+  for (const auto& [name, size] : sparse) {
+    SCOPED_TRACE(name);
+    WriteFile(name, "");
+    fs::resize_file(Path(name), size);
+    EXPECT_EQ(Run("info -g " + Path(name), &log), 3) << log;
+  }
+  EXPECT_NE(log.find("line longer than 64 MiB"), std::string::npos) << log;
+}
+
+TEST_F(CliTest, AHugeDegenerateObjFaceCostsWhatItsDistinctTrianglesCost) {
+  // One face of 3 million indices of three vertices: one triangle.
+  std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
+  for (int i = 0; i < 1000000; ++i) text += " 1 2 3";
+  WriteFile("fan.obj", text + "\n");
+  std::string log;
+  ASSERT_EQ(Run("info -g " + Path("fan.obj"), &log), 0) << log;
+  EXPECT_NE(log.find("cells       1\n"), std::string::npos) << log;
+}
+
+TEST_F(CliTest, AnObjCoordinateOutsideTheRangeNamesItsLine) {
+  WriteFile("far.obj", "v 0 0 0\nv 1 0 0\nv 0 1e300 0\nf 1 2 3\n");
+  std::string log;
+  EXPECT_EQ(Run("info -g " + Path("far.obj"), &log), 3) << log;
+  EXPECT_NE(log.find("far.obj:3: v: coordinate 1: \"1e300\" is outside [-1e100, 1e100]"), std::string::npos) << log;
+}
+
+TEST_F(CliTest, AnEmptyOrTooSmallGeometryIsAnInputError) {
+  WriteFile("p.xyz", "0 0 0\n");
+  WriteFile("empty.json", R"({"format": "invmap-geometry", "version": 1, "dimension": 3, "patches": []})");
+  // A triangle 1e-280 across, with a point 5e-281 from it.
+  WriteFile("tiny.json", R"({"format": "invmap-geometry", "version": 1, "dimension": 3, "patches": [
+               {"kind": "mesh", "cell": "tri", "vertices": [[0,0,0],[1e-280,0,0],[0,1e-280,0]], "cells": [[0,1,2]]}]})");
+  WriteFile("q.xyz", "0 0 5e-281\n");
+  std::string log;
+  EXPECT_EQ(Run("invert -g " + Path("empty.json") + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3) << log;
+  EXPECT_NE(log.find("empty.json: the geometry has no cells"), std::string::npos) << log;
+  EXPECT_EQ(Run("invert -g " + Path("tiny.json") + " -p " + Path("q.xyz") + " -o " + Path("r.csv"), &log), 3) << log;
+  EXPECT_NE(log.find("tiny.json: the geometry is 1.41421e-280 across (its box diagonal), below 1e-100"),
+            std::string::npos)
+      << log;
+  EXPECT_FALSE(fs::exists(Path("r.csv")));
+}
+
+TEST_F(CliTest, GapToleranceZeroFindsEveryPointInsideAndTrimKeepsThemNear) {
+  // QA: 14 of 100,000 inside points of curved tets came back none at
+  // --max-distance 0, and trim --keep far output them.
+  ASSERT_EQ(Run("generate tets --resolution 2 -o " + Path("solid.msh")), 0);
+  ASSERT_EQ(Run("generate points -g " + Path("solid.msh") + " --kind inside -n 20000 -o " + Path("in.xyz")), 0);
+  for (const char* gap : {"0", "1e-15"}) {
+    SCOPED_TRACE(gap);
+    const std::string common = " -g " + Path("solid.msh") + " -p " + Path("in.xyz") + " --max-distance " + gap + " -q";
+    ASSERT_EQ(Run("invert" + common + " -o " + Path("r.csv")), 0);
+    std::string header;
+    const auto rows = CsvRows(ReadFile(Path("r.csv")), &header);
+    ASSERT_EQ(rows.size(), 20000u);
+    int notAtZero = 0;
+    for (const auto& row : rows) notAtZero += !(row[1] == "found" && row[10] == "0");
+    EXPECT_EQ(notAtZero, 0);
+    ASSERT_EQ(Run("trim" + common + " --keep far -o " + Path("far.xyz")), 0);
+    EXPECT_EQ(ReadFile(Path("far.xyz")), "");
+    ASSERT_EQ(Run("trim" + common + " --keep near -o " + Path("near.xyz")), 0);
+    EXPECT_EQ(ReadFile(Path("near.xyz")), ReadFile(Path("in.xyz")));
+  }
+}
+
+TEST_F(CliTest, GenerateTrimeshWritesAClosedOutwardMesh) {
+  // Streamed vertex by vertex and triangle by triangle (vertices of shared
+  // edges shared by index): every edge has exactly two triangles, running
+  // it in opposite directions, and the normals point outward.
+  ASSERT_EQ(Run("generate trimesh --triangles 1000 -o " + Path("m.ply")), 0);
+  const std::string bytes = ReadFile(Path("m.ply"));
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  ASSERT_NE(bytes.find("element vertex 642\n"), std::string::npos);
+  ASSERT_NE(bytes.find("element face 1280\n"), std::string::npos);
+  std::vector<std::array<double, 3>> vertices(642);
+  std::memcpy(vertices.data(), bytes.data() + body, 642 * 24);
+  std::map<std::pair<std::int32_t, std::int32_t>, int> edges;
+  int inward = 0;
+  for (int t = 0; t < 1280; ++t) {
+    std::int32_t v[3];
+    ASSERT_EQ(bytes[body + 642 * 24 + 13 * t], 3);
+    std::memcpy(v, bytes.data() + body + 642 * 24 + 13 * t + 1, 12);
+    for (int e = 0; e < 3; ++e) ++edges[{v[e], v[(e + 1) % 3]}];
+    const auto& a = vertices[v[0]];
+    const auto& b = vertices[v[1]];
+    const auto& c = vertices[v[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double normal[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    inward += normal[0] * (a[0] + b[0] + c[0]) + normal[1] * (a[1] + b[1] + c[1]) + normal[2] * (a[2] + b[2] + c[2]) <= 0;
+  }
+  EXPECT_EQ(inward, 0);
+  EXPECT_EQ(edges.size(), 3u * 1280u);
+  for (const auto& [edge, count] : edges) {
+    EXPECT_EQ(count, 1);
+    EXPECT_EQ(edges.count({edge.second, edge.first}), 1u);
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "engine/cell_store.h"
 #include "invmap/invmap.h"
+#include "tests/engine/built_cells.h"
 #include "tests/support/closest_reference.h"
 #include "tests/support/family_runner.h"
 #include "tests/support/test_geometries.h"
@@ -92,8 +93,7 @@ Geometry Plate(double (*bump)(int, int, int) = nullptr) {
 }
 
 TEST(AffineRegionTest, FlatPlateIsOneRegionOfEveryCell) {
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(Plate(), 1), "");
+  const engine::CellStore store = BuildCells(Plate());
   ASSERT_EQ(store.regions().size(), 1u);
   EXPECT_EQ(store.regions()[0].numCells(), store.size());
   EXPECT_EQ(store.numSubdivisions(), 1);
@@ -123,8 +123,7 @@ double BandBump(int i, int, int) { return i >= 14 && i <= 18 ? 0.05 * (i - 13) :
 
 TEST(AffineRegionTest, PlateWithACurvedBandMatchesBruteForce) {
   const Geometry g = Plate(BandBump);
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(g, 1), "");
+  const engine::CellStore store = BuildCells(g);
   ASSERT_GE(store.regions().size(), 2u);
   for (const engine::AffineRegion& region : store.regions()) EXPECT_GE(region.numCells(), 2);
   // Every cell of a region is affine and the region's map reproduces it.
@@ -162,8 +161,7 @@ TEST(AffineRegionTest, BlockVolumeMatchesTheParallelepiped) {
                                     {RandomKnots(1, 9, 100, true, rng), RandomKnots(2, 7, 3, true, rng),
                                      RandomKnots(2, 5, 100, true, rng)},
                                     A, b));
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(g, 1), "");
+  const engine::CellStore store = BuildCells(g);
   ASSERT_EQ(store.regions().size(), 1u);
 
   ReferenceGeometry reference(g);

@@ -7,16 +7,30 @@
 #include <limits>
 #include <random>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "engine/geometry_validation.h"
 #include "tests/support/bspline_reference.h"
 
 namespace invmap::engine {
 namespace {
 
 using kernels::CellType;
+
+/// What ValidateGeometry finds wrong with `spline` as the one patch of a geometry.
+GeometryError ValidateAsGeometry(const BSplinePatch& spline) {
+  Geometry geometry;
+  geometry.dimension = spline.ambientDim;
+  Patch& patch = geometry.patches.emplace_back();
+  patch.kind = Patch::Kind::BSpline;
+  patch.degrees = spline.degrees;
+  patch.knots = spline.knots;
+  patch.counts = spline.counts;
+  patch.points = spline.controlPoints;
+  patch.weights = spline.weights;
+  return ValidateGeometry(geometry);
+}
 
 /// Relative tolerance between a Bezier cell and the Cox-de Boor evaluation of
 /// its patch, scaled by the largest control point coordinate.
@@ -56,7 +70,7 @@ std::vector<double> EvaluateCell(const ExtractedCells& cells, int cell, const do
   return sum;
 }
 
-/// The spans a reader of FORMATS.md expects: knot indices k in [p, n) with
+/// The spans a reader of docs/formats.md expects: knot indices k in [p, n) with
 /// t_k < t_{k+1}.
 std::vector<int> NonEmptySpans(const std::vector<double>& knots, int degree, int count) {
   std::vector<int> spans;
@@ -141,7 +155,7 @@ TEST_P(RandomPatchTest, CellsMatchCoxDeBoor) {
   for (int trial = 0; trial < c.numPatches; ++trial) {
     SCOPED_TRACE("patch " + std::to_string(trial));
     const BSplinePatch patch = RandomPatch(c, rng);
-    ASSERT_EQ(ValidateBSplinePatch(patch), "");
+    ASSERT_FALSE(ValidateAsGeometry(patch)) << Describe(ValidateAsGeometry(patch));
     const ExtractedCells cells = ExtractBezierCells(patch);
 
     static constexpr CellType kTypes[] = {CellType::Line, CellType::Quad, CellType::Hex};
@@ -337,82 +351,6 @@ TEST(BezierExtraction, RationalFullCircleSplitsIntoQuarters) {
       EXPECT_NEAR(cells.points[2 * dst + 1], patch.controlPoints[2 * src + 1], 1e-15);
       EXPECT_NEAR(cells.weights[dst], patch.weights[src], 1e-15);
     }
-  }
-}
-
-/// A valid rational cubic-by-quadratic 3D surface with 5 x 4 control points.
-BSplinePatch ValidSurface() {
-  BSplinePatch patch;
-  patch.ambientDim = 3;
-  patch.degrees = {3, 2};
-  patch.counts = {5, 4};
-  patch.knots = {{0, 0, 0, 0, 0.25, 1, 1, 1, 1}, {0, 0, 0, 0.5, 1, 1, 1}};
-  patch.controlPoints.assign(20 * 3, 1.0);
-  patch.weights.assign(20, 1.0);
-  return patch;
-}
-
-TEST(BezierExtraction, ValidationAcceptsValidPatch) {
-  EXPECT_EQ(ValidateBSplinePatch(ValidSurface()), "");
-}
-
-TEST(BezierExtraction, ValidationNamesTheField) {
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  struct Case {
-    std::string expected;
-    void (*mutate)(BSplinePatch&);
-  };
-  const Case cases[] = {
-      {"dimension: 4, expected 2 or 3", [](BSplinePatch& p) { p.ambientDim = 4; }},
-      {"degrees: 0 entries, expected 1 to 3 (one per parametric direction)",
-       [](BSplinePatch& p) { p.degrees.clear(); }},
-      {"degrees: 3 parametric directions do not fit in dimension 2",
-       [](BSplinePatch& p) {
-         p.ambientDim = 2;
-         p.degrees.push_back(1);
-       }},
-      {"knots: 1 knot vectors, expected one per entry of degrees (2)",
-       [](BSplinePatch& p) { p.knots.pop_back(); }},
-      {"counts: 3 entries, expected one per entry of degrees (2)",
-       [](BSplinePatch& p) { p.counts.push_back(1); }},
-      {"degrees[1]: 0, expected 1 to 8", [](BSplinePatch& p) { p.degrees[1] = 0; }},
-      {"degrees[0]: 9, expected 1 to 8", [](BSplinePatch& p) { p.degrees[0] = 9; }},
-      {"counts[1]: 2, expected at least degrees[1] + 1 = 3",
-       [](BSplinePatch& p) { p.counts[1] = 2; }},
-      {"knots[1]: length 6, expected counts[1] + degrees[1] + 1 = 7",
-       [](BSplinePatch& p) { p.knots[1].pop_back(); }},
-      {"knots[0]: decreasing at index 4 (0.5 > 0.25)",
-       [](BSplinePatch& p) { p.knots[0][3] = 0.5; }},
-      {"knots[1][3]: not finite (nan)", [](BSplinePatch& p) { p.knots[1][3] = nan; }},
-      {"knots[0][8]: not finite (inf)", [](BSplinePatch& p) { p.knots[0][8] = inf; }},
-      {"knots[1]: empty parameter domain [knots[1][2], knots[1][4]] = [0, 0]",
-       [](BSplinePatch& p) { p.knots[1] = {0, 0, 0, 0, 0, 1, 1}; }},
-      {"control_points: 57 values, expected 20 points x 3 = 60",
-       [](BSplinePatch& p) { p.controlPoints.resize(57); }},
-      {"control_points[7][2]: not finite (-inf)",
-       [](BSplinePatch& p) { p.controlPoints[7 * 3 + 2] = -inf; }},
-      {"weights: 19 values, expected one per control point (20)",
-       [](BSplinePatch& p) { p.weights.pop_back(); }},
-      {"weights[12]: not positive (-1)", [](BSplinePatch& p) { p.weights[12] = -1; }},
-      {"weights[0]: not positive (0)", [](BSplinePatch& p) { p.weights[0] = 0; }},
-      {"weights[3]: not finite (nan)", [](BSplinePatch& p) { p.weights[3] = nan; }},
-  };
-  for (const Case& c : cases) {
-    BSplinePatch patch = ValidSurface();
-    c.mutate(patch);
-    EXPECT_EQ(ValidateBSplinePatch(patch), c.expected);
-  }
-}
-
-TEST(BezierExtraction, ExtractRejectsInvalidPatch) {
-  BSplinePatch patch = ValidSurface();
-  patch.weights[5] = -2.5;
-  try {
-    ExtractBezierCells(patch);
-    FAIL() << "expected std::invalid_argument";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "weights[5]: not positive (-2.5)");
   }
 }
 

@@ -30,7 +30,7 @@ std::array<Real, 4> Cubic(Real t) {
 }
 
 /// A rational cubic Bezier curve (2D) or bicubic patch (3D) given by its
-/// control points and weights, u fastest (FORMATS.md order).
+/// control points and weights, u fastest (docs/formats.md order).
 struct RationalPatch {
   int paramDim = 1;
   int dim = 2;

@@ -9,16 +9,20 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "invmap/invmap.h"
 #include "tests/support/closest_reference.h"
 #include "tests/support/family_runner.h"
+#include "tests/support/patch_reference.h"
+#include "tests/support/reference_cell.h"
 #include "tests/support/test_geometries.h"
 
 namespace invmap::testing {
@@ -53,21 +57,82 @@ TEST(ManifoldTest, ThreadCountDoesNotChangeAnyBit) {
   const Geometry g = MixedGeometry3();
   const Manifold m = BuildOk(g);
   const QuerySet q = MixedQueries(GeometryCells(g), GeometrySize(g), 5000, 1101);
-  Results byThreads[3];
-  const int threads[3] = {1, 2, 0};
-  for (int i = 0; i < 3; ++i) {
+  // More threads than cores too (this machine may have 2): the same bits,
+  // and no library warning on stderr.
+  const int threads[] = {1, 2, 0, 3, 7, 64};
+  constexpr int kRuns = static_cast<int>(std::size(threads));
+  Results byThreads[kRuns];
+  for (int i = 0; i < kRuns; ++i) {
     InversionOptions o;
     o.threads = threads[i];
     std::string error;
+    ::testing::internal::CaptureStderr();
     byThreads[i] = InvertQueries(m, q, o, &error);
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "") << "threads " << threads[i];
     ASSERT_TRUE(error.empty()) << error;
   }
-  EXPECT_EQ(CompareBitwise(byThreads[0], byThreads[1]), "") << "threads 1 vs 2";
-  EXPECT_EQ(CompareBitwise(byThreads[0], byThreads[2]), "") << "threads 1 vs 0 (all cores)";
+  for (int i = 1; i < kRuns; ++i) {
+    EXPECT_EQ(CompareBitwise(byThreads[0], byThreads[i]), "") << "threads 1 vs " << threads[i] << " (0: all cores)";
+  }
   // Repeating a call on the same manifold is deterministic too.
   std::string error;
   const Results again = InvertQueries(m, q, {}, &error);
-  EXPECT_EQ(CompareBitwise(byThreads[2], again), "") << "a repeated call";
+  EXPECT_EQ(CompareBitwise(byThreads[0], again), "") << "a repeated call";
+}
+
+/// Point i's answer of `r` as a bitwise-comparable record.
+std::string AnswerBits(const Results& r, std::size_t i) {
+  Results one;
+  one.status = {r.status[i]};
+  one.patch = {r.patch[i]};
+  one.cell = {r.cell[i]};
+  one.params.assign(r.params.begin() + 3 * i, r.params.begin() + 3 * i + 3);
+  one.closest.assign(r.closest.begin() + 3 * i, r.closest.begin() + 3 * i + 3);
+  one.distance = {r.distance[i]};
+  one.iterations = {0};
+  return DescribeResult(one, 0);
+}
+
+TEST(ManifoldTest, PointwiseAnswersAreTheSameInEveryBatch) {
+  // With InversionOptions::pointwise a point's answer is a function of the
+  // point and the geometry: the whole set at once, the set shuffled and cut
+  // into batches of other sizes, and single points agree bit for bit.
+  // (Without it, the last digits follow the neighbours the batch gives a
+  // point to start from.)
+  const std::pair<const char*, Geometry> geometries[] = {
+      {"mixed 3D", MixedGeometry3()}, {"mixed 2D", MixedGeometry2()}, {"quadratic tets", QuadraticMesh(false)}};
+  for (const auto& [name, g] : geometries) {
+    SCOPED_TRACE(name);
+    const Manifold m = BuildOk(g);
+    ReferenceGeometry reference(g);
+    QueryMix mix;
+    mix.on = mix.near = mix.mid = mix.far = mix.inside = 600;
+    const QuerySet q = MakeQueries(reference.cells(), g.dimension, reference.size(), mix, 1103);
+    InversionOptions o;
+    o.pointwise = true;
+    // Correct, against the independent reference.
+    RunFamily(name, g, q, [&](const double* p) { return reference.Closest(p); }, o);
+    std::string error;
+    const Results whole = InvertQueries(m, q, o, &error);
+    ASSERT_TRUE(error.empty()) << error;
+    std::vector<std::size_t> order(q.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), std::mt19937_64(1104));
+    int differ = 0;
+    for (std::size_t first = 0, size = 1; first < order.size(); first += size, size = size * 3 + 1) {
+      QuerySet batch;
+      batch.dim = q.dim;
+      const std::size_t end = std::min(order.size(), first + size);
+      for (std::size_t j = first; j < end; ++j) batch.Add(q.point(order[j]), q.kinds[order[j]]);
+      const Results part = InvertQueries(m, batch, o, &error);
+      ASSERT_TRUE(error.empty()) << error;
+      for (std::size_t j = first; j < end; ++j) {
+        const std::string alone = AnswerBits(part, j - first), together = AnswerBits(whole, order[j]);
+        if (alone != together && differ++ < 5) ADD_FAILURE() << "point " << order[j] << ": " << alone << " vs " << together;
+      }
+    }
+    EXPECT_EQ(differ, 0);
+  }
 }
 
 TEST(ManifoldTest, ChunksOfTheMortonOrderChangeNoAnswer) {
@@ -185,6 +250,62 @@ TEST(ManifoldTest, GapToleranceSplitsFoundAndNone) {
     if (fraction > 0) {
       EXPECT_GT(s.found, 0);
       EXPECT_LT(s.found, s.points);
+    }
+  }
+}
+
+TEST(ManifoldTest, GapToleranceZeroFindsEveryPointOnOrInsideTheGeometry) {
+  // A point at distance <= D is found for every D >= 0, D = 0 included: the
+  // points of surfaces (made by the tests' own evaluator, so a rounding off
+  // them) and those inside curved volumes, a third of them 1e-8 to 1e-4 of
+  // the cell from a face in parameters (QA: 14 of 100,000 inside points of
+  // quadratic tets came back none at D = 0; solves near a face land an
+  // ulp beyond 0).
+  const std::pair<const char*, Geometry> geometries[] = {{"wavy surfaces", WavySurfaces()},
+                                                         {"quadratic tets", QuadraticMesh(false)},
+                                                         {"quadratic hexes", QuadraticMesh(true)},
+                                                         {"B-spline volumes", BSplineVolumes()}};
+  for (const auto& [name, g] : geometries) {
+    SCOPED_TRACE(name);
+    const Manifold m = BuildOk(g);
+    const std::vector<PatchCell> cells = GeometryCells(g);
+    const double size = GeometrySize(g);
+    std::mt19937_64 rng(1202);
+    QuerySet q;
+    q.dim = g.dimension;
+    std::vector<bool> fullRank;
+    for (int i = 0; i < ScaledCount(6000); ++i) {
+      const RefCell& cell = cells[rng() % cells.size()].cell;
+      std::array<double, 3> u = RandomRefPoint(cell.type, rng);
+      if (i % 3 == 0) {
+        // Toward a point of the boundary: still inside (the domain is convex).
+        std::array<double, 3> outward;
+        const std::array<double, 3> face = RandomBoundaryRefPoint(cell.type, rng, &outward);
+        const double t = std::pow(10.0, std::uniform_real_distribution<double>(-8.0, -4.0)(rng));
+        for (int k = 0; k < 3; ++k) u[k] = face[k] + t * (u[k] - face[k]);
+      }
+      double x[3] = {0, 0, 0};
+      RefEvaluate(cell, u.data(), x);
+      q.Add(x, "on");
+      fullRank.push_back(cell.paramDim() == g.dimension);
+    }
+    for (const double maxDistance : {0.0, 1e-15 * size}) {
+      InversionOptions o;
+      o.maxDistance = maxDistance;
+      std::string error;
+      const Results r = InvertQueries(m, q, o, &error);
+      ASSERT_TRUE(error.empty()) << error;
+      int missed = 0, inexact = 0;
+      for (std::size_t i = 0; i < q.size(); ++i) {
+        if (r.status[i] != Status::Found || !(r.distance[i] <= 1e-11 * size)) {
+          ++missed;
+          continue;
+        }
+        // Inside a volume: the point itself, at distance exactly 0.
+        if (fullRank[i]) inexact += r.distance[i] != 0.0;
+      }
+      EXPECT_EQ(missed, 0) << "of " << q.size() << " points on the geometry, D = " << maxDistance;
+      EXPECT_EQ(inexact, 0) << "inside points not at distance 0, D = " << maxDistance;
     }
   }
 }
@@ -386,25 +507,24 @@ TEST(ManifoldTest, EmptyBatch) {
 // ---------------------------------------------------------------------------
 // Empty and degenerate geometries.
 
-TEST(ManifoldTest, EmptyGeometryFindsNothing) {
+TEST(ManifoldTest, AGeometryWithoutCellsIsAnInputError) {
+  // Every point would be "none" against it: an empty file or list is a
+  // mistake to report, not a geometry.
   for (int dim : {2, 3}) {
     Geometry g;
     g.dimension = dim;
-    const BuildResult built = Manifold::Build(g);
-    ASSERT_TRUE(built.error.empty()) << built.error;
-    EXPECT_EQ(built.manifold.Info().cells, 0u);
-    EXPECT_EQ(built.manifold.Info().patches, 0u);
-    QuerySet q;
-    q.dim = dim;
-    const double pts[4][3] = {{0, 0, 0}, {1e300, -1e300, 5}, {kNaN, 0, 0}, {-3, 2, 1}};
-    for (const auto& p : pts) q.Add(p, "any");
-    std::string error;
-    const Results r = InvertQueries(built.manifold, q, {}, &error);
-    ASSERT_TRUE(error.empty()) << error;
-    const CheckSummary s = CheckResults(g, q, r, [](const double*) { return ReferenceAnswer{}; });
-    EXPECT_EQ(s.failures, 0) << s.report;
-    EXPECT_EQ(r.status[0], Status::None);
-    EXPECT_EQ(r.status[2], Status::Invalid);
+    BuildResult built = Manifold::Build(g);
+    EXPECT_FALSE(built.manifold.valid());
+    EXPECT_NE(built.error.find("the geometry has no cells"), std::string::npos) << built.error;
+    // Patches without cells: a mesh with no cells, a B-spline of empty spans only.
+    Patch mesh;
+    mesh.kind = Patch::Kind::Mesh;
+    mesh.cell = CellType::Tri;
+    mesh.points.assign(3 * static_cast<std::size_t>(dim), 0.0);
+    g.patches.push_back(mesh);
+    built = Manifold::Build(g);
+    EXPECT_FALSE(built.manifold.valid());
+    EXPECT_NE(built.error.find("the geometry has no cells"), std::string::npos) << built.error;
   }
 }
 
@@ -611,6 +731,25 @@ TEST(ManifoldTest, AGeometryBelowTheSmallestExtentIsRejected) {
   // A single point (all control points equal) has no extent to measure.
   for (double& x : g.patches[0].points) x = 0.5;
   EXPECT_TRUE(Manifold::Build(g).error.empty());
+  // Far below the range of squares: a triangle 1e-280 across (its squared
+  // extent in units of 1e-100 underflowed to 0, and it passed as a point,
+  // a query 5e-281 away at distance 0).
+  Geometry tiny;
+  tiny.dimension = 3;
+  Patch triangle;
+  triangle.kind = Patch::Kind::Mesh;
+  triangle.cell = CellType::Tri;
+  triangle.points = {0, 0, 0, 1e-280, 0, 0, 0, 1e-280, 0};
+  triangle.cells = {0, 1, 2};
+  tiny.patches.push_back(triangle);
+  const BuildResult tinyBuilt = Manifold::Build(tiny);
+  EXPECT_FALSE(tinyBuilt.manifold.valid());
+  EXPECT_NE(tinyBuilt.error.find("is 1.41421e-280 across (its box diagonal), below 1e-100"), std::string::npos)
+      << tinyBuilt.error;
+  // Just at the limit along one axis is accepted.
+  triangle.points = {0, 0, 0, 1e-100, 0, 0, 0, 0, 0};
+  tiny.patches[0] = triangle;
+  EXPECT_TRUE(Manifold::Build(tiny).error.empty()) << Manifold::Build(tiny).error;
 }
 
 TEST(ManifoldTest, MalformedGeometryIsRejectedWithPatchAndField) {

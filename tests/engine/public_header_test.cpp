@@ -1,5 +1,5 @@
 // The public header stands alone: it is included first and nothing internal
-// is (STYLE.md section 1), and its basic contract holds.
+// is, and its basic contract holds.
 #include "invmap/invmap.h"
 
 #include <gtest/gtest.h>
@@ -39,8 +39,16 @@ TEST(PublicHeader, MisuseIsAnErrorNotACrash) {
             invmap::Error::InvalidArgument);
   EXPECT_FALSE(message.empty());
   invmap::Geometry geometry;
+  // No cells: an error, not a geometry every point is "none" against.
+  EXPECT_FALSE(invmap::Manifold::Build(geometry).error.empty());
+  invmap::Patch triangle;
+  triangle.kind = invmap::Patch::Kind::Mesh;
+  triangle.cell = invmap::CellType::Tri;
+  triangle.points = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  triangle.cells = {0, 1, 2};
+  geometry.patches.push_back(triangle);
   invmap::BuildResult built = invmap::Manifold::Build(geometry);
-  ASSERT_TRUE(built.error.empty());
+  ASSERT_TRUE(built.error.empty()) << built.error;
   EXPECT_EQ(built.manifold.Invert(invmap::PointsView::Interleaved(p, 1, 2), {}, &results, &message),
             invmap::Error::InvalidArgument);  // 2D points, 3D geometry
   EXPECT_EQ(built.manifold.Invert(invmap::PointsView::Interleaved(p, 1, 3), {}, nullptr, &message),

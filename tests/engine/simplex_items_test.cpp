@@ -9,6 +9,7 @@
 #include "engine/cell_store.h"
 #include "engine/simplex_items.h"
 #include "invmap/invmap.h"
+#include "tests/engine/built_cells.h"
 #include "tests/support/test_geometries.h"
 
 namespace invmap::testing {
@@ -37,8 +38,7 @@ TEST(SimplexItemsTest, HoldTheVerticesOfEveryAffineSimplexInLeafOrder) {
   line.counts = {4};
   line.points = {2, 2, 2, 2.5, 2, 2, 3, 2, 2, 3.5, 2, 2};
   g.patches.push_back(line);
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(g, 1), "");
+  const engine::CellStore store = BuildCells(g);
   const engine::Bvh bvh = BuildBvhOver(store);
   engine::SimplexItems simplices;
   simplices.Build(store, bvh);
@@ -79,8 +79,7 @@ TEST(SimplexItemsTest, HoldTheVerticesOfEveryAffineSimplexInLeafOrder) {
 }
 
 TEST(SimplexItemsTest, NoneWithoutAffineSimplices) {
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(NurbsTorus({0, 0, 0}, 2.0, 0.5), 1), "");
+  const engine::CellStore store = BuildCells(NurbsTorus({0, 0, 0}, 2.0, 0.5));
   engine::SimplexItems simplices;
   simplices.Build(store, BuildBvhOver(store));
   EXPECT_TRUE(simplices.empty());

@@ -9,6 +9,7 @@
 
 #include "engine/cell_store.h"
 #include "invmap/invmap.h"
+#include "tests/engine/built_cells.h"
 #include "tests/support/test_geometries.h"
 
 namespace invmap::testing {
@@ -29,8 +30,7 @@ std::vector<Corner> FaceCorners(const kernels::CellSolver& solver, int face) {
 }
 
 TEST(TetAdjacencyTest, NeighboursAreExactlyTheCellsSharingAFace) {
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(QuadraticMesh(false), 1), "");
+  const engine::CellStore store = BuildCells(QuadraticMesh(false));
   const std::int64_t n = store.size();
   ASSERT_EQ(n, 4 * 4 * 3 * 6);
   const engine::TetAdjacency& adjacency = store.tetAdjacency();
@@ -56,8 +56,7 @@ TEST(TetAdjacencyTest, NeighboursAreExactlyTheCellsSharingAFace) {
 }
 
 TEST(TetAdjacencyTest, SurfacesAndHexesHaveNone) {
-  engine::CellStore hexes;
-  ASSERT_EQ(hexes.Build(QuadraticMesh(true), 1), "");
+  const engine::CellStore hexes = BuildCells(QuadraticMesh(true));
   EXPECT_TRUE(hexes.tetAdjacency().empty());
   EXPECT_EQ(hexes.tetAdjacency().Neighbor(0, 0), -1);
 }

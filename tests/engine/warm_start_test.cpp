@@ -13,6 +13,7 @@
 #include "engine/warm_start.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_map.h"
+#include "tests/engine/built_cells.h"
 #include "tests/support/test_geometries.h"
 
 namespace invmap::testing {
@@ -46,8 +47,7 @@ std::int64_t NeighborByIntervals(const engine::CellStore& store, std::int64_t ce
 
 /// Every cell and every step in {-1, 0, 1}^paramDim of every patch of `geometry`.
 void ExpectNeighborsMatchIntervals(const Geometry& geometry) {
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(geometry, 1), "");
+  const engine::CellStore store = BuildCells(geometry);
   int crossings = 0;
   for (std::int64_t cell = 0; cell < store.size(); ++cell) {
     const int paramDim = store.solver(cell).cell().shape.paramDim();
@@ -75,8 +75,7 @@ TEST(WarmStartTest, SplineNeighborIsTheCellAcrossEachSpanBoundary) {
 }
 
 TEST(WarmStartTest, CellsOfOtherPatchesHaveNoSplineNeighbor) {
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(MixedGeometry3(), 1), "");
+  const engine::CellStore store = BuildCells(MixedGeometry3());
   int others = 0;
   for (std::int64_t cell = 0; cell < store.size(); ++cell) {
     if (store.origin(cell).sharedParameters) continue;
@@ -155,8 +154,7 @@ void PatchParameters(const engine::CellStore& store, std::int64_t cell, const do
 /// nearer u + delta than u, in the cell that holds it. Returns the ratios
 /// of the distance after to the distance before, sorted.
 std::vector<double> PredictionRatios(double height, bool hessian, int* inCell, int* crossed) {
-  engine::CellStore store;
-  EXPECT_EQ(store.Build(WavySurfaces(), 1), "");
+  const engine::CellStore store = BuildCells(WavySurfaces());
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> unit(0.0, 1.0), signed01(-1.0, 1.0);
   std::vector<double> ratios;
@@ -221,8 +219,7 @@ TEST(WarmStartTest, NewtonStepPredictsTheNextFootOfPointsOffTheSurface) {
 }
 
 TEST(WarmStartTest, StartsAtThePreviousAnswerWithoutAModelOrForARepeatedPoint) {
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(WavySurfaces(), 1), "");
+  const engine::CellStore store = BuildCells(WavySurfaces());
   const double u[2] = {0.4, 0.3};
   const SurfacePlace from = PlaceAt(store, u);
   double previous[3];
@@ -253,8 +250,7 @@ TEST(WarmStartTest, AStepPastThePatchEdgeIsHeldOnTheEdge) {
   // point displaced from the edge curve C(v) away from the patch, normal to
   // C). The start stays on the edge and slides toward v + delta, into the
   // next span when that holds it.
-  engine::CellStore store;
-  ASSERT_EQ(store.Build(WavySurfaces(), 1), "");
+  const engine::CellStore store = BuildCells(WavySurfaces());
   std::mt19937_64 rng(23);
   std::uniform_real_distribution<double> unit(0.0, 1.0), signed01(-1.0, 1.0);
   // Away from the patch, normal to the edge curve, at distance d: x +

@@ -7,6 +7,8 @@
 #include "fem/exodus_reader.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <vtkCell.h>
 #include <vtkDataArray.h>
 #include <vtkExodusIIReader.h>
@@ -221,6 +223,13 @@ TEST(ExodusReader, BadFilesAreInputErrorsNamingBlockAndElement) {
   const ScratchDir dir;
   ExpectExodusError(dir.Path("missing.exo"), {}, "no such file");
   ExpectExodusError(dir.Write("text.exo", "not netCDF at all\n"), {}, "not an Exodus II file");
+  // /dev/zero and a sparse file of gigabytes: refused at once (the whole
+  // file was read to check its header, and /dev/zero never ended).
+  std::filesystem::create_symlink("/dev/zero", dir.Path("zero.exo"));
+  ExpectExodusError(dir.Path("zero.exo"), {}, "not a regular file");
+  const std::string sparse = dir.Write("sparse.exo", "");
+  std::filesystem::resize_file(sparse, std::uintmax_t{2} << 30);
+  ExpectExodusError(sparse, {}, "not an Exodus II file: neither a netCDF (CDF) nor an HDF5 signature");
   // A classic netCDF header claiming a 3 GB attribute in a 40-byte file
   // (found by fuzz_fem: the netCDF library allocated it before failing).
   const std::string header("CDF\x01" "\0\0\0\0" "\0\0\0\0\0\0\0\0" "\0\0\0\x0c\0\0\0\x01"

@@ -22,6 +22,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "fem/vtk_cells.h"
@@ -427,6 +428,13 @@ TEST(VtuReader, BadFilesAreInputErrorsNamingFileAndCell) {
   const ScratchDir dir;
   ExpectReadError(dir.Path("missing.vtu"), "no such file");
   ExpectReadError(dir.Write("text.vtu", "this is not XML\n"), "not a readable VTK unstructured grid");
+  // /dev/zero kept VTK's reader busy for good; a sparse file of gigabytes
+  // was scanned whole: both are refused at once.
+  std::filesystem::create_symlink("/dev/zero", dir.Path("zero.vtu"));
+  ExpectReadError(dir.Path("zero.vtu"), "not a regular file");
+  const std::string sparse = dir.Write("sparse.vtu", "");
+  std::filesystem::resize_file(sparse, std::uintmax_t{2} << 30);
+  ExpectReadError(sparse, "it does not start with '<'");
   ExpectReadError(dir.Write("truncated.vtu", "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">\n"),
                   "not a readable VTK unstructured grid");
   // A pyramid: VTK reads it, invmap names the cell.

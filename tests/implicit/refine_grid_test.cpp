@@ -1,6 +1,6 @@
 // RefineGrid against independent references: the reference implementation's
 // published cell counts, an independent re-derivation of the refinement
-// criteria on every final cell, and the analytic zero sets of the seed's
+// criteria on every final cell, and the analytic zero sets of the adaptive-grid paper's
 // examples (sphere, cylinders, the quintic x^5 + x^4 - 2y^2, two nearly
 // tangent circles).
 #include <gtest/gtest.h>
@@ -48,7 +48,7 @@ GridResult Refine(const std::vector<Function>& functions, const SimplexMesh& mes
 
 // ---------------------------------------------------------------------------
 // Cell counts of the reference implementation
-// (../shared/benchmarks/implicit/README.md), same inputs and epsilon. The
+// (published with it; docs/benchmarks.md), same inputs and epsilon. The
 // reference breaks ties between equally long edges by its heap's internals,
 // which moves its own counts by about 0.01%; invmap breaks them first in,
 // first out, and must land within 0.1%.
@@ -320,7 +320,7 @@ TEST(RefineGrid, CylinderAndThreeCylindersWithinEpsilon) {
   }
 }
 
-/// Distance from x to the seed's quintic curve x^5 + x^4 - 2y^2 = 0
+/// Distance from x to the adaptive-grid paper's quintic curve x^5 + x^4 - 2y^2 = 0
 /// (y = +-sqrt((x^5 + x^4) / 2), x >= -1), by dense sampling of the curve.
 class QuinticCurve {
  public:

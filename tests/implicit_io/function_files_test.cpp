@@ -254,3 +254,22 @@ TEST(ImplicitCsgTree, Errors) {
 
 }  // namespace
 }  // namespace invmap::io
+
+namespace invmap::io {
+namespace {
+
+TEST(ImplicitFiles, EndlessAndHugeFilesAreRefusedAfterABoundedRead) {
+  // /dev/zero under a .json name (and a sparse file of gigabytes) is no
+  // function list or tree: the readers stop at 64 MiB, not at the memory's end.
+  ScratchDir dir;
+  const std::string zero = dir.Path("zero.json");
+  std::filesystem::create_symlink("/dev/zero", zero);
+  ExpectInputError([&] { ReadFunctionList(zero, 3); }, 0, {"zero.json: more than 64 MiB"});
+  ExpectInputError([&] { ReadCsgTree(zero, 2); }, 0, {"zero.json: more than 64 MiB"});
+  const std::string sparse = dir.Write("sparse.json", "");
+  std::filesystem::resize_file(sparse, std::uintmax_t{2} << 30);
+  ExpectInputError([&] { ReadFunctionList(sparse, 3); }, 0, {"sparse.json: more than 64 MiB"});
+}
+
+}  // namespace
+}  // namespace invmap::io

@@ -1,6 +1,7 @@
-// Tests of the JSON geometry reader (FORMATS.md section 2): every accepted
-// form, every validation message with its JSON path and line, malformed and
-// hostile files, and round trips through Manifold::Build.
+// Tests of the JSON geometry reader (docs/formats.md section 2): every accepted
+// form, every validation message with its JSON path and line (the reader's
+// own, and Manifold::Build's mapped back to the file by GeometrySource),
+// malformed and hostile files, and round trips through Manifold::Build.
 #include "tests/io/io_scratch.h"
 #include "io/geometry_json.h"
 
@@ -30,9 +31,16 @@ std::string Doc(int dimension, const std::string& body) {
          ",\n  \"patches\": [\n" + body + "\n]}\n";
 }
 
+/// Reads `text` as the file g.json and validates it as the command does:
+/// the reader's errors, then Manifold::Build's at the line of the value at
+/// fault.
 Geometry Parse(const std::string& text) {
   std::istringstream in(text);
-  return ReadGeometryJson(in, "g.json");
+  GeometrySource source;
+  Geometry geometry = ReadGeometryJson(in, "g.json", &source);
+  EXPECT_EQ(source.file(), "g.json");
+  source.Check(Manifold::Build(geometry).problem);
+  return geometry;
 }
 
 using invmap::io::scratch::ExpectInputError;
@@ -74,10 +82,15 @@ Closest Query(const Geometry& geometry, const double* query) {
 
 // ------------------------------------------------------------ accepted forms
 
-TEST(GeometryJson, EmptyPatchListIsAnEmptyGeometry) {
-  const Geometry g = Parse(Doc(2, ""));
+TEST(GeometryJson, EmptyPatchListIsReadAndRefusedByTheBuild) {
+  // The reader accepts the empty list (the format allows it); the build
+  // refuses a geometry without cells, naming the file.
+  std::istringstream in(Doc(2, ""));
+  GeometrySource source;
+  const Geometry g = ReadGeometryJson(in, "g.json", &source);
   EXPECT_EQ(g.dimension, 2);
   EXPECT_TRUE(g.patches.empty());
+  ExpectInputError([&] { Parse(Doc(2, "")); }, 0, {"g.json: the geometry has no cells"});
 }
 
 TEST(GeometryJson, BSplineCurveSurfaceAndVolume) {
@@ -306,10 +319,17 @@ TEST_P(GeometryJsonBadPatch, NamesPatchFieldAndLine) {
 // Body line k is file line 5 + k.
 const BadPatch kBadPatches[] = {
     {"UnknownKind", 3, R"({"kind": "nurbs", "degrees": [1]})", 6,
-     "patches[0].kind: unknown patch kind \"nurbs\" (expected bspline, bezier or mesh)"},
+     "patches[0].kind: unknown patch kind \"nurbs\" (expected bspline, bezier, mesh or pou_manifold)"},
     {"MissingKind", 3, "{\"cell\": \"tri\",\n \"vertices\": []}", 6,
-     "patches[0]: missing field \"kind\" (bspline, bezier or mesh)"},
-    {"KindNotString", 3, R"({"kind": 3})", 6, "patches[0].kind: expected a string (bspline, bezier or mesh), found 3"},
+     "patches[0]: missing field \"kind\" (bspline, bezier, mesh or pou_manifold)"},
+    {"KindNotString", 3, R"({"kind": 3})", 6, "patches[0].kind: expected a string (bspline, bezier, mesh or pou_manifold), found 3"},
+    {"PouChartPointRow", 3,
+     "{\"kind\": \"pou_manifold\", \"vertices\": [], \"cells\": [], \"degrees\": [],\n"
+     " \"chart_control_points\": [[0, 0, 0], [1, 2]]}",
+     7, "patches[0].chart_control_points[1]: 2 coordinates, expected 3"},
+    {"PouInTwoDimensions", 2,
+     R"({"kind": "pou_manifold", "vertices": [], "cells": [], "degrees": [], "chart_control_points": []})", 6,
+     "patches[0].kind: a pou_manifold is a surface of R^3 (dimension 3), the file's dimension is 2"},
     {"UnknownCellType", 3, "{\"kind\": \"mesh\",\n \"cell\": \"pyramid\", \"vertices\": [], \"cells\": []}", 7,
      "patches[0].cell: unknown cell type \"pyramid\" (expected line, tri, quad, tet, hex or wedge)"},
     {"UnknownField", 3, "{\"kind\": \"bspline\",\n \"weight\": [1]}", 7, "patches[0]: unknown field \"weight\""},
@@ -362,12 +382,21 @@ const BadPatch kBadPatches[] = {
     // B-splines.
     {"KnotsDecreasing", 3,
      "{\"kind\": \"mesh\", \"cell\": \"line\", \"vertices\": [[0, 0, 0], [1, 0, 0]], \"cells\": [[0, 1]]},\n"
-     "{\"kind\": \"bspline\", \"degrees\": [1, 1], \"counts\": [2, 3],\n"
+     "{\"kind\": \"bspline\", \"degrees\": [1, 1], \"counts\": [2, 4],\n"
      " \"knots\": [[0, 0, 1, 1],\n"
-     "           [0, 0, 0.1, 0.5, 0.25, 1]]}",
+     "           [0, 0, 0.1, 0.5, 0.25, 1]], \"control_points\": []}",
      9, "patches[1].knots[1]: decreasing at index 4 (0.5 > 0.25)"},
+    {"KnotsDecreasingOnAWrappedLine", 3,
+     "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [4], \"knots\": [[0, 0,\n    0.5,\n    0.25, 1, 1]],\n"
+     " \"control_points\": [[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]]}",
+     8, "patches[0].knots[0]: decreasing at index 3 (0.5 > 0.25)"},
+    {"HugeCoordinateOnAWrappedLine", 2,
+     "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1],\n \"control_points\": [[0, 0], [1,\n 2e100]]}",
+     8, "patches[0].control_points[1]: coordinate 1 is 2e+100, outside [-1e100, 1e100] (the range invmap supports)"},
     {"KnotsDecreasingShortestDigits", 3,
-     "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [2],\n \"knots\": [[0.3, 0.1, 1, 1]]}", 7,
+     "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [2],\n \"knots\": [[0.3, 0.1, 1, 1]],"
+     " \"control_points\": []}",
+     7,
      "patches[0].knots[0]: decreasing at index 1 (0.3 > 0.1)"},
     {"KnotVectorLength", 3,
      "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [3],\n \"knots\": [\n  [0, 0, 0.5, 1]],\n"
@@ -393,10 +422,14 @@ const BadPatch kBadPatches[] = {
      "{\"kind\": \"bspline\", \"degrees\": [1, 1], \"counts\": [2, 2], \"knots\": [[0, 0, 1, 1], [0, 0, 1, 1]],\n"
      " \"control_points\": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}",
      7, "patches[0].control_points: 3 points, expected 4 (counts 2 x 2)"},
-    {"ZeroDegree", 3, "{\"kind\": \"bspline\",\n \"degrees\": [0]}", 7,
-     "patches[0].degrees[0]: 0, expected a positive integer"},
-    {"DegreeAboveTheCap", 3, "{\"kind\": \"bezier\", \"cell\": \"tri\",\n \"degrees\": [9]}", 7,
+    {"ZeroDegree", 3,
+     "{\"kind\": \"bspline\",\n \"degrees\": [0], \"counts\": [2], \"knots\": [[0, 0, 1, 1]],\n"
+     " \"control_points\": [[0, 0, 0], [1, 0, 0]]}",
+     7, "patches[0].degrees[0]: 0, expected 1 to 8"},
+    {"DegreeAboveTheCap", 3, "{\"kind\": \"bezier\", \"cell\": \"tri\",\n \"degrees\": [9], \"control_points\": []}", 7,
      "patches[0].degrees[0]: 9, expected 1 to 8 (the highest degree invmap supports)"},
+    {"CountOutOfIntRange", 3, "{\"kind\": \"bspline\", \"degrees\": [1],\n \"counts\": [3000000000]}", 7,
+     "patches[0].counts[0]: 3000000000, expected an integer within [-2147483648, 2147483647]"},
     {"FractionalCount", 3, "{\"kind\": \"bspline\", \"degrees\": [1],\n \"counts\": [2.5]}", 7,
      "patches[0].counts[0]: expected an integer, found 2.5"},
     {"DegreeArray", 3, "{\"kind\": \"bspline\",\n \"degrees\": [[1]]}", 7,
@@ -413,18 +446,18 @@ const BadPatch kBadPatches[] = {
     {"ZeroWeight", 2,
      "{\"kind\": \"bspline\", \"degrees\": [1], \"counts\": [2], \"knots\": [[0, 0, 1, 1]],\n"
      " \"control_points\": [[0, 0], [1, 0]],\n \"weights\": [1, 0]}",
-     8, "patches[0].weights[1]: weight 0 is not positive"},
+     8, "patches[0].weights[1]: 0 is not positive"},
     {"HugeWeight", 2,
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1], \"control_points\": [[0, 0], [1, 0]],\n"
      " \"weights\": [1,\n 1e300]}",
-     8, "patches[0].weights[1]: weight 1e+300 is outside [1e-50, 1e50] (the range invmap supports)"},
+     8, "patches[0].weights[1]: 1e+300 is outside [1e-50, 1e50] (the range invmap supports)"},
     {"HugeCoordinate", 2,
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1],\n \"control_points\": [[0, 0],\n [-1e101, 0]]}",
-     8, "patches[0].control_points[1][0]: coordinate -1e+101 is outside [-1e100, 1e100] (the range invmap supports)"},
+     8, "patches[0].control_points[1]: coordinate 0 is -1e+101, outside [-1e100, 1e100] (the range invmap supports)"},
     {"NegativeWeight", 2,
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1], \"control_points\": [[0, 0], [1, 0]],\n"
      " \"weights\": [-0.5, 1]}",
-     7, "patches[0].weights[0]: weight -0.5 is not positive"},
+     7, "patches[0].weights[0]: -0.5 is not positive"},
     {"NullWeight", 2,
      "{\"kind\": \"bezier\", \"cell\": \"line\", \"degrees\": [1], \"control_points\": [[0, 0], [1, 0]],\n"
      " \"weights\": [null, 1]}",

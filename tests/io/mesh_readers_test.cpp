@@ -17,11 +17,14 @@
 #include <fstream>
 #include <functional>
 #include <initializer_list>
+#include <random>
+#include <streambuf>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "invmap/invmap.h"
+#include "io/file_io.h"
 #include "io/geometry_file.h"
 #include "io/input_error.h"
 
@@ -409,6 +412,202 @@ TEST(MeshFiles, RoundTripCubeFromAsciiStl) {
   const Closest corner = Query(g, 2.0, 2.0, 2.0);
   EXPECT_NEAR(corner.distance, std::sqrt(3.0), 1e-12);
   EXPECT_NEAR(corner.point[0] + corner.point[1] + corner.point[2], 3.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace invmap::io
+
+namespace invmap::io {
+namespace {
+
+// ------------------------------------------------------------ hostile inputs
+
+namespace hostile {
+
+/// A stream that cannot seek (its size is unknown, as a pipe's or a device's):
+/// `prefix`, then `filler` repeated forever (or nothing when `endless` is false).
+class EndlessBuffer : public std::streambuf {
+ public:
+  EndlessBuffer(std::string prefix, char filler, bool endless)
+      : prefix_(std::move(prefix)), block_(1 << 16, filler), endless_(endless) {
+    setg(prefix_.data(), prefix_.data(), prefix_.data() + prefix_.size());
+  }
+  /// Bytes handed out so far.
+  std::size_t delivered() const { return delivered_ + static_cast<std::size_t>(gptr() - eback()); }
+
+ protected:
+  int_type underflow() override {
+    delivered_ += static_cast<std::size_t>(egptr() - eback());
+    if (!endless_) {
+      setg(block_.data(), block_.data(), block_.data());
+      return traits_type::eof();
+    }
+    setg(block_.data(), block_.data(), block_.data() + block_.size());
+    return traits_type::to_int_type(block_[0]);
+  }
+
+ private:
+  std::string prefix_;
+  std::string block_;
+  bool endless_;
+  std::size_t delivered_ = 0;
+};
+
+}  // namespace hostile
+
+TEST(MeshFiles, EndlessInputsFailAfterABoundedRead) {
+  // /dev/zero under every text format's name: each stops within a line limit.
+  using Reader = Geometry (*)(std::istream&, const std::string&);
+  const std::pair<const char*, Reader> readers[] = {{"m.obj", ReadObj}, {"m.off", ReadOff}, {"m.stl", ReadStl}};
+  for (const auto& [name, read] : readers) {
+    SCOPED_TRACE(name);
+    hostile::EndlessBuffer zeros("", '\0', true);
+    std::istream in(&zeros);
+    EXPECT_THROW(read(in, name), InputError);
+    // The buffer doubles up to the line limit: twice it at most.
+    EXPECT_LE(zeros.delivered(), 2 * InputBuffer::kMaxLineBytes + (std::size_t{2} << 20));
+  }
+  // An STL of zeros: a binary header of 0 triangles, then more bytes.
+  hostile::EndlessBuffer zeros("", '\0', true);
+  std::istream in(&zeros);
+  ExpectInputError([&] { ReadStl(in, "z.stl"); }, 0, {"z.stl: not an STL file: more bytes after the 0 triangles"});
+  EXPECT_LE(zeros.delivered(), std::size_t{2} << 20);
+  // An endless OBJ of valid lines is read as far as memory goes, like any
+  // large file; an endless line is refused at the line limit.
+  hostile::EndlessBuffer longLine("v 0 0 0\nf 1 1 1", ' ', true);
+  std::istream lineIn(&longLine);
+  ExpectInputError([&] { ReadObj(lineIn, "l.obj"); }, 2, {"line longer than 64 MiB"});
+}
+
+TEST(MeshFiles, AStreamOfUnknownSizeIsReadByItsHeader) {
+  const std::vector<std::array<float, 9>> triangles = {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}};
+  {
+    hostile::EndlessBuffer pipe(BinaryStl(triangles), 'x', false);
+    std::istream in(&pipe);
+    const Geometry g = ReadStl(in, "p.stl");
+    ASSERT_EQ(g.patches.size(), 1u);
+    EXPECT_EQ(g.patches[0].cells.size(), 6u);
+    EXPECT_EQ(g.patches[0].points.size(), 12u);
+  }
+  {
+    hostile::EndlessBuffer pipe(BinaryStl(triangles) + "trailing", 'x', false);
+    std::istream in(&pipe);
+    ExpectInputError([&] { ReadStl(in, "p.stl"); }, 0, {"more bytes after the 2 triangles"});
+  }
+  {
+    hostile::EndlessBuffer pipe(BinaryStl(triangles, "binary", 3), 'x', false);
+    std::istream in(&pipe);
+    ExpectInputError([&] { ReadStl(in, "p.stl"); }, 0, {"the file ends in triangle 2 of the 3"});
+  }
+  {
+    hostile::EndlessBuffer pipe("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+                                "endloop\nendfacet\nendsolid s\n",
+                                'x', false);
+    std::istream in(&pipe);
+    EXPECT_EQ(ReadStl(in, "p.stl").patches[0].cells.size(), 3u);
+  }
+  {
+    hostile::EndlessBuffer pipe("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", 'x', false);
+    std::istream in(&pipe);
+    EXPECT_EQ(ReadOff(in, "p.off").patches[0].cells.size(), 3u);
+  }
+  {
+    // Counts a pipe cannot back are not reserved: the file ends first.
+    hostile::EndlessBuffer pipe("OFF\n1000000000000 1000000000000 0\n0 0 0\n", 'x', false);
+    std::istream in(&pipe);
+    ExpectInputError([&] { ReadOff(in, "p.off"); }, 3, {"unexpected end of file after 1 of 1000000000000 vertices"});
+  }
+}
+
+TEST(MeshFiles, HugeSparseFilesAreRefusedFromTheirSizeAndFirstBytes) {
+  TempDir dir;
+  // Sparse files: their size costs no disk, and their bytes read as zeros.
+  const auto sparse = [&](const std::string& name, std::uintmax_t size) {
+    const std::string path = dir.Write(name, "");
+    std::filesystem::resize_file(path, size);
+    return path;
+  };
+  ExpectInputError([&] { ReadMeshFile(sparse("big.stl", std::uintmax_t{6} << 30)); }, 0,
+                   {"not an STL file: no ASCII \"solid\" header", "this file has 6442450944"});
+  ExpectInputError([&] { ReadMeshFile(sparse("big.obj", std::uintmax_t{2} << 30)); }, 1, {"line longer than 64 MiB"});
+  ExpectInputError([&] { ReadMeshFile(sparse("big.off", std::uintmax_t{2} << 30)); }, 1, {"line longer than 64 MiB"});
+  ExpectInputError([&] { ReadGeometryFile(sparse("big.json", std::uintmax_t{2} << 30)); }, 1,
+                   {"a NUL byte (binary data, not a JSON text)"});
+}
+
+/// The triangles of a face of `n` indices in OBJ, as read.
+std::vector<std::int64_t> ObjFaceTriangles(const std::vector<int>& face, int vertices) {
+  std::string text;
+  for (int v = 0; v < vertices; ++v) text += "v " + std::to_string(v) + " " + std::to_string(v * v % 7) + " 0\n";
+  text += "f";
+  for (int v : face) text += " " + std::to_string(v + 1);
+  text += "\n";
+  const Geometry g = Obj(text);
+  return g.patches.at(0).cells;
+}
+
+TEST(MeshFiles, DegenerateFanTrianglesAreLeftOutButTheFaceCoversTheSamePoints) {
+  // 3 vertices repeated 100,000 times: of the fan's 299,998 triangles,
+  // 199,998 repeat a vertex and the others are all (0, 1, 2).
+  std::vector<int> face;
+  for (int i = 0; i < 100000; ++i) face.insert(face.end(), {0, 1, 2});
+  EXPECT_EQ(ObjFaceTriangles(face, 3), (std::vector<std::int64_t>{0, 1, 2}));
+  // Every index the same: one triangle (the point).
+  EXPECT_EQ(ObjFaceTriangles({4, 4, 4, 4, 4, 4}, 5), (std::vector<std::int64_t>{4, 4, 4}));
+  // Against the fan itself, on random faces with repeats: every fan
+  // triangle of three distinct indices is kept (in some vertex order), and
+  // every other one's segment from v0 (or the point v0) is an edge of a
+  // kept triangle.
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int vertices = 2 + static_cast<int>(rng() % 5);
+    std::vector<int> f(5 + rng() % 8);
+    for (int& v : f) v = static_cast<int>(rng() % vertices);
+    const std::vector<std::int64_t> tris = ObjFaceTriangles(f, vertices);
+    SCOPED_TRACE(::testing::PrintToString(f));
+    ASSERT_EQ(tris.size() % 3, 0u);
+    ASSERT_LE(tris.size() / 3, f.size() - 2);
+    // The same three vertices in any order are the same points.
+    const auto hasTriangle = [&](std::int64_t a, std::int64_t b, std::int64_t c) {
+      std::array<std::int64_t, 3> wanted{a, b, c};
+      std::sort(wanted.begin(), wanted.end());
+      for (std::size_t t = 0; t < tris.size(); t += 3) {
+        std::array<std::int64_t, 3> have{tris[t], tris[t + 1], tris[t + 2]};
+        std::sort(have.begin(), have.end());
+        if (have == wanted) return true;
+      }
+      return false;
+    };
+    const auto hasEdge = [&](std::int64_t a, std::int64_t b) {
+      for (std::size_t t = 0; t < tris.size(); t += 3) {
+        const std::int64_t* v = &tris[t];
+        const bool holdsA = v[0] == a || v[1] == a || v[2] == a, holdsB = v[0] == b || v[1] == b || v[2] == b;
+        if (holdsA && holdsB) return true;
+      }
+      return false;
+    };
+    for (std::size_t i = 1; i + 1 < f.size(); ++i) {
+      const int a = f[0], b = f[i], c = f[i + 1];
+      if (a != b && b != c && c != a) {
+        EXPECT_TRUE(hasTriangle(a, b, c)) << "fan triangle " << i;
+      } else {
+        EXPECT_TRUE(hasEdge(a, b != a ? b : c)) << "fan triangle " << i;
+      }
+    }
+  }
+}
+
+TEST(MeshFiles, CoordinatesOutsideTheSupportedRangeNameTheirLine) {
+  ExpectInputError([] { Obj("v 0 0 0\nv 1 0 0\nv 0 1e200 0\nf 1 2 3\n"); }, 3,
+                   {"m.obj:3: v: coordinate 1: \"1e200\" is outside [-1e100, 1e100]"});
+  ExpectInputError([] { Off("OFF\n3 1 0\n0 0 0\n-2e100 0 0\n0 1 0\n3 0 1 2\n"); }, 4,
+                   {"vertex 1: coordinate 0: \"-2e100\" is outside [-1e100, 1e100]"});
+  ExpectInputError(
+      [] {
+        Stl("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 1e101\n"
+            "endloop\nendfacet\nendsolid s\n");
+      },
+      6, {"vertex: coordinate 2: \"1e101\" is outside [-1e100, 1e100]"});
 }
 
 }  // namespace

@@ -234,7 +234,9 @@ TEST(PlyReader, TypeNames) {
   EXPECT_FALSE(ParsePlyType("int64", &type));
   EXPECT_STREQ(PlyTypeName(PlyType::UInt16), "ushort");
   EXPECT_EQ(PlyTypeSize(PlyType::Float32), 4);
-  EXPECT_EQ(PlyPatchableCount(1234), "000000001234");
+  EXPECT_EQ(PlyPatchableCount(1234), "1234\ncomment         ");
+  EXPECT_EQ(PlyPatchableCount(0).size(), static_cast<std::size_t>(kPlyPatchableCountBytes));
+  EXPECT_EQ(PlyPatchableCount(999999999999).size(), static_cast<std::size_t>(kPlyPatchableCountBytes));
   EXPECT_THROW(PlyPatchableCount(std::int64_t{1000000000000}), std::length_error);
 }
 

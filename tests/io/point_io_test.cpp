@@ -466,7 +466,7 @@ TEST(TrimWriter, PlyPatchesTheCountAndDropsOtherElements) {
     const std::string text = ReadAll(output);
     const std::string header = text.substr(0, text.find("end_header\n") + 11);
     EXPECT_EQ(header, std::string("ply\nformat ") + format +
-                          " 1.0\ncomment test points\nelement vertex 000000000005\nproperty double x\n"
+                          " 1.0\ncomment test points\nelement vertex 5\ncomment            \nproperty double x\n"
                           "property uchar red\nproperty double y\nproperty double z\nproperty float intensity\n"
                           "end_header\n");
     // Read back: the even points with their attributes.

@@ -1,5 +1,5 @@
 // Result files (io/result_writer.h): the exact CSV, PLY and npy layouts of
-// FORMATS.md section 4, streaming in chunks, colours, and the rule that an
+// docs/formats.md section 5, streaming in chunks, colours, and the rule that an
 // output is complete or absent.
 #include "io/result_writer.h"
 
@@ -151,7 +151,7 @@ TEST(CsvResults, NumbersMatchPrintf17g) {
 // PLY
 
 const char* const kPlyHeaderBody =
-    "element vertex 000000000004\n"
+    "element vertex 4\ncomment            \n"
     "property double x\nproperty double y\nproperty double z\nproperty uchar status\nproperty int patch\n"
     "property int cell\nproperty double u\nproperty double v\nproperty double w\nproperty double cx\n"
     "property double cy\nproperty double cz\nproperty double distance\n";
@@ -166,7 +166,7 @@ TEST(PlyResults, HeaderAndValuesReadBack) {
     const std::string text = ReadAll(path);
     EXPECT_EQ(
         text.substr(0, text.find("end_header\n") + 11),
-        std::string("ply\nformat binary_little_endian 1.0\ncomment invmap invert results (FORMATS.md section 4)\n") +
+        std::string("ply\nformat binary_little_endian 1.0\ncomment invmap invert results (docs/formats.md section 5)\n") +
             kPlyHeaderBody + "end_header\n");
     PlyReader reader(path);
     EXPECT_EQ(reader.header().elements[0].properties[3].type, PlyType::UInt8);
@@ -299,6 +299,68 @@ TEST(NpyResults, HeaderAndValues) {
       }
     }
   }
+}
+
+// ---------------------------------------------------------------------------
+// Signed distances (CAD solids): a last column in every format
+
+TEST(SignedResults, LastColumnAndColoursCentredOnZero) {
+  // CAD solids' signed distances: the extra column signed_distance, last in
+  // every format, and the colours it drives.
+  ScratchDir dir;
+  const Batch batch = MakeBatch(3);
+  const double signedDistances[4] = {-0.125, 0.30000000000000004, kNan, kNan};
+  ResultWriteOptions options;
+  options.extraColumns = {"signed_distance"};
+  options.signedColorColumn = 0;
+  auto write = [&](const std::string& path, const ResultWriteOptions& o) {
+    const auto writer = OpenResultWriter(path, 3, o);
+    writer->WriteChunk(batch.points.data(), 4, batch.results, 0, signedDistances);
+    writer->Finish();
+  };
+  const std::string csv = dir.Path("s.csv");
+  write(csv, options);
+  EXPECT_EQ(ReadAll(csv),
+            "index,status,patch,cell,u,v,w,x,y,z,distance,signed_distance\n"
+            "0,found,1,42,0.5,0.25,,1,2,3,0.125,-0.125\n"
+            "1,found,0,7,0.10000000000000001,0.33333333333333331,2.0000000000000001e-300,-0.5,1e+20,"
+            "0.20000000000000001,0.30000000000000004,0.30000000000000004\n"
+            "2,none,-1,-1,,,,,,,,\n"
+            "3,invalid,-1,-1,,,,,,,,\n");
+
+  // PLY: the colours centred on 0 (white) over [-m, m], m the largest
+  // |signed distance| found; the property last.
+  const std::string ply = dir.Path("s.ply");
+  ResultWriteOptions colored = options;
+  colored.colorByDistance = true;
+  write(ply, colored);
+  const std::string text = ReadAll(ply);
+  EXPECT_NE(text.find("property uchar blue\nproperty double signed_distance\nend_header"), std::string::npos);
+  EXPECT_NE(text.find("cool-warm colormap of signed_distance from -0.30000000000000004 to 0.30000000000000004"),
+            std::string::npos);
+  const std::size_t data = text.find("end_header\n") + 11;
+  const std::size_t record = 3 * 8 + 1 + 2 * 4 + 7 * 8 + 3 + 8;
+  ASSERT_EQ(text.size(), data + 4 * record);
+  unsigned char first[3], second[3];
+  DivergingColor((-0.125 + 0.30000000000000004) / 0.6000000000000001, first);
+  DivergingColor(1.0, second);
+  const std::size_t colors = 3 * 8 + 1 + 2 * 4 + 7 * 8;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(static_cast<unsigned char>(text[data + colors + k]), first[k]);
+    EXPECT_EQ(static_cast<unsigned char>(text[data + record + colors + k]), second[k]);
+  }
+}
+
+TEST(SignedResults, DivergingMapEndsAndMiddle) {
+  unsigned char rgb[3];
+  DivergingColor(0.0, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{59, 76, 192}));
+  DivergingColor(0.5, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{221, 221, 221}));
+  DivergingColor(1.0, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{180, 4, 38}));
+  DivergingColor(kNan, rgb);
+  EXPECT_EQ((std::array<int, 3>{rgb[0], rgb[1], rgb[2]}), (std::array<int, 3>{128, 128, 128}));
 }
 
 // ---------------------------------------------------------------------------

@@ -30,7 +30,7 @@ using invmap::kernels::MapJet;
 using invmap::kernels::SolveWorkspace;
 using Real = long double;
 
-/// A simplex factor's multi-indices (a0, .., ad) in FORMATS.md order: a1
+/// A simplex factor's multi-indices (a0, .., ad) in docs/formats.md order: a1
 /// fastest, then a2, then a3; a0 = p - the others.
 std::vector<std::array<int, 4>> SimplexMultiIndices(int dim, int p) {
   std::vector<std::array<int, 4>> out;
@@ -157,7 +157,7 @@ TEST(CellCharts, EveryChartIsTheSameMap) {
         EvaluateMap(charts.view(chart), ref, JetOrder::Value, &jet);
         for (int k = 0; k < c.ambientDim; ++k) {
           EXPECT_NEAR(jet.x[k], static_cast<double>(expected[k]), 1e-12)
-              << invmap::kernels::CellTypeName(c.type) << " chart " << chart;
+              << invmap::CellTypeName(c.type) << " chart " << chart;
         }
         const Barycentric back = charts.ToBarycentric(chart, ref);
         for (size_t f = 0; f < c.dims.size(); ++f) {
@@ -190,7 +190,7 @@ TEST(CellCharts, PointsInTheLayerOfAHeavyWeightAreFound) {
         const double point[3] = {static_cast<double>(x[0]), static_cast<double>(x[1]), static_cast<double>(x[2])};
         const CellSolveResult r = solver.Solve(point, nullptr, &ws);
         if (!(r.distance <= 1e-9 * solver.size()) && failures++ < 10) {
-          ADD_FAILURE() << invmap::kernels::CellTypeName(c.type) << " weight " << heavy << ", coordinate " << static_cast<double>(small)
+          ADD_FAILURE() << invmap::CellTypeName(c.type) << " weight " << heavy << ", coordinate " << static_cast<double>(small)
                         << ": distance " << r.distance << " for a point of the cell";
         }
       }

@@ -96,7 +96,7 @@ TEST(CurvatureBounds, ConvexOnlyWhereEveryHessianIsPositive) {
                 scale = std::max(scale, hessian.cwiseAbs().maxCoeff());
               }
               if (!(least > -1e-6 * scale) && failures++ < 10) {
-                ADD_FAILURE() << invmap::kernels::CellTypeName(type) << " degree " << degree
+                ADD_FAILURE() << invmap::CellTypeName(type) << " degree " << degree
                               << (rational ? " rational" : "") << " in " << ambientDim << "D, cell " << c
                               << ", query " << i << ": proved convex, but a Hessian eigenvalue is " << least
                               << " (largest entry " << scale << ")\n"

@@ -16,6 +16,7 @@
 
 #include "kernels/cell_charts.h"
 #include "kernels/cell_solver.h"
+#include "kernels/kkt_point.h"
 #include "kernels/layer_newton.h"
 #include "kernels/local_solver.h"
 #include "tests/support/reference_cell.h"

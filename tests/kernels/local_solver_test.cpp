@@ -11,6 +11,7 @@
 #include <cmath>
 #include <random>
 
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 #include "tests/support/reference_cell.h"
 

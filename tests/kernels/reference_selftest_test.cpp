@@ -488,7 +488,7 @@ TEST(ReferenceBruteForce, TetAndHexDistances) {
           for (const auto& t : tris) expect = std::min(expect, DistanceToTriangle(p, t[0], t[1], t[2]));
         }
         const RefClosest r = ref.Closest(p.data());
-        EXPECT_NEAR(r.distance, expect, 1e-13) << kernels::CellTypeName(type) << " degree " << degree;
+        EXPECT_NEAR(r.distance, expect, 1e-13) << invmap::CellTypeName(type) << " degree " << degree;
         if (expect == 0.0) {
           for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.ref[k], pre[k], 1e-12);
         }

@@ -97,7 +97,7 @@ TEST(TangentPlaneLowerBound, MatchesTheTangentPlaneOfTheExcess) {
             if (bound > 0.0) error = "a plane that dips below zero was reported positive (unsound exclusion)";
           }
           if (!error.empty() && failures++ < 10) {
-            ADD_FAILURE() << invmap::kernels::CellTypeName(type) << (rational ? " rational" : "") << " in "
+            ADD_FAILURE() << invmap::CellTypeName(type) << (rational ? " rational" : "") << " in "
                           << ambientDim << "D, query " << i << ": " << error << ": bound " << bound << ", expected "
                           << expected << " (tolerance " << tolerance << ")";
           }

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "kernels/cell_solver.h"
+#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
 #include "tests/support/reference_cell.h"

@@ -11,7 +11,7 @@
 namespace invmap::testing {
 namespace {
 
-/// Vertices of a linear mesh cell (FORMATS.md section 2).
+/// Vertices of a linear mesh cell (docs/formats.md section 2).
 int MeshCellVertices(CellType type) {
   switch (type) {
     case CellType::Line:
@@ -83,7 +83,7 @@ std::vector<double> SpanToBezier(const std::vector<double>& knots, int p, int sp
 }
 
 /// Shape functions of a linear mesh cell at reference coordinates u, in FE
-/// vertex order (FORMATS.md section 2), written out per type.
+/// vertex order (docs/formats.md section 2), written out per type.
 int FeShape(CellType type, const double* u, double* n) {
   const double s = u[0], t = u[1], r = u[2];
   switch (type) {
@@ -177,6 +177,8 @@ std::vector<PatchCell> PatchCells(const Geometry& geometry, int patchIndex) {
   const int dim = geometry.dimension;
   std::vector<PatchCell> out;
   switch (patch.kind) {
+    case Patch::Kind::TrimmedSurface:
+      break;  // CAD faces have their own references (tests/cad)
     case Patch::Kind::Bezier: {
       PatchCell pc;
       pc.cell = BezierRefCell(geometry, patch);
@@ -184,6 +186,8 @@ std::vector<PatchCell> PatchCells(const Geometry& geometry, int patchIndex) {
       out.push_back(std::move(pc));
       break;
     }
+    case Patch::Kind::PouManifold:
+      break;  // not Bezier cells: tests/support/pou_reference.h evaluates them
     case Patch::Kind::BezierCells: {
       for (std::size_t c = 0; c < patch.cellTypes.size(); ++c) {
         PatchCell pc;
@@ -356,11 +360,17 @@ std::vector<std::int64_t> CellCounts(const Geometry& geometry) {
   std::vector<std::int64_t> counts;
   for (const Patch& patch : geometry.patches) {
     switch (patch.kind) {
+      case Patch::Kind::TrimmedSurface:
+        counts.push_back(0);  // CAD faces have their own references (tests/cad)
+        break;
       case Patch::Kind::Bezier:
         counts.push_back(1);
         break;
       case Patch::Kind::BezierCells:
         counts.push_back(static_cast<std::int64_t>(patch.cellTypes.size()));
+        break;
+      case Patch::Kind::PouManifold:
+        counts.push_back(static_cast<std::int64_t>(patch.degrees.size()));
         break;
       case Patch::Kind::Mesh:
         counts.push_back(static_cast<std::int64_t>(patch.cells.size() / MeshCellVertices(patch.cell)));
@@ -387,6 +397,8 @@ std::string EvaluateReported(const Geometry& geometry, std::int32_t patchIndex, 
   }
   const Patch& patch = geometry.patches[patchIndex];
   switch (patch.kind) {
+    case Patch::Kind::TrimmedSurface:
+      return "trimmed surfaces are checked by tests/cad";
     case Patch::Kind::Bezier: {
       if (cell != 0) return "a Bezier patch has only cell 0";
       const RefCell ref = BezierRefCell(geometry, patch);
@@ -398,6 +410,8 @@ std::string EvaluateReported(const Geometry& geometry, std::int32_t patchIndex, 
       RefEvaluate(ref, u, x);
       return "";
     }
+    case Patch::Kind::PouManifold:
+      return "pou_manifold patches are checked by tests/support/pou_reference.h";
     case Patch::Kind::BezierCells: {
       if (cell < 0 || cell >= static_cast<std::int64_t>(patch.cellTypes.size())) return "cell index out of range";
       const RefCell ref = CellOfBezierCells(geometry, patch, static_cast<std::size_t>(cell));

@@ -1,4 +1,4 @@
-// Independent reading of the public patch model (FORMATS.md sections 1 and 2)
+// Independent reading of the public patch model (docs/formats.md sections 1 and 2)
 // for the engine tests: the Bezier cells of every patch, built by the tests'
 // own code, and the evaluation of a patch at the (patch, cell, params) that
 // invmap reports.
@@ -27,7 +27,7 @@ namespace invmap::testing {
 struct PatchCell {
   RefCell cell;
   std::int32_t patch = 0;
-  /// Cell index within the patch (FORMATS.md numbering: non-empty knot spans
+  /// Cell index within the patch (docs/formats.md numbering: non-empty knot spans
   /// u fastest; 0 for a Bezier patch; file order for a mesh).
   std::int64_t index = 0;
   /// Reported parameters: params[i] = paramLo[i] + paramScale[i] * ref[i]
@@ -39,7 +39,7 @@ struct PatchCell {
   bool linearSimplex = false;
 };
 
-/// The reference cell type matching a public one (FORMATS.md section 1).
+/// The reference cell type matching a public one (docs/formats.md section 1).
 kernels::CellType ToRefType(CellType type);
 
 /// Knot indices i in [degree, count) with knots[i] < knots[i + 1]: the
@@ -73,7 +73,7 @@ double GeometrySize(const Geometry& geometry);
 std::string EvaluateReported(const Geometry& geometry, std::int32_t patch, std::int64_t cell,
                              const double* params, double paramTol, double* x);
 
-/// Number of cells of each patch as FORMATS.md counts them.
+/// Number of cells of each patch as docs/formats.md counts them.
 std::vector<std::int64_t> CellCounts(const Geometry& geometry);
 
 }  // namespace invmap::testing

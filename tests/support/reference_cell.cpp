@@ -28,7 +28,7 @@ double Factorial(int n) {
   return f;
 }
 
-/// Multi-indices (a0, a1, .., ad) of one simplex factor in FORMATS.md order
+/// Multi-indices (a0, a1, .., ad) of one simplex factor in docs/formats.md order
 /// (a1 fastest, then a2, then a3; a0 = p - sum) with their multinomial
 /// coefficients p! / (a0! .. ad!).
 struct FactorTable {
@@ -920,7 +920,7 @@ double RefCell::size() const {
 std::string Describe(const RefCell& cell) {
   std::ostringstream os;
   os.precision(17);
-  os << kernels::CellTypeName(cell.type) << " degrees [";
+  os << invmap::CellTypeName(cell.type) << " degrees [";
   for (int f = 0; f < FactorCount(cell.type); ++f) os << (f ? ", " : "") << cell.degrees[f];
   os << "] ambientDim " << cell.ambientDim << (cell.isRational() ? " rational" : " polynomial") << ", "
      << cell.numControlPoints() << " control points (x y [z] [w]):\n";

@@ -22,13 +22,13 @@ namespace invmap::testing {
 /// alive in vectors.
 struct RefCell {
   kernels::CellType type = kernels::CellType::Line;
-  /// Degree per simplex factor as in FORMATS.md section 2 (line [p], tri [p],
+  /// Degree per simplex factor as in docs/formats.md section 2 (line [p], tri [p],
   /// quad [p, q], tet [p], hex [p, q, r], wedge [p_tri, q_line]); unused
   /// entries are 0.
   std::array<int, 3> degrees{{0, 0, 0}};
   int ambientDim = 3;  ///< 2 or 3.
   /// Control points, Cartesian, point-major (point k's coordinate i at
-  /// points[k * ambientDim + i]), FORMATS.md section 1 order.
+  /// points[k * ambientDim + i]), docs/formats.md section 1 order.
   std::vector<double> points;
   /// One positive weight per control point; empty for a polynomial cell.
   std::vector<double> weights;
@@ -77,7 +77,7 @@ struct RefJet {
 void RefEvaluateJet(const RefCell& cell, const double* ref, int order, RefJet* out);
 
 /// True when `ref` (paramDim values) lies in the reference domain of `type`
-/// up to `tol` on every constraint (FORMATS.md section 1).
+/// up to `tol` on every constraint (docs/formats.md section 1).
 bool InReferenceDomain(kernels::CellType type, const double* ref, double tol);
 
 /// Reference location of every control point (paramDim values each, stored
@@ -174,7 +174,7 @@ RefClosest BruteForceClosest(const RefCell& cell, const double* point);
 RefCell RandomCurvedCell(kernels::CellType type, int degree, bool rational, int ambientDim,
                          std::mt19937_64& rng);
 
-/// Same as RandomCurvedCell with per-factor degrees (FORMATS.md order).
+/// Same as RandomCurvedCell with per-factor degrees (docs/formats.md order).
 RefCell RandomCurvedCell(kernels::CellType type, const std::array<int, 3>& degrees, bool rational,
                          int ambientDim, std::mt19937_64& rng);
 

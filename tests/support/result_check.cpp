@@ -133,8 +133,11 @@ CheckSummary CheckResults(const Geometry& geometry, const QuerySet& queries, con
           problem += "distance != |closest - p|; ";
         }
       } else if (st == Status::None) {
-        // An infinite reference distance means the geometry has no cell.
-        if (!(std::isinf(ref.distance) || ref.distance > options.maxDistance - tol) || !NotFoundFieldsOk(results, i)) {
+        // A point at distance <= maxDistance is always found (no tolerance:
+        // the reference's distance is that of a point of the geometry, so
+        // the true one is at most that). An infinite reference distance
+        // means the geometry has no cell.
+        if (!(std::isinf(ref.distance) || ref.distance > options.maxDistance) || !NotFoundFieldsOk(results, i)) {
           ++s.badStatus;
           problem = "status none, but the reference is within maxDistance (or fields not NaN/-1)";
         }

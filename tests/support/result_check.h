@@ -65,8 +65,8 @@ struct CheckSummary {
 /// `geometry`, same order):
 /// - non-finite points must be Invalid with patch/cell -1 and NaN fields;
 /// - a point the reference puts farther than maxDistance + tol must be None
-///   (patch/cell -1, NaN params, closest and distance); one nearer than
-///   maxDistance - tol must be Found; in between either;
+///   (patch/cell -1, NaN params, closest and distance); one at most
+///   maxDistance away must be Found; in between either;
 /// - Found points: distance <= reference + tol (no local minimum) and
 ///   >= reference - tol (sanity of the reference); closest equals
 ///   EvaluateReported(patch, cell, params) within tol; | |closest - p| -

@@ -1,0 +1,274 @@
+#include "cad/pseudo_normals.h"
+
+#include <BRepTools.hxx>
+#include <BRepTools_WireExplorer.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <ShapeAnalysis_Curve.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Solid.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
+
+#include <algorithm>
+#include <cmath>
+
+namespace invmap::cad {
+namespace {
+
+/// p - x within this cosine of the face normal: the closest point is a
+/// stationary point inside the face (the solver's stationarity is far
+/// tighter; an answer on an edge is far off it).
+constexpr double kAlongNormal = 1.0 - 1e-6;
+
+/// Knot spans of positive length within the curve's domain, as own
+/// parameter ranges (angular knots are angles already).
+std::vector<std::pair<double, double>> Spans(const SplineCurve& curve) {
+  std::vector<std::pair<double, double>> spans;
+  const int n = static_cast<int>(curve.knots.size()) - curve.degree - 1;
+  for (int i = curve.degree; i < n; ++i) {
+    if (curve.knots[i + 1] > curve.knots[i]) spans.emplace_back(curve.knots[i], curve.knots[i + 1]);
+  }
+  return spans;
+}
+
+std::int64_t CountSpans(const std::vector<double>& knots, int degree, int count) {
+  std::int64_t spans = 0;
+  for (int i = degree; i < count; ++i) spans += knots[i + 1] > knots[i] ? 1 : 0;
+  return spans;
+}
+
+/// The unit tangent of `edge` where it leaves (start) or reaches its vertex
+/// in the sense `orientation` runs it.
+gp_Vec Tangent(const Handle(Geom_Curve)& curve, double first, double last, bool reversed, bool atStart) {
+  const bool atFirst = atStart != reversed;
+  const double t = atFirst ? first : last;
+  gp_Pnt p;
+  gp_Vec d;
+  curve->D1(t, p, d);
+  if (d.Magnitude() <= 1e-300) {
+    // A degenerate parameterization at the end: the chord to a nearby point.
+    const double step = 1e-6 * (last - first);
+    d = gp_Vec(p, curve->Value(atFirst ? t + step : t - step));
+    if (!atFirst) d.Reverse();
+  }
+  if (reversed) d.Reverse();
+  return d.Magnitude() > 0.0 ? d.Normalized() : d;
+}
+
+}  // namespace
+
+gp_Vec PseudoNormals::Normal(int face, double u, double v) const {
+  const FaceData& f = faces_[face];
+  gp_Pnt p;
+  gp_Vec du, dv;
+  f.surface->D1(u, v, p, du, dv);
+  gp_Vec n = du.Crossed(dv);
+  if (n.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude() || n.Magnitude() <= 1e-300) {
+    // A pole or an apex: the normals of the face just inside it, averaged
+    // along the collapsed direction.
+    n = gp_Vec(0, 0, 0);
+    const bool uCollapses = du.Magnitude() <= dv.Magnitude();
+    const double* box = f.uvBox;
+    const double inU = u + 1e-6 * ((box[0] + box[1]) * 0.5 - u), inV = v + 1e-6 * ((box[2] + box[3]) * 0.5 - v);
+    for (int k = 0; k < 8; ++k) {
+      const double t = (k + 0.5) / 8.0;
+      const double su = uCollapses ? box[0] + t * (box[1] - box[0]) : inU;
+      const double sv = uCollapses ? inV : box[2] + t * (box[3] - box[2]);
+      f.surface->D1(su, sv, p, du, dv);
+      const gp_Vec nk = du.Crossed(dv);
+      if (nk.Magnitude() > 0.0) n += nk.Normalized();
+    }
+  }
+  if (n.Magnitude() > 0.0) n.Normalize();
+  return f.reversed ? -n : n;
+}
+
+void PseudoNormals::Build(const TopoDS_Shape& shape, const ConvertedModel& model) {
+  size_ = model.size > 0.0 ? model.size : 1.0;
+  TopTools_IndexedMapOfShape edgeMap, vertexMap;
+  TopExp::MapShapes(shape, TopAbs_EDGE, edgeMap);
+  TopExp::MapShapes(shape, TopAbs_VERTEX, vertexMap);
+  edges_.resize(static_cast<std::size_t>(edgeMap.Extent()));
+  for (int e = 1; e <= edgeMap.Extent(); ++e) {
+    const TopoDS_Edge edge = TopoDS::Edge(edgeMap(e).Oriented(TopAbs_FORWARD));
+    EdgeRecord& record = edges_[e - 1];
+    if (!BRep_Tool::Degenerated(edge)) record.curve = BRep_Tool::Curve(edge, record.first, record.last);
+    TopoDS_Vertex v0, v1;
+    TopExp::Vertices(edge, v0, v1);
+    record.vertex[0] = v0.IsNull() ? -1 : vertexMap.FindIndex(v0) - 1;
+    record.vertex[1] = v1.IsNull() ? -1 : vertexMap.FindIndex(v1) - 1;
+  }
+
+  // The solid of each face, for the classifier (a closed shell outside any
+  // solid is made one).
+  TopTools_IndexedDataMapOfShapeListOfShape faceSolids, faceShells;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SOLID, faceSolids);
+  TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SHELL, faceShells);
+  TopTools_IndexedMapOfShape solids;
+
+  faces_.resize(model.faces.size());
+  for (std::size_t f = 0; f < model.faces.size(); ++f) {
+    const FaceRecord& record = model.faces[f];
+    FaceData& data = faces_[f];
+    data.surface = record.surface;
+    data.reversed = record.face.Orientation() == TopAbs_REVERSED;
+    const TopoDS_Face forward = TopoDS::Face(record.face.Oriented(TopAbs_FORWARD));
+    BRepTools::UVBounds(forward, data.uvBox[0], data.uvBox[1], data.uvBox[2], data.uvBox[3]);
+    const Patch& patch = model.geometry.patches[f];
+    data.surfaceCells = CountSpans(patch.knots[0], patch.degrees[0], patch.counts[0]) *
+                        CountSpans(patch.knots[1], patch.degrees[1], patch.counts[1]);
+    for (std::size_t j = 0; j < record.edges.size(); ++j) {
+      const int e = edgeMap.FindIndex(record.edges[j]) - 1;
+      for (const auto& [lo, hi] : Spans(patch.edges[j].curve)) data.edgeCells.push_back({e, lo, hi});
+    }
+    for (TopExp_Explorer it(forward, TopAbs_EDGE); it.More(); it.Next()) {
+      const TopoDS_Edge edge = TopoDS::Edge(it.Current().Oriented(TopAbs_FORWARD));
+      const int e = edgeMap.FindIndex(edge) - 1;
+      if (std::find(data.edges.begin(), data.edges.end(), e) != data.edges.end()) continue;
+      data.edges.push_back(e);
+      double first = 0.0, last = 0.0;
+      const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, forward, first, last);
+      if (!pcurve.IsNull()) edges_[e].uses.push_back({static_cast<int>(f), pcurve});
+    }
+    TopoDS_Shape solid;
+    if (const int at = faceSolids.FindIndex(record.face); at > 0 && !faceSolids(at).IsEmpty()) {
+      solid = faceSolids(at).First();
+    } else if (const int shellAt = faceShells.FindIndex(record.face); shellAt > 0 && !faceShells(shellAt).IsEmpty()) {
+      BRep_Builder builder;
+      TopoDS_Solid made;
+      builder.MakeSolid(made);
+      builder.Add(made, faceShells(shellAt).First());
+      solid = made;
+    }
+    if (!solid.IsNull()) data.solid = solids.Add(solid) - 1;
+  }
+  for (int s = 1; s <= solids.Extent(); ++s) solids_.push_back(solids(s));
+  classifiers_.resize(solids_.size());
+
+  // Each vertex's pseudo-normal: the normals of its faces weighted by the
+  // faces' angles there, walking each wire corner by corner (a degenerate
+  // edge between two corners joins them: the face wraps a pole or an apex).
+  vertexNormals_.assign(static_cast<std::size_t>(vertexMap.Extent()), gp_Vec(0, 0, 0));
+  for (std::size_t f = 0; f < model.faces.size(); ++f) {
+    const TopoDS_Face& face = model.faces[f].face;
+    for (TopExp_Explorer wires(face, TopAbs_WIRE); wires.More(); wires.Next()) {
+      struct Step {
+        TopoDS_Edge edge;
+        bool reversed;
+      };
+      std::vector<Step> steps;
+      for (BRepTools_WireExplorer it(TopoDS::Wire(wires.Current()), face); it.More(); it.Next()) {
+        if (BRep_Tool::Degenerated(it.Current())) continue;
+        steps.push_back({it.Current(), it.Orientation() == TopAbs_REVERSED});
+      }
+      for (std::size_t k = 0; k < steps.size(); ++k) {
+        const Step& in = steps[k];
+        const Step& out = steps[(k + 1) % steps.size()];
+        const TopoDS_Vertex vertex = TopExp::LastVertex(in.edge, Standard_True);
+        if (vertex.IsNull()) continue;
+        const int v = vertexMap.FindIndex(vertex) - 1;
+        const EdgeRecord& inEdge = edges_[edgeMap.FindIndex(in.edge) - 1];
+        const EdgeRecord& outEdge = edges_[edgeMap.FindIndex(out.edge) - 1];
+        if (v < 0 || inEdge.curve.IsNull() || outEdge.curve.IsNull()) continue;
+        const gp_Pnt2d uv = BRep_Tool::Parameters(vertex, face);
+        const gp_Vec n = Normal(static_cast<int>(f), uv.X(), uv.Y());
+        gp_Vec back = -Tangent(inEdge.curve, inEdge.first, inEdge.last, in.reversed, false);
+        gp_Vec ahead = Tangent(outEdge.curve, outEdge.first, outEdge.last, out.reversed, true);
+        back -= n * back.Dot(n);
+        ahead -= n * ahead.Dot(n);
+        // The face lies left of its wire seen from its normal: its angle runs
+        // counterclockwise from the way out to the way back.
+        double angle = std::atan2(ahead.Crossed(back).Dot(n), ahead.Dot(back));
+        if (angle < 0.0) angle += 2.0 * M_PI;
+        if (angle < 1e-9) angle = 2.0 * M_PI;
+        vertexNormals_[v] += angle * n;
+      }
+    }
+  }
+}
+
+double PseudoNormals::ClassifierSign(int face, const gp_Pnt& p) const {
+  const int solid = faces_[face].solid;
+  if (solid < 0) return 1.0;
+  std::lock_guard<std::mutex> lock(classifierMutex_);
+  std::unique_ptr<BRepClass3d_SolidClassifier>& classifier = classifiers_[solid];
+  if (!classifier) classifier = std::make_unique<BRepClass3d_SolidClassifier>(solids_[solid]);
+  classifier->Perform(p, 1e-12 * size_);
+  return classifier->State() == TopAbs_IN ? -1.0 : 1.0;
+}
+
+double PseudoNormals::EdgeSign(const gp_Vec& offset, int edge, double s) const {
+  const EdgeRecord& record = edges_[edge];
+  const double reach = 1e-9 * (record.last - record.first);
+  gp_Vec normal(0, 0, 0);
+  if (s - record.first <= reach && record.vertex[0] >= 0) {
+    normal = vertexNormals_[record.vertex[0]];
+  } else if (record.last - s <= reach && record.vertex[1] >= 0) {
+    normal = vertexNormals_[record.vertex[1]];
+  } else {
+    for (const EdgeUse& use : record.uses) {
+      const gp_Pnt2d uv = use.pcurve->Value(s);
+      normal += Normal(use.face, uv.X(), uv.Y());
+    }
+  }
+  const double dot = offset.Dot(normal);
+  if (!(std::abs(dot) > 1e-9 * offset.Magnitude() * normal.Magnitude())) return std::nan("");
+  return dot > 0.0 ? 1.0 : -1.0;
+}
+
+double PseudoNormals::Sign(const double* p, int patch, std::int64_t cell, const double* uv, const double* closest) const {
+  const gp_Pnt point(p[0], p[1], p[2]);
+  const gp_Pnt x(closest[0], closest[1], closest[2]);
+  const gp_Vec offset(x, point);
+  const double d = offset.Magnitude();
+  if (d == 0.0) return 1.0;
+  const FaceData& face = faces_[patch];
+  ShapeAnalysis_Curve projector;
+  double sign = std::nan("");
+  try {
+    if (cell >= face.surfaceCells) {
+      // An answer on an edge: its own parameter there, from the cell's span.
+      const std::size_t at = static_cast<std::size_t>(cell - face.surfaceCells);
+      if (at < face.edgeCells.size()) {
+        const EdgeCell& span = face.edgeCells[at];
+        const EdgeRecord& edge = edges_[span.edge];
+        gp_Pnt projected;
+        double s = 0.0;
+        projector.Project(edge.curve, x, 1e-12 * size_, projected, s, span.lo, span.hi, Standard_True);
+        sign = EdgeSign(offset, span.edge, s);
+      }
+    } else {
+      const gp_Vec n = Normal(patch, uv[0], uv[1]);
+      const double along = n.Magnitude() > 0.0 ? offset.Dot(n) / d : 0.0;
+      if (std::abs(along) >= kAlongNormal) return along > 0.0 ? 1.0 : -1.0;
+      // On the face's boundary: the edge (or vertex) nearest the answer.
+      int nearest = -1;
+      double nearestDistance = 1e-6 * size_, nearestS = 0.0;
+      for (const int e : face.edges) {
+        const EdgeRecord& edge = edges_[e];
+        if (edge.curve.IsNull()) continue;
+        gp_Pnt projected;
+        double s = 0.0;
+        const double distance = projector.Project(edge.curve, x, 1e-12 * size_, projected, s, edge.first, edge.last,
+                                                  Standard_True);
+        if (distance <= nearestDistance) {
+          nearest = e;
+          nearestDistance = distance;
+          nearestS = s;
+        }
+      }
+      if (nearest >= 0) sign = EdgeSign(offset, nearest, nearestS);
+    }
+  } catch (const Standard_Failure&) {
+    sign = std::nan("");
+  }
+  return std::isnan(sign) ? ClassifierSign(patch, point) : sign;
+}
+
+}  // namespace invmap::cad

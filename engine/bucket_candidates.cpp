@@ -1,0 +1,39 @@
+#include "engine/bucket_candidates.h"
+
+#include "engine/nearest_cells.h"
+#include "engine/simplex_lanes.h"
+
+namespace invmap::engine {
+namespace {
+
+/// Fills scratch.searched and scratch.searchedBox from the bucket's candidates.
+void GatherSearchedCandidates(const CellStore& store, bool lanesSolved, BucketScratch& scratch) {
+  scratch.searched.clear();
+  for (int c = 0; c < static_cast<int>(scratch.candidates.size()); ++c) {
+    if (!(lanesSolved && SolvedAsLanes(store, scratch.candidates[c].cell))) scratch.searched.push_back(c);
+  }
+  const std::size_t n = scratch.searched.size();
+  for (std::vector<double>& axis : scratch.searchedBox) axis.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::int64_t s = scratch.candidates[scratch.searched[j]].cell;
+    for (int k = 0; k < store.dimension(); ++k) {
+      scratch.searchedBox[k][j] = store.subdivisionBoxLo(s)[k];
+      scratch.searchedBox[3 + k][j] = store.subdivisionBoxHi(s)[k];
+    }
+  }
+}
+
+}  // namespace
+
+BucketList CullBucket(const CellStore& store, const Bvh& bvh, const QueryPoints& points, std::int64_t first,
+                      std::int64_t count, const double* lo, const double* hi, double maxDistance,
+                      BucketScratch& scratch) {
+  BucketList list;
+  list.use = NearestCells(bvh, lo, hi, &scratch.candidates, &scratch.stack, maxDistance, kMaxBucketCandidates) &&
+             scratch.candidates.size() <= kMaxBucketCandidates;
+  list.lanesSolved = list.use && SolveAffineSimplexLanes(store, points, first, count, maxDistance, scratch);
+  if (list.use) GatherSearchedCandidates(store, list.lanesSolved, scratch);
+  return list;
+}
+
+}  // namespace invmap::engine

@@ -1,0 +1,4 @@
+// The lane kernels compiled for avx512 (see kernels/CMakeLists.txt for the flags).
+#include "kernels/newton_lanes_impl.h"
+
+INVMAP_NEWTON_LANES_ISA(Avx512, xsimd::avx512f)

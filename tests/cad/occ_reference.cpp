@@ -1,0 +1,250 @@
+#include "tests/cad/occ_reference.h"
+
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepClass_FaceClassifier.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Poly_Triangulation.hxx>
+#include <STEPControl_Reader.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <sstream>
+#include <thread>
+
+namespace invmap::cadtest {
+
+std::string ScratchDir() {
+  static const std::string dir = [] {
+    const std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("invmap_cad_tests_" + std::to_string(getpid()));
+    std::filesystem::create_directories(path);
+    return path.string();
+  }();
+  return dir;
+}
+
+std::unique_ptr<cad::Model> LoadShape(const TopoDS_Shape& shape, const std::string& name) {
+  const std::string path = ScratchDir() + "/" + name + ".brep";
+  EXPECT_TRUE(BRepTools::Write(shape, path.c_str()));
+  cad::LoadResult loaded = cad::Model::Load(path);
+  EXPECT_EQ(loaded.error, "") << path;
+  return std::move(loaded.model);
+}
+
+TopoDS_Shape ReadShape(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".step" || ext == ".stp") {
+    STEPControl_Reader reader;
+    reader.ReadFile(path.c_str());
+    reader.TransferRoots();
+    return reader.OneShape();
+  }
+  if (ext == ".iges" || ext == ".igs") {
+    IGESControl_Reader reader;
+    reader.ReadFile(path.c_str());
+    reader.TransferRoots();
+    return reader.OneShape();
+  }
+  TopoDS_Shape shape;
+  BRep_Builder builder;
+  BRepTools::Read(shape, path.c_str(), builder);
+  return shape;
+}
+
+std::vector<TopoDS_Face> Faces(const TopoDS_Shape& shape) {
+  TopTools_IndexedMapOfShape map;
+  TopExp::MapShapes(shape, TopAbs_FACE, map);
+  std::vector<TopoDS_Face> faces;
+  for (int i = 1; i <= map.Extent(); ++i) faces.push_back(TopoDS::Face(map(i)));
+  return faces;
+}
+
+TopoDS_Compound Compound(const std::vector<TopoDS_Face>& faces) {
+  TopoDS_Compound compound;
+  BRep_Builder builder;
+  builder.MakeCompound(compound);
+  for (const TopoDS_Face& face : faces) builder.Add(compound, face);
+  return compound;
+}
+
+double OccDistance(const TopoDS_Shape& shape, const double* point) {
+  const TopoDS_Vertex vertex = BRepBuilderAPI_MakeVertex(gp_Pnt(point[0], point[1], point[2])).Vertex();
+  BRepExtrema_DistShapeShape distance(vertex, shape);
+  return distance.IsDone() ? distance.Value() : std::nan("");
+}
+
+double ShapeSize(const TopoDS_Shape& shape) {
+  Bnd_Box box;
+  BRepBndLib::AddOptimal(shape, box, false, false);
+  return std::sqrt(box.SquareExtent());
+}
+
+std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, double near, double far,
+                                 unsigned seed) {
+  Bnd_Box box;
+  BRepBndLib::AddOptimal(shape, box, false, false);
+  double lo[3], hi[3];
+  box.Get(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+  const double size = std::sqrt(box.SquareExtent());
+  // Triangles of a coarse mesh, weighted by area, for points near the surface.
+  BRepMesh_IncrementalMesh mesher(shape, 0.01 * size, false, 0.5);
+  std::vector<gp_Pnt> corners;
+  std::vector<double> cumulative;
+  for (const TopoDS_Face& face : Faces(shape)) {
+    TopLoc_Location location;
+    const Handle(Poly_Triangulation) mesh = BRep_Tool::Triangulation(face, location);
+    if (mesh.IsNull()) continue;
+    for (int t = 1; t <= mesh->NbTriangles(); ++t) {
+      int a, b, c;
+      mesh->Triangle(t).Get(a, b, c);
+      const gp_Pnt pa = mesh->Node(a).Transformed(location), pb = mesh->Node(b).Transformed(location),
+                   pc = mesh->Node(c).Transformed(location);
+      const double area = 0.5 * gp_Vec(pa, pb).Crossed(gp_Vec(pa, pc)).Magnitude();
+      corners.insert(corners.end(), {pa, pb, pc});
+      cumulative.push_back((cumulative.empty() ? 0.0 : cumulative.back()) + area);
+    }
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<double> points;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i % 2 == 0 && !cumulative.empty()) {
+      const double pick = unit(rng) * cumulative.back();
+      const std::size_t t = std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin();
+      double s = unit(rng), r = unit(rng);
+      if (s + r > 1.0) {
+        s = 1.0 - s;
+        r = 1.0 - r;
+      }
+      const gp_Pnt& a = corners[3 * t];
+      gp_XYZ p = a.XYZ() + s * (corners[3 * t + 1].XYZ() - a.XYZ()) + r * (corners[3 * t + 2].XYZ() - a.XYZ());
+      const gp_XYZ direction(gauss(rng), gauss(rng), gauss(rng));
+      p += direction.Normalized() * (near * size * unit(rng));
+      points.insert(points.end(), {p.X(), p.Y(), p.Z()});
+    } else {
+      for (int k = 0; k < 3; ++k) points.push_back(lo[k] - far * size + unit(rng) * (hi[k] - lo[k] + 2.0 * far * size));
+    }
+  }
+  return points;
+}
+
+Results InvertOnModel(const cad::Model& model, const std::vector<double>& points) {
+  BuildResult built = Manifold::Build(model.geometry());
+  EXPECT_EQ(built.error, "");
+  Results results;
+  InversionOptions options;
+  options.threads = 1;
+  EXPECT_EQ(built.manifold.Invert(PointsView::Interleaved(points.data(), points.size() / 3, 3), options, &results),
+            Error::Ok);
+  return results;
+}
+
+double FaceTolerance(const TopoDS_Face& face) {
+  double tolerance = BRep_Tool::Tolerance(face);
+  for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
+    tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Edge(it.Current())));
+  }
+  for (TopExp_Explorer it(face, TopAbs_VERTEX); it.More(); it.Next()) {
+    tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Vertex(it.Current())));
+  }
+  // And how far the edges' curves actually lie from the face's surface
+  // through their pcurves (some files' edges exceed their own tolerance).
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+  for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(it.Current());
+    double first, last, pFirst, pLast;
+    const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+    const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, face, pFirst, pLast);
+    if (curve.IsNull() || pcurve.IsNull()) continue;
+    for (int k = 0; k <= 64; ++k) {
+      const double t = first + (last - first) * k / 64.0;
+      const gp_Pnt2d uv = pcurve->Value(t);
+      tolerance = std::max(tolerance, curve->Value(t).Distance(surface->Value(uv.X(), uv.Y())));
+    }
+  }
+  return tolerance;
+}
+
+Comparison CheckAgainstOpenCascade(const TopoDS_Shape& shape, const cad::Model& model,
+                                   const std::vector<double>& points, double tolerance) {
+  const std::vector<TopoDS_Face> faces = Faces(shape);
+  const TopoDS_Compound boundary = Compound(faces);
+  const double size = ShapeSize(shape);
+  const Results results = InvertOnModel(model, points);
+  const std::size_t n = points.size() / 3;
+  // OpenCascade's answers, two threads (each query has its own objects).
+  std::vector<double> occ(n), onFace(n), parameterGap(n);
+  auto work = [&](std::size_t first, std::size_t step) {
+    for (std::size_t i = first; i < n; i += step) {
+      occ[i] = OccDistance(boundary, &points[3 * i]);
+      if (results.status[i] != Status::Found) continue;
+      // On the face: its surface at the reported (u, v) is the reported
+      // point, and the face classifier keeps (u, v).
+      const TopoDS_Face& face = faces[results.patch[i]];
+      const double* x = &results.closest[3 * i];
+      const gp_Pnt2d uv(results.params[3 * i], results.params[3 * i + 1]);
+      const gp_Pnt at = BRep_Tool::Surface(face)->Value(uv.X(), uv.Y());
+      parameterGap[i] = at.Distance(gp_Pnt(x[0], x[1], x[2]));
+      BRepClass_FaceClassifier classifier(face, uv, std::max(1e-9 * size, FaceTolerance(face)));
+      onFace[i] = classifier.State() == TopAbs_OUT ? 1.0 : 0.0;
+    }
+  };
+  std::thread other(work, 1, 2);
+  work(0, 2);
+  other.join();
+  Comparison c;
+  for (std::size_t i = 0; i < n; ++i) {
+    ++c.points;
+    std::ostringstream why;
+    if (results.status[i] != Status::Found) {
+      ++c.notFound;
+      why << "not found";
+    } else {
+      const double excess = (results.distance[i] - occ[i]) / size;
+      c.worstExcess = std::max(c.worstExcess, excess);
+      const TopoDS_Face& face = faces[results.patch[i]];
+      const double own = std::max(tolerance * size, 2.0 * FaceTolerance(face));
+      if (excess > tolerance) {
+        ++c.farther;
+        why << "farther than OpenCascade by " << excess * size;
+      }
+      if (onFace[i] > 0.0) {
+        ++c.offFace;
+        why << " reported (u, v) outside face " << results.patch[i];
+      }
+      if (parameterGap[i] > own) {
+        ++c.badParameters;
+        why << " surface at (u, v) " << parameterGap[i] << " from the reported point";
+      }
+    }
+    if (!why.str().empty() && c.firstFailure.empty()) {
+      std::ostringstream failure;
+      failure.precision(17);
+      failure << "point " << i << " (" << points[3 * i] << ", " << points[3 * i + 1] << ", " << points[3 * i + 2]
+              << "): " << why.str() << "; patch " << results.patch[i] << " cell " << results.cell[i] << " distance "
+              << results.distance[i] << ", OpenCascade " << occ[i];
+      c.firstFailure = failure.str();
+    }
+  }
+  return c;
+}
+
+}  // namespace invmap::cadtest
