@@ -60,6 +60,16 @@ std::int64_t FirstCellInside(const PlacedModel& x, const PlacedModel& y, double 
   return -1;
 }
 
+/// The largest distance from the origin of a point in `box`.
+double BoundingRadius(const BvhBox& box) {
+  double r2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double m = std::max(std::abs(box.lo[k]), std::abs(box.hi[k]));
+    r2 += m * m;
+  }
+  return std::sqrt(r2) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+}
+
 }  // namespace
 
 /// The pair kernels' view of distance cell `cell` of model `m`. Affine cells
@@ -125,6 +135,11 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   // Found means within maxDistance: the bound admits a pair at exactly it.
   double best2 = options.maxDistance < kInf ? options.maxDistance * options.maxDistance * (1.0 + 1e-15) : kInf;
   const double zero = kernels::kDistanceTolerance * std::max(cellsA.modelSize(), cellsB.modelSize());
+  PairBoundCache* cache = options.boundCache;
+  if (cache) cache->MoveTo(bIntoA, BoundingRadius(cellsB.bvh().RootBounds()));
+  auto record = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
+    if (cache) cache->Record(ia, ib, r.lowerBound);
+  };
 
   // Pairs whose search ran out of its budget, and the bound of what it
   // left open: they matter only if that is below the final answer.
@@ -142,6 +157,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     answer.distance = r.distance;
   };
   auto consider = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
+    record(ia, ib, r);
     if (r.status == kernels::PairStatus::Farther) return;
     if (r.status == kernels::PairStatus::NotCertified) open.push_back({r.openBound2, best2, ia, ib});
     accept(ia, ib, r);
@@ -154,6 +170,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   probed.clear();
   auto probe = [&](std::int64_t ia, std::int64_t ib) {
     const kernels::PairSolveResult r = ProbePlacedCells(a, ia, b, ib, best2, ws);
+    record(ia, ib, r);
     if (r.status == kernels::PairStatus::Farther) return;
     if (r.status == kernels::PairStatus::NotCertified) probed.push_back({r.openBound2, best2, ia, ib});
     accept(ia, ib, r);
@@ -201,6 +218,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     for (const auto& [lb, pair] : candidates) {
       if (!(lb * lb < best2) || !(best2 > zero * zero)) break;
       if (pair.first == warmA && pair.second == warmB) continue;
+      if (cache && cache->Excludes(pair.first, pair.second, std::sqrt(best2))) continue;
       probe(pair.first, pair.second);
     }
   };
@@ -232,16 +250,47 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
 
   std::vector<ModelDistanceWorkspace::Entry>& heap = ws->heap;
   heap.clear();
-  heap.push_back({nodeBound(0, 0), 0, 0});
+  // With a cache, where the traversal stops is kept (PairBoundCache): every
+  // pair of nodes it prunes, with its bound, and every pair of leaves it solves.
+  std::vector<PairBoundCache::FrontierEntry>& frontier = ws->frontier;
+  frontier.clear();
+  auto stopAt = [&](int na, int nb, double lb) {
+    if (cache) frontier.push_back({na, nb, lb, cache->drift()});
+  };
+  const bool fromRoots = !cache || cache->frontier().empty();
+  if (fromRoots) {
+    heap.push_back({nodeBound(0, 0), 0, 0});
+  } else {
+    // The previous frontier covers every pair of cells once: an entry whose
+    // bound the drift has not used up stays pruned; the rest are
+    // descended from.
+    for (const PairBoundCache::FrontierEntry& e : cache->frontier()) {
+      if (cache->Holds(e, std::sqrt(best2))) {
+        frontier.push_back(e);
+        continue;
+      }
+      const double lb = nodeBound(e.nodeA, e.nodeB);
+      if (lb * lb < best2) {
+        heap.push_back({lb, e.nodeA, e.nodeB});
+      } else {
+        stopAt(e.nodeA, e.nodeB, lb);
+      }
+    }
+    std::make_heap(heap.begin(), heap.end(), heapOrder);
+  }
   while (!heap.empty() && best2 > zero * zero) {
     std::pop_heap(heap.begin(), heap.end(), heapOrder);
     const ModelDistanceWorkspace::Entry entry = heap.back();
     heap.pop_back();
-    if (!(entry.lowerBound * entry.lowerBound < best2)) break;  // every other pair is farther still
+    if (!(entry.lowerBound * entry.lowerBound < best2)) {
+      stopAt(entry.nodeA, entry.nodeB, entry.lowerBound);
+      break;  // every other pair is farther still
+    }
     const BvhNode& nodeA = treeA.Nodes()[entry.nodeA];
     const BvhNode& nodeB = treeB.Nodes()[entry.nodeB];
     if (nodeA.count > 0 && nodeB.count > 0) {
       solveLeaves(nodeA, nodeB);
+      stopAt(entry.nodeA, entry.nodeB, entry.lowerBound);
       continue;
     }
     const bool splitA = splitsA(entry.nodeA, entry.nodeB);
@@ -252,9 +301,14 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
       if (lb * lb < best2) {
         heap.push_back({lb, na, nb});
         std::push_heap(heap.begin(), heap.end(), heapOrder);
+      } else {
+        stopAt(na, nb, lb);
       }
     }
   }
+  // What the traversal left in its heap is pruned by the entries' bounds.
+  for (const ModelDistanceWorkspace::Entry& entry : heap) stopAt(entry.nodeA, entry.nodeB, entry.lowerBound);
+  if (cache) cache->SetFrontier(&frontier, fromRoots);
 
   std::sort(probed.begin(), probed.end(), [](const OpenPair& x, const OpenPair& y) { return x.openBound2 < y.openBound2; });
   for (const OpenPair& pair : probed) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "engine/distance_cells.h"
+#include "engine/pair_bound_cache.h"
 #include "invmap/invmap.h"
 #include "kernels/pair_search.h"
 
@@ -44,6 +45,9 @@ struct ModelDistanceOptions {
   /// A previous answer whose cell pair is solved first, from its
   /// parameters (trackers), or null.
   const CellPairAnswer* warm = nullptr;
+  /// The lower bounds of cell pairs proved at earlier motions of the same
+  /// two models (trackers), or null: read to skip pairs, and updated.
+  PairBoundCache* boundCache = nullptr;
   int threads = 0;  ///< For the inside tests' inversions.
 };
 
@@ -65,6 +69,7 @@ struct ModelDistanceWorkspace {
   std::vector<Entry> heap;
   std::vector<std::pair<double, std::pair<std::int64_t, std::int64_t>>> candidates;
   std::vector<OpenPair> probed;
+  std::vector<PairBoundCache::FrontierEntry> frontier;  ///< The traversal's, for a PairBoundCache.
   kernels::DistanceNets scratchNets[2];
   std::int64_t scratchNetsCell[2] = {-1, -1};
   const DistanceCells* scratchNetsModel[2] = {nullptr, nullptr};

@@ -503,6 +503,10 @@ PairSolveResult PairSearch::Finish(const PairLocalResult& best, bool certified, 
   result.distance = std::sqrt(best.squaredDistance);
   result.iterations = iterations_;
   result.subdomains = examined_;
+  // Every subdomain the search closed lies at or beyond the exclusion
+  // level of min(best, bound2), less the nets' rounding.
+  const double closed = ExclusionLevel(std::min(best.squaredDistance, bound2), tau_, 0.0);
+  result.lowerBound = std::sqrt(std::max(0.0, certified ? closed : std::min(closed, open_)));
   if (!certified) {
     // Whatever its distance: some part of the pair may still hold a closer point.
     result.status = PairStatus::NotCertified;
@@ -529,6 +533,7 @@ PairSolveResult PairSearch::Probe(double bound2) {
   if (bound2 < kInf && lowerBound >= bound2) {
     PairSolveResult far;
     far.status = PairStatus::Farther;
+    far.lowerBound = std::sqrt(lowerBound);
     return far;
   }
   double start[kMaxPairParams];
@@ -558,6 +563,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     if (bounded && pool[root][kLowerBound] - slack_ >= bound2) {
       PairSolveResult far;
       far.status = PairStatus::Farther;
+      far.lowerBound = std::sqrt(pool[root][kLowerBound] - slack_);
       return far;
     }
     if (!startA) {
@@ -715,6 +721,7 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
       const double gap = SimplexPlaneGap(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3);
       if (gap * gap >= bound2) {
         result.distance = gap;
+        result.lowerBound = gap;
         result.status = PairStatus::Farther;
         return result;
       }
@@ -722,6 +729,7 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
     const double d2 = ClosestPointsOfSimplices(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3,
                                                result.refA, result.refB, result.pointA, result.pointB);
     result.distance = std::sqrt(d2);
+    result.lowerBound = result.distance;
     bool onBoundary = false;
     for (int side = 0; side < 2; ++side) {
       const double* ref = side == 0 ? result.refA : result.refB;

@@ -35,6 +35,11 @@ struct PairSolveResult {
   /// the pair the search left open (a caller that finds a closer pair
   /// elsewhere needs no more of this one); +inf otherwise.
   double openBound2 = std::numeric_limits<double>::infinity();
+  /// No pair of points of the two cells is nearer than this (to the
+  /// search's tolerance): the pair's distance when certified, else what the
+  /// nets, the bound it was searched under and its open parts prove. 0
+  /// when nothing is proved. A tracker keeps it for the next poses.
+  double lowerBound = 0.0;
 };
 
 /// Scratch memory of the pair search; one per thread.

@@ -15,6 +15,7 @@
 
 #include "kernels/pair_nets.h"
 #include "kernels/pair_taylor_bounds.h"
+#include "tests/distance/pair_case.h"
 #include "tests/support/reference_cell.h"
 
 namespace invmap::kernels {
@@ -24,29 +25,6 @@ using testing::RandomCurvedCell;
 using testing::RefCell;
 using testing::RefEvaluateJet;
 using testing::RefJet;
-
-RigidMotion RandomMotion(std::mt19937_64& rng, int ambientDim) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  std::uniform_real_distribution<double> u(-1.5, 1.5);
-  RigidMotion m;
-  if (ambientDim == 2) {
-    const double angle = 3.0 * u(rng);
-    m.rotation[0][0] = std::cos(angle);
-    m.rotation[0][1] = -std::sin(angle);
-    m.rotation[1][0] = std::sin(angle);
-    m.rotation[1][1] = std::cos(angle);
-    m.translation[0] = u(rng);
-    m.translation[1] = u(rng);
-    return m;
-  }
-  const Eigen::Quaterniond q = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
-  const Eigen::Matrix3d r = q.toRotationMatrix();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m.rotation[i][j] = r(i, j);
-    m.translation[i] = u(rng);
-  }
-  return m;
-}
 
 /// One side's subdomain as the search keeps it: the vertices of every
 /// factor's sub-simplex in reference coordinates (the search's local
@@ -95,28 +73,6 @@ void RandomLocal(const CellShape& shape, std::mt19937_64& rng, double* t) {
       for (int i = 0; i < fac.dim; ++i) t[fac.offset + i] /= sum;
     }
   }
-}
-
-struct PairCase {
-  RefCell cell[2];
-  DistanceNets nets[2];
-  PairSide side[2];
-};
-
-void BuildSide(const RefCell& cell, const RigidMotion& motion, DistanceNets* nets, PairSide* side) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, center[3] = {0, 0, 0};
-  for (int c = 0; c < cell.numControlPoints(); ++c) {
-    for (int k = 0; k < cell.ambientDim; ++k) {
-      lo[k] = std::min(lo[k], cell.points[c * cell.ambientDim + k]);
-      hi[k] = std::max(hi[k], cell.points[c * cell.ambientDim + k]);
-    }
-  }
-  for (int k = 0; k < cell.ambientDim; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
-  nets->Build(cell.view(), center);
-  side->cell = cell.view();
-  side->motion = motion;
-  side->size = cell.size();
-  side->nets = nets;
 }
 
 /// The exact Hessian of f in the local coordinates of both
