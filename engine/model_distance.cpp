@@ -60,12 +60,18 @@ std::int64_t FirstCellInside(const PlacedModel& x, const PlacedModel& y, double 
   return -1;
 }
 
-/// The largest distance from the origin of a point in `box`.
-double BoundingRadius(const BvhBox& box) {
+/// The largest distance from the model's origin of a point of its cells:
+/// of a corner of their boxes (each holds its cell's control points, which
+/// hold the cell).
+double ModelRadius(const DistanceCells& cells) {
   double r2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double m = std::max(std::abs(box.lo[k]), std::abs(box.hi[k]));
-    r2 += m * m;
+  for (const BvhBox& box : cells.bvh().ItemBoxes()) {
+    double corner2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double m = std::max(std::abs(box.lo[k]), std::abs(box.hi[k]));
+      corner2 += m * m;
+    }
+    r2 = std::max(r2, corner2);
   }
   return std::sqrt(r2) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
 }
@@ -136,7 +142,10 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   double best2 = options.maxDistance < kInf ? options.maxDistance * options.maxDistance * (1.0 + 1e-15) : kInf;
   const double zero = kernels::kDistanceTolerance * std::max(cellsA.modelSize(), cellsB.modelSize());
   PairBoundCache* cache = options.boundCache;
-  if (cache) cache->MoveTo(bIntoA, BoundingRadius(cellsB.bvh().RootBounds()));
+  if (cache) {
+    if (!cache->hasRadius()) cache->SetRadius(ModelRadius(cellsB));
+    cache->MoveTo(bIntoA);
+  }
   auto record = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
     if (cache) cache->Record(ia, ib, r.lowerBound);
   };

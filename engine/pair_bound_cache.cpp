@@ -27,7 +27,8 @@ std::size_t HashOf(std::uint64_t key, std::size_t mask) {
 
 }  // namespace
 
-void PairBoundCache::MoveTo(const kernels::RigidMotion& bIntoA, double radiusB) {
+void PairBoundCache::MoveTo(const kernels::RigidMotion& bIntoA) {
+  const double radiusB = std::max(radius_, 0.0);
   if (hasMotion_) {
     double rotation2 = 0.0, translation2 = 0.0, magnitude = radiusB;
     for (int i = 0; i < 3; ++i) {

@@ -37,9 +37,14 @@ class PairBoundCache {
     double driftAt;  ///< drift() when recorded.
   };
 
-  /// The next query's motion of B into A's frame; `radiusB` bounds |y| over
-  /// B's points in B's frame. The first call sets the reference.
-  void MoveTo(const kernels::RigidMotion& bIntoA, double radiusB);
+  /// Sets the bound of |y| over B's points in B's frame (once: the models
+  /// stay the same).
+  void SetRadius(double radiusB) { radius_ = radiusB; }
+  bool hasRadius() const { return radius_ >= 0.0; }
+
+  /// The next query's motion of B into A's frame (SetRadius first). The
+  /// first call sets the reference.
+  void MoveTo(const kernels::RigidMotion& bIntoA);
 
   /// True when pair (a, b) is proved no nearer than `distance`.
   bool Excludes(std::int64_t a, std::int64_t b, double distance) const;
@@ -80,6 +85,7 @@ class PairBoundCache {
 
   std::vector<Slot> slots_;
   std::size_t used_ = 0;
+  double radius_ = -1.0;
   double drift_ = 0.0;
   bool hasMotion_ = false;
   std::vector<FrontierEntry> frontier_;

@@ -44,16 +44,17 @@ TEST(PairBoundCache, DriftBoundsEveryPointsMotionSinceAnyPose) {
     points.push_back(y);
   }
   PairBoundCache cache;
+  cache.SetRadius(radius);
   std::vector<kernels::RigidMotion> motions{kernels::RandomMotion(rng, 3)};
   std::vector<double> drifts;
-  cache.MoveTo(motions[0], radius);
+  cache.MoveTo(motions[0]);
   drifts.push_back(cache.drift());
   int tight = 0;
   for (int pose = 1; pose < 300; ++pose) {
     // Mostly small steps; now and then a jump.
     const bool jump = pose % 50 == 0;
     motions.push_back(Step(motions.back(), rng, jump ? 3.0 : 1e-3, jump ? 2.0 : 1e-3));
-    cache.MoveTo(motions.back(), radius);
+    cache.MoveTo(motions.back());
     drifts.push_back(cache.drift());
     for (std::size_t earlier = 0; earlier < motions.size(); earlier += 7) {
       double moved = 0.0;
@@ -74,8 +75,9 @@ TEST(PairBoundCache, DriftBoundsEveryPointsMotionSinceAnyPose) {
 
 TEST(PairBoundCache, ExcludesAPairWhileItsBoundLasts) {
   PairBoundCache cache;
+  cache.SetRadius(1.0);
   kernels::RigidMotion m;
-  cache.MoveTo(m, 1.0);
+  cache.MoveTo(m);
   EXPECT_FALSE(cache.Excludes(3, 4, 0.5));  // nothing kept yet
   cache.Record(3, 4, 1.0);
   cache.Record(3, 4, 0.7);  // a weaker proof at the same motion changes nothing
@@ -84,7 +86,7 @@ TEST(PairBoundCache, ExcludesAPairWhileItsBoundLasts) {
   EXPECT_FALSE(cache.Excludes(4, 3, 0.5));  // the pair the other way round is another pair
   // B moves by 0.1: the pair may have come 0.1 nearer.
   m.translation[0] = 0.1;
-  cache.MoveTo(m, 1.0);
+  cache.MoveTo(m);
   EXPECT_TRUE(cache.Excludes(3, 4, 0.89));
   EXPECT_FALSE(cache.Excludes(3, 4, 0.91));
   // A fresh proof replaces it.
