@@ -200,8 +200,18 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   const Bvh& treeB = cellsB.bvh();
   // Nodes by their oriented bounds: the axis-aligned boxes of a tilted
   // patch are fat, its oriented ones as thin as it is flat.
+  const std::size_t nodesB = treeB.Nodes().size();
+  if (ws->movedStamp.size() != nodesB || ++ws->stamp == 0) {
+    ws->movedStamp.assign(nodesB, 0);
+    ws->moved.resize(nodesB);
+    ws->stamp = 1;
+  }
   auto nodeBound = [&](int na, int nb) {
-    return OrientedPairLowerBound(cellsA.nodeOriented(na), cellsB.nodeOriented(nb), bIntoA, std::sqrt(best2));
+    if (ws->movedStamp[nb] != ws->stamp) {
+      ws->moved[nb] = Moved(cellsB.nodeOriented(nb), bIntoA);
+      ws->movedStamp[nb] = ws->stamp;
+    }
+    return OrientedPairLowerBound(cellsA.nodeOriented(na), ws->moved[nb], std::sqrt(best2));
   };
   auto diagonal2 = [](const BvhBox& box) {
     double d2 = 0.0;

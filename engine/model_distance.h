@@ -70,6 +70,11 @@ struct ModelDistanceWorkspace {
   std::vector<std::pair<double, std::pair<std::int64_t, std::int64_t>>> candidates;
   std::vector<OpenPair> probed;
   std::vector<PairBoundCache::FrontierEntry> frontier;  ///< The traversal's, for a PairBoundCache.
+  /// B's node bounds moved into A's frame, as the traversal meets them:
+  /// valid where movedStamp equals stamp (one stamp per query).
+  std::vector<OrientedBounds> moved;
+  std::vector<std::uint32_t> movedStamp;
+  std::uint32_t stamp = 0;
   kernels::DistanceNets scratchNets[2];
   std::int64_t scratchNetsCell[2] = {-1, -1};
   const DistanceCells* scratchNetsModel[2] = {nullptr, nullptr};
