@@ -7,9 +7,9 @@
 namespace invmap::engine {
 namespace {
 
-/// Past this many slots the table is emptied rather than grown: a long
+/// Past this many slots (24 MB) the table is emptied rather than grown: a long
 /// trajectory over a large model would otherwise keep every pair it met.
-constexpr std::size_t kMaxSlots = std::size_t{1} << 22;
+constexpr std::size_t kMaxSlots = std::size_t{1} << 20;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 /// Cell indices past this are not kept (their key would not be unique).

@@ -62,8 +62,8 @@ TEST(PairLowerBound, NeverAboveTheDistanceOfTheCells) {
               BuildSide(pair.cell[s], RandomMotion(rng, ambientDim), &pair.nets[s], &pair.side[s]);
             }
             // The least distance of the samples: at least the cells' distance.
-            const auto pa = Samples(pair.cell[0], pair.side[0].motion, 30);
-            const auto pb = Samples(pair.cell[1], pair.side[1].motion, 30);
+            const auto pa = Samples(pair.cell[0], pair.side[0].motion, 20);
+            const auto pb = Samples(pair.cell[1], pair.side[1].motion, 20);
             double sampled = std::numeric_limits<double>::infinity();
             for (const auto& x : pa) {
               for (const auto& y : pb) sampled = std::min(sampled, (x - y).norm());

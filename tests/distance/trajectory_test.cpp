@@ -117,7 +117,7 @@ void TrackAgainstFresh(const BuiltModel& a, const BuiltModel& b, const std::vect
 TEST(Trajectories, SmallStepsAndJumpsOverASurfaceMatchFreshQueries) {
   const auto surface = BuildModel(WavySurface(0.05, 2, 2, 12, false));
   const auto sphere = BuildModel(NurbsSphere({0, 0, 0}, 0.1));
-  TrackAgainstFresh(*surface, *sphere, SmallSteps(80, {30, 31, 60}, 0.3, 1e-3), 45, 1e-9);
+  TrackAgainstFresh(*surface, *sphere, SmallSteps(50, {20, 21, 40}, 0.3, 1e-3), 30, 1e-9);
 }
 
 TEST(Trajectories, SmallStepsAndJumpsOverAMeshMatchFreshQueries) {
