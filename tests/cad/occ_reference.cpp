@@ -100,6 +100,11 @@ double ShapeSize(const TopoDS_Shape& shape) {
 
 std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, double near, double far,
                                  unsigned seed, std::size_t farEvery) {
+  return PointsAround(shape, count, std::vector<double>{near}, far, seed, farEvery);
+}
+
+std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                 double far, unsigned seed, std::size_t farEvery) {
   Bnd_Box box;
   BRepBndLib::AddOptimal(shape, box, false, false);
   double lo[3], hi[3];
@@ -127,8 +132,10 @@ std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, d
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::vector<double> points;
+  std::size_t nearCount = 0;
   for (std::size_t i = 0; i < count; ++i) {
     if (i % farEvery != farEvery - 1 && !cumulative.empty()) {
+      const double near = nears[nearCount++ % nears.size()];
       const double pick = unit(rng) * cumulative.back();
       const std::size_t t = std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin();
       double s = unit(rng), r = unit(rng);

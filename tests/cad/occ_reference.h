@@ -43,6 +43,10 @@ double ShapeSize(const TopoDS_Shape& shape);
 /// by up to `near` times the size).
 std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, double near, double far,
                                  unsigned seed, std::size_t farEvery = 2);
+/// The same with near points moved by up to nears[0], nears[1], ... times
+/// the size in turn.
+std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                 double far, unsigned seed, std::size_t farEvery);
 
 /// Inverts `points` (3 per point) on the model's geometry with one thread.
 Results InvertOnModel(const cad::Model& model, const std::vector<double>& points);

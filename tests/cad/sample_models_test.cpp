@@ -76,10 +76,7 @@ const SampleModel kModels[] = {
 /// surface, a quarter within 0.1 % (where a scan's points lie), a quarter
 /// in a box a fifth larger on each side than the model's.
 std::vector<double> PointsAroundModel(const TopoDS_Shape& shape, int count) {
-  std::vector<double> points = PointsAround(shape, count * 3 / 4, 0.02, 0.2, 11, 3);
-  const std::vector<double> close = PointsAround(shape, count / 4, 0.001, 0.2, 12, 1u << 30);
-  points.insert(points.end(), close.begin(), close.end());
-  return points;
+  return PointsAround(shape, count, {0.02, 0.02, 0.001}, 0.2, 11, 4);
 }
 
 /// How gtest names a model (ctest's test names include it).
