@@ -2,7 +2,9 @@
 
 #include "tests/cad/occ_nearest.h"
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepGProp.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
@@ -11,6 +13,7 @@
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
@@ -151,6 +154,38 @@ std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, c
     } else {
       for (int k = 0; k < 3; ++k) points.push_back(lo[k] - far * size + unit(rng) * (hi[k] - lo[k] + 2.0 * far * size));
     }
+  }
+  return points;
+}
+
+std::vector<double> PointsNearEdges(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                    unsigned seed) {
+  const double size = ShapeSize(shape);
+  TopTools_IndexedMapOfShape map;
+  TopExp::MapShapes(shape, TopAbs_EDGE, map);
+  std::vector<BRepAdaptor_Curve> curves;
+  std::vector<double> cumulative;
+  for (int i = 1; i <= map.Extent(); ++i) {
+    const TopoDS_Edge& edge = TopoDS::Edge(map(i));
+    if (BRep_Tool::Degenerated(edge)) continue;
+    GProp_GProps properties;
+    BRepGProp::LinearProperties(edge, properties);
+    curves.emplace_back(edge);
+    cumulative.push_back((cumulative.empty() ? 0.0 : cumulative.back()) + properties.Mass());
+  }
+  std::vector<double> points;
+  if (curves.empty() || !(cumulative.back() > 0.0)) return points;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double pick = unit(rng) * cumulative.back();
+    const std::size_t e = std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin();
+    const BRepAdaptor_Curve& curve = curves[std::min(e, curves.size() - 1)];
+    gp_XYZ p = curve.Value(curve.FirstParameter() + unit(rng) * (curve.LastParameter() - curve.FirstParameter())).XYZ();
+    const gp_XYZ direction(gauss(rng), gauss(rng), gauss(rng));
+    p += direction.Normalized() * (nears[i % nears.size()] * size * unit(rng));
+    points.insert(points.end(), {p.X(), p.Y(), p.Z()});
   }
   return points;
 }

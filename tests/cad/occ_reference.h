@@ -48,6 +48,13 @@ std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, d
 std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
                                  double far, unsigned seed, std::size_t farEvery);
 
+/// `count` query points near the model's edges, where trimming decides the
+/// answer: a random point of a random edge (weighted by length; degenerate
+/// edges left out), moved along a random direction by up to nears[0],
+/// nears[1], ... times the size in turn.
+std::vector<double> PointsNearEdges(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                    unsigned seed);
+
 /// Inverts `points` (3 per point) on the model's geometry with one thread.
 Results InvertOnModel(const cad::Model& model, const std::vector<double>& points);
 

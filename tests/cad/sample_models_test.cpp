@@ -72,11 +72,15 @@ const SampleModel kModels[] = {
     {"occ/wing.brep", 100},
 };
 
-/// `count` points around a model: half within 2 % of its size from its
-/// surface, a quarter within 0.1 % (where a scan's points lie), a quarter
-/// in a box a fifth larger on each side than the model's.
+/// `count` points around a model: three eighths within 2 % of its size
+/// from its surface, an eighth within 0.1 % (where a scan's points lie), a
+/// quarter within 1 % or 0.01 % of its edges (where the trimming decides),
+/// a quarter in a box a fifth larger on each side than the model's.
 std::vector<double> PointsAroundModel(const TopoDS_Shape& shape, int count) {
-  return PointsAround(shape, count, {0.02, 0.02, 0.001}, 0.2, 11, 4);
+  std::vector<double> points = PointsAround(shape, count - count / 4, {0.02, 0.02, 0.02, 0.001}, 0.2, 11, 3);
+  const std::vector<double> nearEdges = PointsNearEdges(shape, count / 4, {0.01, 1e-4}, 12);
+  points.insert(points.end(), nearEdges.begin(), nearEdges.end());
+  return points;
 }
 
 /// How gtest names a model (ctest's test names include it).
