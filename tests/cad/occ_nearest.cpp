@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace invmap::cadtest {
 
@@ -29,15 +30,15 @@ struct OccNearest::Item {
 
 namespace {
 
-/// The shape's box from its geometry and tolerances: BndLib bounds curves
-/// and surfaces by their exact extents or control points, so the box holds
-/// the whole shape (a box from a mesh might not).
 bool CornersOf(const Bnd_Box& box, double* lo, double* hi) {
   if (box.IsVoid() || box.IsOpen()) return false;
   box.Get(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
   return true;
 }
 
+/// The shape's box from its geometry and tolerances: BndLib bounds curves
+/// and surfaces by their exact extents or control points, so the box holds
+/// the whole shape (a box from a mesh might not).
 bool GeometryBox(const TopoDS_Shape& shape, double* lo, double* hi) {
   Bnd_Box box;
   BRepBndLib::Add(shape, box, /*useTriangulation=*/false);
@@ -47,9 +48,8 @@ bool GeometryBox(const TopoDS_Shape& shape, double* lo, double* hi) {
 /// A B-spline face is cut into pieces of at most this many spans a side.
 constexpr int kPieceSpans = 16;
 
-/// The parameters where pieces of [first, last] end along one direction:
-/// every kPieceSpans-th knot inside it, with first and last; the knots
-/// inside it are returned too, to grow each piece by one span.
+/// The ends of the spans of [first, last] along one direction: first, the
+/// knots strictly inside, last.
 std::vector<double> KnotsWithin(const TColStd_Array1OfReal& knots, double first, double last) {
   std::vector<double> inside = {first};
   for (int i = knots.Lower(); i <= knots.Upper(); ++i) {
