@@ -236,6 +236,7 @@ struct DistanceTracker::Impl {
   engine::ModelDistanceWorkspace ws;
   engine::CellPairAnswer previous;
   bool hasPrevious = false;
+  engine::PairBoundCache boundCache;
   std::string setupError;
 };
 
@@ -279,6 +280,7 @@ Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::st
     engineOptions.maxDistance = impl_->options.maxDistance;
     engineOptions.threads = impl_->options.threads;
     engineOptions.warm = impl_->hasPrevious ? &impl_->previous : nullptr;
+    engineOptions.boundCache = &impl_->boundCache;
     const engine::CellPairAnswer answer = engine::NearestPair(engine::Place(ia, impl_->motionA), engine::Place(ib, mb),
                                                               engineOptions, &impl_->ws);
     if (answer.found) {
