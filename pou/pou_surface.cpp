@@ -190,7 +190,7 @@ void PouSurface::EvaluateParts(std::int64_t chart, double u, double v, BlendPart
     Jet<double> angle, distance;
     const JetPoint<double> frame = ToFrame(n, ToEdgeDirection(n, edge, p), &angle, &distance);
     const JetPoint<double> other = HalfTurn(frame);
-    if (!(std::fabs(angle.v) < kPi) || !(other.x.v > 0.0)) continue;
+    if (!(std::fabs(angle.v) < FormulaAngle(n)) || !(other.x.v > 0.0)) continue;
     parts->defined[i] = 1;
     const Jet<double> otherDistance = JetSqrt(other.x * other.x + other.y * other.y);
     if (otherDistance.v < kFrameRadius) parts->weights[i] = JetBump((1.0 / kFrameRadius) * otherDistance);
