@@ -86,8 +86,8 @@ void PouSurface::ComputeBounds() {
 namespace {
 
 /// The samples of every chart of one valence n and degree d, and their fit:
-/// a (2d + 1)^2 grid over [-R, R]^2, kept where the point's canonical image
-/// lies in the star, with the sector (star triangle) and the barycentric
+/// a (2 max(d, 2) + 1)^2 grid over [-R, R]^2, kept where the point's
+/// canonical image lies in the star, with the sector (star triangle) and the barycentric
 /// coordinates (of the vertex, the next neighbour, the one after) of that
 /// image in it.
 struct SampleGrid {
@@ -99,7 +99,10 @@ struct SampleGrid {
 
   void Build(int n, int d) {
     const double r = DomainRadius(n);
-    const int steps = 2 * d;
+    // At degree 1 a 3 x 3 grid would keep only the centre and the axes'
+    // points once the star no longer holds the square's corners (valence 5
+    // and more), where the bilinear twist uv vanishes: 5 x 5 determines it.
+    const int steps = 2 * std::max(d, 2);
     for (int j = 0; j <= steps; ++j) {
       for (int i = 0; i <= steps; ++i) {
         const double x = -r + 2.0 * r * i / steps, y = -r + 2.0 * r * j / steps;
