@@ -5,7 +5,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// Steps of the walk through a tetrahedral mesh before the BVH takes over.
+/// Steps of the walk through a volume mesh before the BVH takes over.
 constexpr int kMaxWalk = 8;
 
 /// A cell to start the walk of a point that has no previous point (the first
@@ -68,24 +68,46 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
   const std::int64_t start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
   if (start < 0 || store.inRegion(start)) return;
   if (!store.solver(start).isFullRank()) return;
-  const TetAdjacency& adjacency = store.tetAdjacency();
+  const FaceAdjacency& adjacency = store.faceAdjacency();
   std::int64_t cell = start;
   for (int step = 0;; ++step) {
-    // One corner barycentric evaluation per cell serves both the inside
-    // solve's start and the walk's direction.
-    double lambda[4];
-    const bool haveLambda = store.solver(cell).CornerBarycentric(p, lambda);
-    if (CellBoxDistance2(store.solver(cell), p, store.dimension()) == 0.0) {
-      TryInsideCell(cell, haveLambda ? lambda : nullptr);
-      tried.push_back(cell);
+    const kernels::CellSolver& solver = store.solver(cell);
+    // The faces to leave by, likeliest first.
+    int exits[kernels::kMaxFaces];
+    int exitCount = 0;
+    if (solver.isTetrahedron()) {
+      // One corner barycentric evaluation serves both the inside solve's
+      // start and the walk's direction: the face of the straight corner
+      // tetrahedron the point lies beyond (none when inside it).
+      double lambda[4];
+      const bool haveLambda = solver.CornerBarycentric(p, lambda);
+      if (CellBoxDistance2(solver, p, store.dimension()) == 0.0) {
+        TryInsideCell(cell, haveLambda ? lambda : nullptr);
+        tried.push_back(cell);
+      }
+      const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
+      if (haveLambda && lambda[exit] < 0.0) exits[exitCount++] = exit;
+    } else {
+      // Hexahedra and wedges have no closed form to test: the inside solve
+      // runs, and where it gave up on the boundary names the face the point
+      // lies beyond (from the cell's own map, curved or not).
+      // (Without neighbours, as in 2D, only a cell whose box holds the
+      // point is worth the solve.)
+      if (!adjacency.empty() || CellBoxDistance2(solver, p, store.dimension()) == 0.0) {
+        double stopRef[3];
+        TryInsideCell(cell, nullptr, stopRef);
+        tried.push_back(cell);
+        if (!inside) exitCount = kernels::FacesAt(solver.cell().shape, stopRef, exits);
+      }
     }
-    if (inside || step == kMaxWalk || adjacency.empty() || !haveLambda) return;
-    const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
-    // Inside the straight tetrahedron of a cell that did not hold the
-    // point: the walk has no direction left.
-    if (lambda[exit] >= 0.0) return;
-    cell = adjacency.Neighbor(cell, exit);
-    if (cell < 0 || store.inRegion(cell) || IsTriedCell(cell)) return;
+    if (inside || step == kMaxWalk || adjacency.empty()) return;
+    std::int64_t next = -1;
+    for (int e = 0; e < exitCount && next < 0; ++e) {
+      const std::int64_t across = adjacency.Neighbor(cell, exits[e]);
+      if (across >= 0 && !store.inRegion(across) && !IsTriedCell(across)) next = across;
+    }
+    if (next < 0) return;
+    cell = next;
   }
 }
 
@@ -97,11 +119,13 @@ void PointSearch::TryInsideRegion(const AffineRegion& region) {
   inside = true;
 }
 
-void PointSearch::TryInsideCell(std::int64_t cell, const double* cornerLambda) {
+void PointSearch::TryInsideCell(std::int64_t cell, const double* cornerLambda, double* stopRef) {
   const kernels::CellSolver& solver = store.solver(cell);
   if (!solver.isFullRank()) return;
   kernels::CellSolveResult r;
-  if (solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r, cornerLambda)) {
+  const bool holds = solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r, cornerLambda);
+  if (stopRef) std::copy(r.ref, r.ref + 3, stopRef);
+  if (holds) {
     iterations += r.iterations;
     best = r.distance;
     bestCell = cell;
