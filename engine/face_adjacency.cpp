@@ -29,20 +29,58 @@ bool IsWalkable(const kernels::CellSolver& solver) {
   return true;
 }
 
-FacePoints SortedFace(const kernels::CellSolver& solver, int face) {
-  const kernels::CellView& cell = solver.cell();
-  int controls[kernels::kMaxFaceCorners];
-  FacePoints points;
-  points.count = kernels::FaceCornerControlPoints(cell.shape, face, controls);
-  for (int i = 0; i < points.count; ++i) points.corners[i] = cell.points + static_cast<std::size_t>(controls[i]) * 3;
+/// The corner control points of every face of one cell shape
+/// (kernels::FaceCornerControlPoints), worked out once per shape.
+struct FaceTable {
+  kernels::CellShape shape;
+  int faces = 0;
+  int count[kernels::kMaxFaces] = {};
+  int corners[kernels::kMaxFaces][kernels::kMaxFaceCorners] = {};
+};
+
+bool SameShape(const kernels::CellShape& a, const kernels::CellShape& b) {
+  if (a.type() != b.type()) return false;
+  for (int f = 0; f < a.numFactors(); ++f) {
+    if (a.factor(f).degree != b.factor(f).degree) return false;
+  }
+  return true;
+}
+
+/// The tables of the shapes of the walkable cells, and each cell's (-1 for
+/// the others). A mesh has a handful of shapes.
+std::vector<FaceTable> TablesOf(const std::vector<kernels::CellSolver>& solvers, std::vector<std::int16_t>* tableOf) {
+  std::vector<FaceTable> tables;
+  tableOf->assign(solvers.size(), -1);
+  for (std::size_t c = 0; c < solvers.size(); ++c) {
+    if (!IsWalkable(solvers[c])) continue;
+    const kernels::CellShape& shape = solvers[c].cell().shape;
+    std::size_t t = 0;
+    while (t < tables.size() && !SameShape(tables[t].shape, shape)) ++t;
+    if (t == tables.size()) {
+      FaceTable table;
+      table.shape = shape;
+      table.faces = kernels::NumFaces(shape);
+      for (int f = 0; f < table.faces; ++f) table.count[f] = kernels::FaceCornerControlPoints(shape, f, table.corners[f]);
+      tables.push_back(table);
+    }
+    (*tableOf)[c] = static_cast<std::int16_t>(t);
+  }
+  return tables;
+}
+
+FacePoints SortedFace(const kernels::CellSolver& solver, const FaceTable& table, int face) {
+  const double* points = solver.cell().points;
+  FacePoints sorted;
+  sorted.count = table.count[face];
+  for (int i = 0; i < sorted.count; ++i) sorted.corners[i] = points + static_cast<std::size_t>(table.corners[face][i]) * 3;
   // Insertion sort of at most four corners.
   const auto less = [](const double* a, const double* b) { return std::lexicographical_compare(a, a + 3, b, b + 3); };
-  for (int i = 1; i < points.count; ++i) {
-    for (int j = i; j > 0 && less(points.corners[j], points.corners[j - 1]); --j) {
-      std::swap(points.corners[j], points.corners[j - 1]);
+  for (int i = 1; i < sorted.count; ++i) {
+    for (int j = i; j > 0 && less(sorted.corners[j], sorted.corners[j - 1]); --j) {
+      std::swap(sorted.corners[j], sorted.corners[j - 1]);
     }
   }
-  return points;
+  return sorted;
 }
 
 bool SameFace(const FacePoints& a, const FacePoints& b) {
@@ -80,21 +118,24 @@ void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int m
   neighbors_.clear();
   stride_ = 0;
   const std::int64_t count = static_cast<std::int64_t>(solvers.size());
-  for (const kernels::CellSolver& solver : solvers) {
-    if (IsWalkable(solver)) stride_ = std::max(stride_, kernels::NumFaces(solver.cell().shape));
-  }
+  std::vector<std::int16_t> tableOf;
+  const std::vector<FaceTable> tables = TablesOf(solvers, &tableOf);
+  for (const FaceTable& table : tables) stride_ = std::max(stride_, table.faces);
   if (stride_ == 0) return;
   const int stride = stride_;
+  const auto sortedFace = [&](std::int64_t cellFace) {
+    const std::int64_t c = cellFace / stride;
+    return SortedFace(solvers[c], tables[tableOf[c]], static_cast<int>(cellFace % stride));
+  };
   neighbors_.assign(static_cast<std::size_t>(count) * stride, -1);
   std::vector<FaceEntry> entries(static_cast<std::size_t>(count) * stride, FaceEntry{0, -1});
   ForEachBlock(
       ExecutionPolicy::Par, count, 1024,
       [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t c = begin; c < end; ++c) {
-          if (!IsWalkable(solvers[c])) continue;
-          const int faces = kernels::NumFaces(solvers[c].cell().shape);
-          for (int f = 0; f < faces; ++f) {
-            entries[c * stride + f] = FaceEntry{HashFace(SortedFace(solvers[c], f)), c * stride + f};
+          if (tableOf[c] < 0) continue;
+          for (int f = 0; f < tables[tableOf[c]].faces; ++f) {
+            entries[c * stride + f] = FaceEntry{HashFace(sortedFace(c * stride + f)), c * stride + f};
           }
         }
       },
@@ -112,13 +153,13 @@ void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int m
     while (last < entries.size() && entries[last].hash == entries[first].hash) ++last;
     for (std::size_t i = first; i < last; ++i) {
       const std::int64_t a = entries[i].cellFace;
-      const FacePoints faceA = SortedFace(solvers[a / stride], static_cast<int>(a % stride));
+      const FacePoints faceA = sortedFace(a);
       std::int64_t match = -1;
       int matches = 0;
       for (std::size_t j = first; j < last; ++j) {
         const std::int64_t b = entries[j].cellFace;
         if (j == i || b / stride == a / stride) continue;
-        if (SameFace(faceA, SortedFace(solvers[b / stride], static_cast<int>(b % stride)))) {
+        if (SameFace(faceA, sortedFace(b))) {
           match = b;
           ++matches;
         }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "kernels/active_set.h"
 #include "kernels/affine_simplex.h"
 #include "kernels/affine_simplex_lanes.h"
 #include "kernels/cell_bounds.h"
@@ -652,13 +653,27 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
   if (FrameCoordinates(point, start)) {
     // An affine cell: `start` is the point's preimage, exact up to
     // rounding. Beyond the domain (by a margin far above the rounding) the
-    // point is outside; else the local solve confirms it at once.
-    if (LeastBarycentric(cell_.shape, start) < -kHullSlack) {
-      result->iterations = 0;
+    // point is outside. Else the map there (clamped into the domain) is the
+    // point itself to the distance tolerance, as the local solve would
+    // confirm, unless rounding in a nearly flat cell says otherwise.
+    result->iterations = 0;
+    const double least = LeastBarycentric(cell_.shape, start);
+    if (least < -kHullSlack) {
       std::copy(start, start + pd, result->ref);
       return false;
     }
-    return FinishInside(point, start, result);
+    ClampToDomain(cell_.shape, start);
+    MapJet jet;
+    EvaluateMap(cell_, start, JetOrder::Value, &jet);
+    double d2 = 0.0;
+    for (int k = 0; k < cell_.ambientDim; ++k) d2 += (jet.x[k] - point[k]) * (jet.x[k] - point[k]);
+    const double tau = kDistanceTolerance * size_;
+    if (!(d2 <= tau * tau)) return FinishInside(point, start, result);
+    std::copy(start, start + pd, result->ref);
+    std::copy(jet.x, jet.x + cell_.ambientDim, result->closest);
+    result->distance = std::sqrt(d2);
+    result->status = least > 0.0 ? PointStatus::Converged : PointStatus::ProjectedToBoundary;
+    return true;
   }
   double lambda[4];
   if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
