@@ -71,11 +71,28 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
   const FaceAdjacency& adjacency = store.faceAdjacency();
   std::int64_t cell = start;
   for (int step = 0;; ++step) {
-    const kernels::CellSolver& solver = store.solver(cell);
     // The faces to leave by, likeliest first.
     int exits[kernels::kMaxFaces];
     int exitCount = 0;
-    if (solver.isTetrahedron()) {
+    const int item = simplices.item(cell);
+    if (item >= 0 && simplices.paramDim(item) == 3) {
+      // An affine tetrahedron, from the copy of its vertices the BVH keeps
+      // in leaf order (next to its neighbours'; its solver is cold): the
+      // steps of a walk through a linear mesh read nothing else.
+      const double* vertices[4];
+      for (int v = 0; v < 4; ++v) vertices[v] = simplices.vertices(item) + 3 * v;
+      double lambda[4];
+      if (kernels::CellSolver::TetBarycentric(vertices, p, lambda)) {
+        const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
+        if (lambda[exit] >= -kernels::kHullSlack) {
+          TryInsideSimplexItem(item, vertices);
+          tried.push_back(cell);
+        } else {
+          exits[exitCount++] = exit;
+        }
+      }
+    } else if (store.solver(cell).isTetrahedron()) {
+      const kernels::CellSolver& solver = store.solver(cell);
       // One corner barycentric evaluation serves both the inside solve's
       // start and the walk's direction: the face of the straight corner
       // tetrahedron the point lies beyond (none when inside it).
@@ -88,6 +105,7 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
       const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
       if (haveLambda && lambda[exit] < 0.0) exits[exitCount++] = exit;
     } else {
+      const kernels::CellSolver& solver = store.solver(cell);
       // Hexahedra and wedges have no closed form to test: the inside solve
       // runs, and where it gave up on the boundary names the face the point
       // lies beyond (from the cell's own map, curved or not).
@@ -109,6 +127,29 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
     if (next < 0) return;
     cell = next;
   }
+}
+
+void PointSearch::TryInsideSimplexItem(int item, const double* const* vertices) {
+  // CellSolver::SolveInside of an affine tetrahedron whose corner
+  // barycentrics passed its hull test: the closed form, inside within the
+  // distance tolerance of the cell's size, the diagonal of its control
+  // points' box: its vertices' (the other control points lie between them),
+  // read here from the item's copy rather than from the cold solver.
+  double size2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = std::min({vertices[0][k], vertices[1][k], vertices[2][k], vertices[3][k]});
+    const double hi = std::max({vertices[0][k], vertices[1][k], vertices[2][k], vertices[3][k]});
+    size2 += (hi - lo) * (hi - lo);
+  }
+  kernels::CellSolveResult r;
+  kernels::CellSolver::SolveAffineSimplex(3, 3, vertices, p, &r);
+  if (!(r.distance <= kernels::kDistanceTolerance * std::sqrt(size2))) return;
+  const std::int64_t cell = simplices.cell(item);
+  best = r.distance;
+  bestCell = cell;
+  bestResult = r;
+  bestModel = -1;
+  inside = true;
 }
 
 void PointSearch::TryInsideRegion(const AffineRegion& region) {

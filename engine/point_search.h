@@ -186,6 +186,11 @@ struct PointSearch {
   /// itself (to the distance tolerance of its size).
   void TryInsideRegion(const AffineRegion& region);
 
+  /// TryInsideCell for the affine tetrahedron of BVH item `item` (its
+  /// vertices, as the item keeps them), once its corner barycentrics put
+  /// the point within its hull.
+  void TryInsideSimplexItem(int item, const double* const* vertices);
+
   /// `cornerLambda`: the cell's CornerBarycentric of the point, when known.
   /// `stopRef` (3 values, optional) receives where a failed inside solve
   /// stopped (CellSolver::SolveInside).

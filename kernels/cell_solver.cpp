@@ -496,6 +496,10 @@ bool CellSolver::CornerBarycentric(const double* point, double* lambda) const {
   if (!isTetrahedron()) return false;
   const double* v[4];
   for (int i = 0; i < 4; ++i) v[i] = CornerPoint(i);
+  return TetBarycentric(v, point, lambda);
+}
+
+bool CellSolver::TetBarycentric(const double* const* v, const double* point, double* lambda) {
   double e[3][3], w[3];
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < 3; ++i) e[i][k] = v[i + 1][k] - v[0][k];
@@ -650,7 +654,8 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
                              const double* cornerLambda) const {
   const int pd = cell_.shape.paramDim();
   double start[3];
-  if (FrameCoordinates(point, start)) {
+  // (Simplices have no frame; their corners are read first, on a hot line.)
+  if (cornerControl_[0] < 0 && FrameCoordinates(point, start)) {
     // An affine cell: `start` is the point's preimage, exact up to
     // rounding. Beyond the domain (by a margin far above the rounding) the
     // point is outside. Else the map there (clamped into the domain) is the

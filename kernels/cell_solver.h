@@ -139,6 +139,9 @@ class CellSolver {
   /// reference vertex k) of `point` relative to the cell's corner control
   /// points; false for other cells and flat corner tetrahedra.
   bool CornerBarycentric(const double* point, double* lambda) const;
+  /// CornerBarycentric for the tetrahedron of vertices v[0..3] (3D), for
+  /// callers that keep the vertices elsewhere: the same values, bit for bit.
+  static bool TetBarycentric(const double* const* v, const double* point, double* lambda);
 
   /// Affine cells as wide as their space other than simplices
   /// (parallelepiped hexahedra, straight wedges, parallelograms in the
@@ -281,13 +284,14 @@ class CellSolver {
   int vertexControl_[4] = {-1, -1, -1, -1};
   /// Simplex cells: the control points at the vertices; -1 otherwise.
   int cornerControl_[4] = {-1, -1, -1, -1};
-  /// FrameCoordinates' cells: the control points at the reference origin
-  /// and at the unit point of each parameter; -1 otherwise.
-  int frameControl_[4] = {-1, -1, -1, -1};
   double paramScale_[3] = {1, 1, 1};  ///< |dx/du_i| at the center: the length of a unit step in u_i.
   /// Tetrahedra: how far (in corner barycentric coordinates) the control
   /// points, and so the cell, reach beyond the straight corner tetrahedron.
   double cornerHullMargin_ = std::numeric_limits<double>::infinity();
+  /// FrameCoordinates' cells: the control points at the reference origin
+  /// and at the unit point of each parameter; -1 otherwise. (After the
+  /// fields a walk through tetrahedra reads, to keep them on their lines.)
+  int frameControl_[4] = {-1, -1, -1, -1};
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
   /// Rational cells whose WW coefficients span more than kUnbalancedWeights.
