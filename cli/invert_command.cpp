@@ -79,6 +79,7 @@ int Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& 
     return 2;
   }
   const Manifold& manifold = loaded.manifold;
+  const auto built = std::chrono::steady_clock::now();
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;
   readOptions.forcedDim = dim;
@@ -115,7 +116,7 @@ int Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& 
   if (!options.quiet) {
     std::printf("invmap %s: %s onto %s -> %s\n", verb, options.points.c_str(), options.geometry.c_str(),
                 options.output.c_str());
-    summary.Print(stdout, seconds);
+    summary.Print(stdout, seconds, std::chrono::duration<double>(built - start).count());
     if (options.signedDistance) deviation.Print(stdout);
   }
   return 0;

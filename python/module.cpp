@@ -123,18 +123,7 @@ PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const s
     throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
                      std::to_string(cellVertices) + " vertices");
   }
-  // An unsigned index beyond the int64 range would wrap to a negative one in
-  // the cast below and be reported as such: name it as given.
-  if (cellInput.dtype().kind() == 'u') {
-    const auto unsignedCells = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
-    for (py::ssize_t i = 0; i < unsignedCells.size(); ++i) {
-      const std::uint64_t index = unsignedCells.data()[i];
-      if (index > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
-        throw InputError("from_mesh: patch 0: cells[" + std::to_string(i / cellVertices) + "]: vertex index " +
-                         std::to_string(index) + " out of range [0, " + std::to_string(vertexArray.shape(0)) + ")");
-      }
-    }
-  }
+  CheckUnsignedIndices(cellInput, "from_mesh: patch 0: cells", vertexArray.shape(0));
   const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
   Geometry geometry;
   geometry.dimension = static_cast<int>(vertexArray.shape(1));
