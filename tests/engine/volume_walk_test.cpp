@@ -47,6 +47,44 @@ Vec3 Distorted(double a, double b, double c) {
   return x;
 }
 
+/// Quadratic wedges [2, 2], curved: each linear wedge of a GridMesh of
+/// 6 x 5 x 4 prisms under `Bend`, its control points the bent images of the
+/// points of the straight wedge at their reference locations (a conforming
+/// BezierCells patch: neighbours compute their shared face's control points
+/// from the same vertices).
+Geometry CurvedWedges() {
+  const auto bend = [](const Vec3& x) {
+    return Vec3{x[0] + 0.1 * std::sin(3 * x[1]), x[1] + 0.08 * std::cos(2 * x[0] + x[2]), x[2] + 0.1 * x[0] * x[1]};
+  };
+  const Patch grid = GridMesh(CellType::Wedge, 3, 6, 5, 4, Warp);
+  const std::vector<std::array<double, 3>> refs = ControlPointRefLocations(kernels::CellType::Wedge, {2, 2, 0});
+  Geometry g;
+  g.dimension = 3;
+  Patch mesh;
+  mesh.kind = Patch::Kind::BezierCells;
+  mesh.cellOffsets.push_back(0);
+  for (std::size_t c = 0; c + 6 <= grid.cells.size(); c += 6) {
+    const double* v[6];
+    for (int k = 0; k < 6; ++k) v[k] = &grid.points[static_cast<std::size_t>(grid.cells[c + k]) * 3];
+    for (const std::array<double, 3>& r : refs) {
+      // The straight wedge: bottom triangle v0 v1 v2 at w = 0, top v3 v4 v5.
+      const double l0 = 1 - r[0] - r[1];
+      Vec3 x;
+      for (int e = 0; e < 3; ++e) {
+        x[e] = (1 - r[2]) * (l0 * v[0][e] + r[0] * v[1][e] + r[1] * v[2][e]) +
+               r[2] * (l0 * v[3][e] + r[0] * v[4][e] + r[1] * v[5][e]);
+      }
+      const Vec3 y = bend(x);
+      mesh.points.insert(mesh.points.end(), y.begin(), y.end());
+    }
+    mesh.cellTypes.push_back(CellType::Wedge);
+    mesh.cellDegrees.insert(mesh.cellDegrees.end(), {2, 2, 0});
+    mesh.cellOffsets.push_back(static_cast<std::int64_t>(mesh.points.size() / 3));
+  }
+  g.patches.push_back(std::move(mesh));
+  return g;
+}
+
 Geometry Mesh(CellType type, int dim, const std::function<Vec3(double, double, double)>& f) {
   Geometry g;
   g.dimension = dim;
@@ -93,6 +131,8 @@ TEST(VolumeWalkTest, WalksAcrossHexahedraAndWedges) {
   ExpectWalkReaches("quadratic hexes", QuadraticMesh(true), GridCell(0, 0, 0), GridCell(2, 3, 1), ref, 4);
   const std::array<double, 3> wedgeRef{0.2, 0.3, 0.7};
   ExpectWalkReaches("warped wedges", Mesh(CellType::Wedge, 3, Warp), GridCell(0, 0, 0, 2), GridCell(2, 2, 1, 2) + 1,
+                    wedgeRef, 4);
+  ExpectWalkReaches("curved quadratic wedges", CurvedWedges(), GridCell(0, 0, 0, 2), GridCell(2, 2, 1, 2) + 1,
                     wedgeRef, 4);
   ExpectWalkReaches("sheared wedges", Mesh(CellType::Wedge, 3, Shear), GridCell(4, 1, 2, 2) + 1,
                     GridCell(2, 2, 1, 2), wedgeRef, 3);
@@ -143,6 +183,7 @@ TEST(VolumeWalkTest, HexahedraAgainstReference) {
 TEST(VolumeWalkTest, WedgesAndMixedAgainstReference) {
   ExpectBatchAnswers("warped wedges", Mesh(CellType::Wedge, 3, Warp));
   ExpectBatchAnswers("sheared wedges", Mesh(CellType::Wedge, 3, Shear));
+  ExpectBatchAnswers("curved quadratic wedges", CurvedWedges());
   ExpectBatchAnswers("mixed hexes, wedges, tets", MixedVolumeMesh());
 }
 
