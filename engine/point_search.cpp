@@ -106,9 +106,9 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
       if (haveLambda && lambda[exit] < 0.0) exits[exitCount++] = exit;
     } else {
       const kernels::CellSolver& solver = store.solver(cell);
-      // Hexahedra and wedges have no closed form to test: the inside solve
-      // runs, and where it gave up on the boundary names the face the point
-      // lies beyond (from the cell's own map, curved or not).
+      // Hexahedra and wedges: the inside solve runs, and names the face the
+      // point lies beyond (CellSolver::SolveInside: an affine cell's
+      // preimage in closed form, a curved cell's stop on the boundary).
       // (Without neighbours, as in 2D, only a cell whose box holds the
       // point is worth the solve.)
       if (!adjacency.empty() || CellBoxDistance2(solver, p, store.dimension()) == 0.0) {
@@ -162,6 +162,7 @@ void PointSearch::TryInsideRegion(const AffineRegion& region) {
 
 void PointSearch::TryInsideCell(std::int64_t cell, const double* cornerLambda, double* stopRef) {
   const kernels::CellSolver& solver = store.solver(cell);
+  if (stopRef) std::fill(stopRef, stopRef + 3, std::numeric_limits<double>::quiet_NaN());  // on no face
   if (!solver.isFullRank()) return;
   kernels::CellSolveResult r;
   const bool holds = solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r, cornerLambda);

@@ -164,12 +164,12 @@ struct PointSearch {
   /// across the faces of the volume mesh (engine/face_adjacency.h) to the
   /// neighbour beyond the face the point lies past, which usually holds it:
   /// for a tetrahedron the face of its straight corner tetrahedron, for a
-  /// hexahedron or wedge the face where its inside solve gave up
-  /// (CellSolver::SolveInside). The walk only proposes cells: each answer is
-  /// an inside solve's exact one, and a point the walk does not place goes
-  /// to the full search. The first point of a bucket starts from the cell
-  /// DescendToVolumeCell picks. The cells tried are kept (the searches skip
-  /// them).
+  /// hexahedron or wedge the face its inside solve names (an affine cell's
+  /// preimage, a curved cell's stop on the boundary: CellSolver::SolveInside).
+  /// The walk only proposes cells: each answer is an inside solve's exact
+  /// one, and a point the walk does not place goes to the full search. The
+  /// first point of a bucket starts from the cell DescendToVolumeCell picks.
+  /// The cells tried are kept (the searches skip them).
   void TryInsideByWalk(const Bvh& bvh);
 
   bool IsTriedCell(std::int64_t cell) const { return std::find(tried.begin(), tried.end(), cell) != tried.end(); }
@@ -193,7 +193,7 @@ struct PointSearch {
 
   /// `cornerLambda`: the cell's CornerBarycentric of the point, when known.
   /// `stopRef` (3 values, optional) receives where a failed inside solve
-  /// stopped (CellSolver::SolveInside).
+  /// stopped (CellSolver::SolveInside; NaN when none ran).
   void TryInsideCell(std::int64_t cell, const double* cornerLambda = nullptr, double* stopRef = nullptr);
 
 };

@@ -101,9 +101,10 @@ class CellSolver {
   /// within the distance tolerance of `point` (the point is inside: the
   /// answer is exact and global); false otherwise, with result.iterations
   /// set and result.ref where the solve stopped (the centre when none ran):
-  /// on a face of the domain when the point drove it out there
-  /// (kernels::FacesAt names it: the face a walk toward the point crosses,
-  /// in a curved cell only a likely one).
+  /// on a face of the domain when the point drove it out there; for an
+  /// affine cell of FrameCoordinates, the point's preimage beyond the
+  /// domain. kernels::FacesAt names the face (the one a walk toward the
+  /// point crosses; in a curved cell only a likely one).
   /// `cornerLambda` (4 values): CornerBarycentric(point) when the caller
   /// has it, so it is not computed again.
   bool SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
