@@ -233,6 +233,9 @@ Manifold BuildManifold(const Geometry& geometry, const std::string& path) {
 
 int RunInvert(const InvertOptions& options) {
   if (options.allMinima) return RunInvertAllMinima(options);
+  if (options.color && io::LowerExtension(options.output) != ".ply") {
+    throw UsageError("--color colours .ply output; " + options.output + " is not a .ply file");
+  }
   return Stream(options, false, "invert", ResultSink{options, nullptr});
 }
 

@@ -1,5 +1,7 @@
 #include "engine/cell_store.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -55,6 +57,23 @@ CellStore::CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, 
         for (std::int64_t i = 0; i < extent[0]; ++i)
           regionOfCell_[region.firstCell + i * region.cellStride[0] + j * region.cellStride[1] +
                         k * region.cellStride[2]] = static_cast<std::int32_t>(r);
+  }
+  // Regions' boxes are unions of their cells' boxes: the diagonal of all
+  // boxes bounds every region's size, and every cell's (with its own size,
+  // which is positive even for a cell that is a single point).
+  double lo[3], hi[3];
+  std::fill(lo, lo + 3, std::numeric_limits<double>::infinity());
+  std::fill(hi, hi + 3, -std::numeric_limits<double>::infinity());
+  for (const kernels::CellSolver& solver : solvers_) {
+    largestSize_ = std::max(largestSize_, solver.size());
+    for (int k = 0; k < dimension(); ++k) {
+      lo[k] = std::min(lo[k], solver.boxLo()[k]);
+      hi[k] = std::max(hi[k], solver.boxHi()[k]);
+    }
+  }
+  if (count > 0) {
+    const double depth = dimension() > 2 ? hi[2] - lo[2] : 0.0;
+    largestSize_ = std::max(largestSize_, std::hypot(hi[0] - lo[0], hi[1] - lo[1], depth));
   }
   for (std::int64_t c = 0; c < count; ++c) {
     const std::int32_t r = regionOfCell_[c];

@@ -183,7 +183,7 @@ py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape, const p
 }
 
 /// The options of invert and trim, validated (None means the default).
-InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads, bool pointwise) {
+InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<std::int64_t> threads, bool pointwise) {
   InversionOptions options;
   options.pointwise = pointwise;
   if (maxDistance) options.maxDistance = CheckedMaxDistance(*maxDistance);
@@ -251,7 +251,7 @@ std::vector<double> Signed(const PyManifold& self, const py::handle& points, con
 
 /// Manifold.invert: the Results as numpy arrays.
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads, bool pointwise, bool signedDistance) {
+                std::optional<std::int64_t> threads, bool pointwise, bool signedDistance) {
   Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise));
   if (!signedDistance) return ResultsDict(std::move(results), self.dimension());
   std::vector<double> sd = Signed(self, points, results, threads.value_or(0));
@@ -263,7 +263,7 @@ py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<
 
 /// Manifold.probe: Manifold.invert's dict with "fields" added.
 py::dict Probe(const PyManifold& self, const py::handle& points, const std::optional<std::vector<std::string>>& names,
-               std::optional<double> maxDistance, std::optional<int> threads) {
+               std::optional<double> maxDistance, std::optional<std::int64_t> threads) {
   const InversionOptions options = MakeOptions(maxDistance, threads, false);
   Results results = InvertPoints(self, points, options);
   py::dict fields = ProbeFieldsDict(self.fields(), results, names, options.threads);
