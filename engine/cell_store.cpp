@@ -31,19 +31,19 @@ std::vector<kernels::CellSolver> BuildSolvers(const BezierNets& nets, int maxThr
 CellStore CellStore::Build(const Geometry& geometry, int maxThreads) {
   BezierNets nets = ToBezierNets(geometry);
   std::vector<kernels::CellSolver> solvers = BuildSolvers(nets, maxThreads);
-  TetAdjacency tetAdjacency;
-  if (nets.hasVolumeCells) tetAdjacency.Build(solvers, maxThreads);
+  FaceAdjacency faceAdjacency;
+  if (nets.hasVolumeCells) faceAdjacency.Build(solvers, maxThreads);
   std::vector<AffineRegion> regions = FindAffineRegions(nets, solvers);
   // Moving the nets keeps their arrays, where the solvers point.
-  return CellStore(std::move(nets), std::move(solvers), std::move(tetAdjacency), std::move(regions));
+  return CellStore(std::move(nets), std::move(solvers), std::move(faceAdjacency), std::move(regions));
 }
 
-CellStore::CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, TetAdjacency tetAdjacency,
+CellStore::CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, FaceAdjacency faceAdjacency,
                      std::vector<AffineRegion> regions)
     : nets_(std::move(nets)),
       solvers_(std::move(solvers)),
       regions_(std::move(regions)),
-      tetAdjacency_(std::move(tetAdjacency)) {
+      faceAdjacency_(std::move(faceAdjacency)) {
   // Algorithm 6: the subdivisions the BVH is built over, every region once
   // (at its first cell) and every cell outside a region.
   const std::int64_t count = size();
@@ -150,7 +150,7 @@ void CellStore::ReportedParameters(std::int64_t cell, const double* ref, double*
 std::size_t CellStore::MemoryBytes() const {
   std::size_t bytes = nets_.MemoryBytes() + solvers_.capacity() * sizeof(kernels::CellSolver) +
                       regions_.capacity() * sizeof(AffineRegion) + regionOfCell_.capacity() * sizeof(std::int32_t) +
-                      subdivisions_.capacity() * sizeof(std::int64_t) + tetAdjacency_.MemoryBytes();
+                      subdivisions_.capacity() * sizeof(std::int64_t) + faceAdjacency_.MemoryBytes();
   for (const AffineRegion& r : regions_)
     for (const std::vector<double>& breaks : r.breaks) bytes += breaks.capacity() * sizeof(double);
   for (const kernels::CellSolver& s : solvers_) bytes += s.NetMemoryBytes();

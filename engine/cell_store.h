@@ -1,6 +1,6 @@
 // The cells of a manifold: every patch turned into Bezier cells, with their
 // solvers (bounds, precomputed distance nets), the way back to the patch,
-// the affine regions and the tetrahedra's face neighbours.
+// the affine regions and the volume cells' face neighbours.
 #pragma once
 
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include "common/check.h"
 #include "engine/affine_regions.h"
 #include "engine/bezier_nets.h"
-#include "engine/tet_adjacency.h"
+#include "engine/face_adjacency.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
 
@@ -22,7 +22,7 @@ class CellStore {
   /// Builds the cells of `geometry`, in steps that each take the finished
   /// results of the ones before: the Bezier nets (ToBezierNets), their
   /// solvers (bounds and distance nets, in parallel; those of cells a
-  /// trimming loop crosses search within its region), the tetrahedra's face
+  /// trimming loop crosses search within its region), the volume cells' face
   /// neighbours, the affine regions, and the subdivisions. Precondition:
   /// ValidateGeometry(geometry) found no problem (engine/geometry_validation.h).
   /// `maxThreads` bounds the threads used (0 = all).
@@ -90,8 +90,8 @@ class CellStore {
   /// that leaves the patch, lands on a trimmed surface's span outside its
   /// region, or `cell` is not a B-spline patch's or a trimmed surface's.
   std::int64_t SplineNeighbor(std::int64_t cell, const int* step) const;
-  /// Face neighbours of the tetrahedral cells (empty without tetrahedra).
-  const TetAdjacency& tetAdjacency() const { return tetAdjacency_; }
+  /// Face neighbours of the volume cells (empty without volume cells).
+  const FaceAdjacency& faceAdjacency() const { return faceAdjacency_; }
   /// Bounds of a subdivision's cells.
   const double* subdivisionBoxLo(std::int64_t s) const {
     return isRegion(s) ? subdivisionRegion(s).boxLo : solvers_[subdivisions_[s]].boxLo();
@@ -107,7 +107,7 @@ class CellStore {
   void SubdivisionHullPoints(std::int64_t s, std::vector<double>* xyz) const;
 
  private:
-  CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, TetAdjacency tetAdjacency,
+  CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, FaceAdjacency faceAdjacency,
             std::vector<AffineRegion> regions);
 
   BezierNets nets_;
@@ -115,7 +115,7 @@ class CellStore {
   std::vector<AffineRegion> regions_;
   std::vector<std::int32_t> regionOfCell_;    // -1 outside every region
   std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
-  TetAdjacency tetAdjacency_;
+  FaceAdjacency faceAdjacency_;
   double largestSize_ = 0.0;
 };
 

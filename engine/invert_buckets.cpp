@@ -145,8 +145,11 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
               }
             }
             WriteFound(store, search, s, &warm, sorted);
+            // (An affine simplex, known from its BVH item, never starts the
+            // volume lanes: its solver, cold in a walk over items, is not read.)
             if (lanesFrom < 0 && (curveLanes ? StartsBucketLanes(store, index.simplices(), warm.cell)
-                                             : volumeLanes && IsLaneTetrahedron(store, warm.cell))) {
+                                             : volumeLanes && index.simplices().item(warm.cell) < 0 &&
+                                                   IsLaneTetrahedron(store, warm.cell))) {
               lanesFrom = s;
               SolveLanesAfter(index, points, s, last, warm, curveLanes, maxDistance, scratch);
             }

@@ -5,7 +5,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// Steps of the walk through a tetrahedral mesh before the BVH takes over.
+/// Steps of the walk through a volume mesh before the BVH takes over.
 constexpr int kMaxWalk = 8;
 
 /// A cell to start the walk of a point that has no previous point (the first
@@ -68,25 +68,88 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
   const std::int64_t start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
   if (start < 0 || store.inRegion(start)) return;
   if (!store.solver(start).isFullRank()) return;
-  const TetAdjacency& adjacency = store.tetAdjacency();
+  const FaceAdjacency& adjacency = store.faceAdjacency();
   std::int64_t cell = start;
   for (int step = 0;; ++step) {
-    // One corner barycentric evaluation per cell serves both the inside
-    // solve's start and the walk's direction.
-    double lambda[4];
-    const bool haveLambda = store.solver(cell).CornerBarycentric(p, lambda);
-    if (CellBoxDistance2(store.solver(cell), p, store.dimension()) == 0.0) {
-      TryInsideCell(cell, haveLambda ? lambda : nullptr);
-      tried.push_back(cell);
+    // The faces to leave by, likeliest first.
+    int exits[kernels::kMaxFaces];
+    int exitCount = 0;
+    const int item = simplices.item(cell);
+    if (item >= 0 && simplices.paramDim(item) == 3) {
+      // An affine tetrahedron, from the copy of its vertices the BVH keeps
+      // in leaf order (next to its neighbours'; its solver is cold): the
+      // steps of a walk through a linear mesh read nothing else.
+      const double* vertices[4];
+      for (int v = 0; v < 4; ++v) vertices[v] = simplices.vertices(item) + 3 * v;
+      double lambda[4];
+      if (kernels::CellSolver::TetBarycentric(vertices, p, lambda)) {
+        const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
+        if (lambda[exit] >= -kernels::kHullSlack) {
+          TryInsideSimplexItem(item, vertices);
+          tried.push_back(cell);
+        } else {
+          exits[exitCount++] = exit;
+        }
+      }
+    } else if (store.solver(cell).isTetrahedron()) {
+      const kernels::CellSolver& solver = store.solver(cell);
+      // One corner barycentric evaluation serves both the inside solve's
+      // start and the walk's direction: the face of the straight corner
+      // tetrahedron the point lies beyond (none when inside it).
+      double lambda[4];
+      const bool haveLambda = solver.CornerBarycentric(p, lambda);
+      if (CellBoxDistance2(solver, p, store.dimension()) == 0.0) {
+        TryInsideCell(cell, haveLambda ? lambda : nullptr);
+        tried.push_back(cell);
+      }
+      const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
+      if (haveLambda && lambda[exit] < 0.0) exits[exitCount++] = exit;
+    } else {
+      const kernels::CellSolver& solver = store.solver(cell);
+      // Hexahedra and wedges: the inside solve runs, and names the face the
+      // point lies beyond (CellSolver::SolveInside: an affine cell's
+      // preimage in closed form, a curved cell's stop on the boundary).
+      // (Without neighbours, as in 2D, only a cell whose box holds the
+      // point is worth the solve.)
+      if (!adjacency.empty() || CellBoxDistance2(solver, p, store.dimension()) == 0.0) {
+        double stopRef[3];
+        TryInsideCell(cell, nullptr, stopRef);
+        tried.push_back(cell);
+        if (!inside) exitCount = kernels::FacesAt(solver.cell().shape, stopRef, exits);
+      }
     }
-    if (inside || step == kMaxWalk || adjacency.empty() || !haveLambda) return;
-    const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
-    // Inside the straight tetrahedron of a cell that did not hold the
-    // point: the walk has no direction left.
-    if (lambda[exit] >= 0.0) return;
-    cell = adjacency.Neighbor(cell, exit);
-    if (cell < 0 || store.inRegion(cell) || IsTriedCell(cell)) return;
+    if (inside || step == kMaxWalk || adjacency.empty()) return;
+    std::int64_t next = -1;
+    for (int e = 0; e < exitCount && next < 0; ++e) {
+      const std::int64_t across = adjacency.Neighbor(cell, exits[e]);
+      if (across >= 0 && !store.inRegion(across) && !IsTriedCell(across)) next = across;
+    }
+    if (next < 0) return;
+    cell = next;
   }
+}
+
+void PointSearch::TryInsideSimplexItem(int item, const double* const* vertices) {
+  // CellSolver::SolveInside of an affine tetrahedron whose corner
+  // barycentrics passed its hull test: the closed form, inside within the
+  // distance tolerance of the cell's size, the diagonal of its control
+  // points' box: its vertices' (the other control points lie between them),
+  // read here from the item's copy rather than from the cold solver.
+  double size2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = std::min({vertices[0][k], vertices[1][k], vertices[2][k], vertices[3][k]});
+    const double hi = std::max({vertices[0][k], vertices[1][k], vertices[2][k], vertices[3][k]});
+    size2 += (hi - lo) * (hi - lo);
+  }
+  kernels::CellSolveResult r;
+  kernels::CellSolver::SolveAffineSimplex(3, 3, vertices, p, &r);
+  if (!(r.distance <= kernels::kDistanceTolerance * std::sqrt(size2))) return;
+  const std::int64_t cell = simplices.cell(item);
+  best = r.distance;
+  bestCell = cell;
+  bestResult = r;
+  bestModel = -1;
+  inside = true;
 }
 
 void PointSearch::TryInsideRegion(const AffineRegion& region) {
@@ -97,11 +160,14 @@ void PointSearch::TryInsideRegion(const AffineRegion& region) {
   inside = true;
 }
 
-void PointSearch::TryInsideCell(std::int64_t cell, const double* cornerLambda) {
+void PointSearch::TryInsideCell(std::int64_t cell, const double* cornerLambda, double* stopRef) {
   const kernels::CellSolver& solver = store.solver(cell);
+  if (stopRef) std::fill(stopRef, stopRef + 3, std::numeric_limits<double>::quiet_NaN());  // on no face
   if (!solver.isFullRank()) return;
   kernels::CellSolveResult r;
-  if (solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r, cornerLambda)) {
+  const bool holds = solver.SolveInside(p, cell == warmCell ? warmRef : nullptr, &r, cornerLambda);
+  if (stopRef) std::copy(r.ref, r.ref + 3, stopRef);
+  if (holds) {
     iterations += r.iterations;
     best = r.distance;
     bestCell = cell;

@@ -17,6 +17,7 @@
 #include "engine/simplex_items.h"
 #include "engine/warm_start.h"
 #include "kernels/cell_solver.h"
+#include "kernels/reference_faces.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::engine {
@@ -171,12 +172,16 @@ struct PointSearch {
   void TryInside(std::int64_t subdivision);
 
   /// The previous point's cell first (7.3.2.1 with a warm start): in Morton
-  /// order a volume's points come in runs inside the same cell. Then, in a
-  /// tetrahedral mesh, a walk: across the face of each cell's straight
-  /// corner tetrahedron that the point lies beyond, to the neighbour there,
-  /// which usually holds it. The first point of a bucket starts from the
-  /// cell DescendToVolumeCell picks. The cells tried are kept (the searches
-  /// skip them).
+  /// order a volume's points come in runs inside the same cell. Then a walk
+  /// across the faces of the volume mesh (engine/face_adjacency.h) to the
+  /// neighbour beyond the face the point lies past, which usually holds it:
+  /// for a tetrahedron the face of its straight corner tetrahedron, for a
+  /// hexahedron or wedge the face its inside solve names (an affine cell's
+  /// preimage, a curved cell's stop on the boundary: CellSolver::SolveInside).
+  /// The walk only proposes cells: each answer is an inside solve's exact
+  /// one, and a point the walk does not place goes to the full search. The
+  /// first point of a bucket starts from the cell DescendToVolumeCell picks.
+  /// The cells tried are kept (the searches skip them).
   void TryInsideByWalk(const Bvh& bvh);
 
   bool IsTriedCell(std::int64_t cell) const { return std::find(tried.begin(), tried.end(), cell) != tried.end(); }
@@ -193,8 +198,15 @@ struct PointSearch {
   /// itself (to the distance tolerance of its size).
   void TryInsideRegion(const AffineRegion& region);
 
+  /// TryInsideCell for the affine tetrahedron of BVH item `item` (its
+  /// vertices, as the item keeps them), once its corner barycentrics put
+  /// the point within its hull.
+  void TryInsideSimplexItem(int item, const double* const* vertices);
+
   /// `cornerLambda`: the cell's CornerBarycentric of the point, when known.
-  void TryInsideCell(std::int64_t cell, const double* cornerLambda = nullptr);
+  /// `stopRef` (3 values, optional) receives where a failed inside solve
+  /// stopped (CellSolver::SolveInside; NaN when none ran).
+  void TryInsideCell(std::int64_t cell, const double* cornerLambda = nullptr, double* stopRef = nullptr);
 
 };
 

@@ -11,7 +11,7 @@ namespace {
 /// coordinate; *last is the last cell visited. -1 when the walk leaves the
 /// mesh, meets a cell the lanes do not solve, or runs out of steps.
 std::int64_t Walk(const CellStore& store, const double* p, std::int64_t cell, int maxSteps, std::int64_t* last) {
-  const TetAdjacency& adjacency = store.tetAdjacency();
+  const FaceAdjacency& adjacency = store.faceAdjacency();
   for (int step = 0; step <= maxSteps; ++step) {
     if (!IsLaneTetrahedron(store, cell)) return -1;
     *last = cell;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "kernels/active_set.h"
 #include "kernels/affine_simplex.h"
 #include "kernels/affine_simplex_lanes.h"
 #include "kernels/cell_bounds.h"
@@ -17,6 +18,7 @@
 #include "kernels/slot_pool.h"
 #include "kernels/simplex_index.h"
 #include "kernels/local_solver.h"
+#include "kernels/reference_faces.h"
 #include "kernels/tolerances.h"
 
 namespace invmap::kernels {
@@ -188,6 +190,18 @@ CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
       corner[v] = fac.degree;
       cornerControl_[v] = index.Position(corner);
       if (affine_) vertexControl_[v] = cornerControl_[v];
+    }
+  }
+  if (affine_ && isFullRank() && vertexControl_[0] < 0) {
+    // The corners at the origin and at the unit points e_i (vertex i + 1 of
+    // the factor holding parameter i).
+    for (int i = -1; i < cell.shape.paramDim(); ++i) {
+      int vertex[kMaxFactors] = {0, 0, 0};
+      for (int f = 0; f < cell.shape.numFactors() && i >= 0; ++f) {
+        const SimplexFactor& fac = cell.shape.factor(f);
+        if (i >= fac.offset && i < fac.offset + fac.dim) vertex[f] = i - fac.offset + 1;
+      }
+      frameControl_[i + 1] = CornerControlPoint(cell.shape, vertex);
     }
   }
   if (isTetrahedron()) {
@@ -482,6 +496,10 @@ bool CellSolver::CornerBarycentric(const double* point, double* lambda) const {
   if (!isTetrahedron()) return false;
   const double* v[4];
   for (int i = 0; i < 4; ++i) v[i] = CornerPoint(i);
+  return TetBarycentric(v, point, lambda);
+}
+
+bool CellSolver::TetBarycentric(const double* const* v, const double* point, double* lambda) {
   double e[3][3], w[3];
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < 3; ++i) e[i][k] = v[i + 1][k] - v[0][k];
@@ -493,6 +511,27 @@ bool CellSolver::CornerBarycentric(const double* point, double* lambda) const {
   CramerSolve3(e[0], e[1], e[2], det, w, lambda + 1);
   lambda[0] = 1 - lambda[1] - lambda[2] - lambda[3];
   return std::isfinite(lambda[0]) && std::isfinite(lambda[1]) && std::isfinite(lambda[2]) && std::isfinite(lambda[3]);
+}
+
+bool CellSolver::FrameCoordinates(const double* point, double* ref) const {
+  if (frameControl_[0] < 0) return false;
+  const int ad = cell_.ambientDim;
+  const double* origin = cell_.points + static_cast<size_t>(frameControl_[0]) * ad;
+  double e[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 1}}, w[3] = {0, 0, 0};
+  for (int k = 0; k < ad; ++k) {
+    for (int i = 0; i < ad; ++i) e[i][k] = cell_.points[static_cast<size_t>(frameControl_[i + 1]) * ad + k] - origin[k];
+    w[k] = point[k] - origin[k];
+  }
+  // In the plane, the third column is the unit normal: its coordinate is 0.
+  const double det = Determinant3(e[0], e[1], e[2]);
+  if (!(std::fabs(det) > 0)) return false;
+  double x[3];
+  CramerSolve3(e[0], e[1], e[2], det, w, x);
+  for (int i = 0; i < ad; ++i) {
+    if (!std::isfinite(x[i])) return false;
+    ref[i] = x[i];
+  }
+  return true;
 }
 
 bool CellSolver::NearestControlPointStart(const double* point, double* ref) const {
@@ -528,8 +567,10 @@ bool CellSolver::NearestControlPointStart(const double* point, double* ref) cons
 
 double CellSolver::InsideScore(const double* point) const {
   double lambda[4];
-  if (!CornerBarycentric(point, lambda)) return -kInsideScoreUnknown;
-  return std::min({lambda[0], lambda[1], lambda[2], lambda[3]});
+  if (CornerBarycentric(point, lambda)) return std::min({lambda[0], lambda[1], lambda[2], lambda[3]});
+  double ref[3];
+  if (FrameCoordinates(point, ref)) return LeastBarycentric(cell_.shape, ref);
+  return -kInsideScoreUnknown;
 }
 
 void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const {
@@ -613,17 +654,49 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
                              const double* cornerLambda) const {
   const int pd = cell_.shape.paramDim();
   double start[3];
+  // (Simplices have no frame; their corners are read first, on a hot line.)
+  if (cornerControl_[0] < 0 && FrameCoordinates(point, start)) {
+    // An affine cell: `start` is the point's preimage, exact up to
+    // rounding. Beyond the domain (by a margin far above the rounding) the
+    // point is outside. Else the map there (clamped into the domain) is the
+    // point itself to the distance tolerance, as the local solve would
+    // confirm, unless rounding in a nearly flat cell says otherwise.
+    result->iterations = 0;
+    const double least = LeastBarycentric(cell_.shape, start);
+    if (least < -kHullSlack) {
+      std::copy(start, start + pd, result->ref);
+      return false;
+    }
+    ClampToDomain(cell_.shape, start);
+    MapJet jet;
+    EvaluateMap(cell_, start, JetOrder::Value, &jet);
+    double d2 = 0.0;
+    for (int k = 0; k < cell_.ambientDim; ++k) d2 += (jet.x[k] - point[k]) * (jet.x[k] - point[k]);
+    const double tau = kDistanceTolerance * size_;
+    if (!(d2 <= tau * tau)) return FinishInside(point, start, result);
+    std::copy(start, start + pd, result->ref);
+    std::copy(jet.x, jet.x + cell_.ambientDim, result->closest);
+    result->distance = std::sqrt(d2);
+    result->status = least > 0.0 ? PointStatus::Converged : PointStatus::ProjectedToBoundary;
+    return true;
+  }
   double lambda[4];
   if (cornerLambda) std::copy(cornerLambda, cornerLambda + 4, lambda);
   const bool haveLambda = cornerLambda || CornerBarycentric(point, lambda);
   if (!InsideStart(initialRef, lambda, haveLambda, start)) {
     result->iterations = 0;
+    ReferenceCenter(cell_.shape, result->ref);
     return false;
   }
   if (vertexControl_[0] >= 0) {
     SolveAffineSimplex(point, result);
     return result->distance <= kDistanceTolerance * size_;
   }
+  return FinishInside(point, start, result);
+}
+
+bool CellSolver::FinishInside(const double* point, const double* start, CellSolveResult* result) const {
+  const int pd = cell_.shape.paramDim();
   LocalSolveOptions options;
   options.affine = affine_;
   options.size = size_;
@@ -631,8 +704,8 @@ bool CellSolver::SolveInside(const double* point, const double* initialRef, Cell
   const LocalSolveResult local = LocalSolveCharted(point, start, options);
   result->iterations = local.iterations;
   const double tau = kDistanceTolerance * size_;
-  if (!(local.squaredDistance <= tau * tau)) return false;
   std::copy(local.ref, local.ref + pd, result->ref);
+  if (!(local.squaredDistance <= tau * tau)) return false;
   std::copy(local.closest, local.closest + cell_.ambientDim, result->closest);
   result->distance = std::sqrt(local.squaredDistance);
   result->status = local.onBoundary ? PointStatus::ProjectedToBoundary : PointStatus::Converged;

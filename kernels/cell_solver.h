@@ -99,7 +99,12 @@ class CellSolver {
   /// `initialRef`, else from the center. Returns
   /// true, with `result` filled, when it converges to a point of the cell
   /// within the distance tolerance of `point` (the point is inside: the
-  /// answer is exact and global); false otherwise (result.iterations is set).
+  /// answer is exact and global); false otherwise, with result.iterations
+  /// set and result.ref where the solve stopped (the centre when none ran):
+  /// on a face of the domain when the point drove it out there; for an
+  /// affine cell of FrameCoordinates, the point's preimage beyond the
+  /// domain. kernels::FacesAt names the face (the one a walk toward the
+  /// point crosses; in a curved cell only a likely one).
   /// `cornerLambda` (4 values): CornerBarycentric(point) when the caller
   /// has it, so it is not computed again.
   bool SolveInside(const double* point, const double* initialRef, CellSolveResult* result,
@@ -125,7 +130,9 @@ class CellSolver {
   /// Tetrahedra: the smallest barycentric coordinate of `point` relative to
   /// the cell's corner control points (its vertices): positive inside the
   /// straight tetrahedron they span, the likeliest to hold the point when the
-  /// cell is curved. Other cells: -kInsideScoreUnknown.
+  /// cell is curved. Affine volume cells of other types: the smallest
+  /// barycentric coordinate of the point's preimage (FrameCoordinates).
+  /// Other cells: -kInsideScoreUnknown.
   double InsideScore(const double* point) const;
   static constexpr double kInsideScoreUnknown = 1e300;
 
@@ -133,6 +140,17 @@ class CellSolver {
   /// reference vertex k) of `point` relative to the cell's corner control
   /// points; false for other cells and flat corner tetrahedra.
   bool CornerBarycentric(const double* point, double* lambda) const;
+  /// CornerBarycentric for the tetrahedron of vertices v[0..3] (3D), for
+  /// callers that keep the vertices elsewhere: the same values, bit for bit.
+  static bool TetBarycentric(const double* const* v, const double* point, double* lambda);
+
+  /// Affine cells as wide as their space other than simplices
+  /// (parallelepiped hexahedra, straight wedges, parallelograms in the
+  /// plane): the reference coordinates whose image is `point`, in closed
+  /// form from the corners at the reference origin and unit points; outside
+  /// the domain when the point is outside the cell. False for other cells
+  /// and flat ones.
+  bool FrameCoordinates(const double* point, double* ref) const;
 
   /// True for tetrahedral cells in 3D (CornerPoint is then defined).
   bool isTetrahedron() const { return cornerControl_[0] >= 0 && cell_.shape.paramDim() == 3 && cell_.ambientDim == 3; }
@@ -191,6 +209,8 @@ class CellSolver {
   /// `lambda` (when haveLambda), else `initialRef`, else the centre; false
   /// when `lambda` puts the point beyond the control points' hull (not inside).
   bool InsideStart(const double* initialRef, const double* lambda, bool haveLambda, double* start) const;
+  /// SolveInside's local solve from `start` and its verdict.
+  bool FinishInside(const double* point, const double* start, CellSolveResult* result) const;
   /// Writes lane l of `results` from one cell's answer.
   void WriteLane(int l, const CellSolveResult& r, const ResultLane& results) const;
 
@@ -269,6 +289,10 @@ class CellSolver {
   /// Tetrahedra: how far (in corner barycentric coordinates) the control
   /// points, and so the cell, reach beyond the straight corner tetrahedron.
   double cornerHullMargin_ = std::numeric_limits<double>::infinity();
+  /// FrameCoordinates' cells: the control points at the reference origin
+  /// and at the unit point of each parameter; -1 otherwise. (After the
+  /// fields a walk through tetrahedra reads, to keep them on their lines.)
+  int frameControl_[4] = {-1, -1, -1, -1};
   DistanceNets nets_;
   const HessianStencil* stencil_ = nullptr;  ///< Shared per shape; null for affine cells.
   /// Rational cells whose WW coefficients span more than kUnbalancedWeights.

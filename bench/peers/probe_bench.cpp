@@ -7,7 +7,9 @@
 // off the exact field by more than 1e-9 of the field's range (the peers'
 // values off by more than 1e-6 of it are counted too, and the largest error).
 //
-//   invmap_bench_probe [--quick] [--points N] [--threads T] [--markdown F] [--csv F] [--work-dir D]
+//   invmap_bench_probe [--quick] [--points N] [--threads T] [--only TEXT] [--markdown F] [--csv F] [--work-dir D]
+//
+// --only TEXT runs the meshes whose name contains TEXT ("linear hexes", "gmsh").
 #include <gmsh.h>
 #include <vtkCellLocatorStrategy.h>
 #include <vtkCharArray.h>
@@ -53,6 +55,7 @@ struct Options {
   std::string markdown = "probe_results.md";
   std::string csv = "probe_results.csv";
   std::string workDir = "probe_work";
+  std::string only;  ///< Run only the meshes whose name contains this.
 };
 
 /// One method's run on a point set.
@@ -202,12 +205,14 @@ Row VtkRow(const ProbeMeshKind& kind, int cells, const Options& options) {
   return row;
 }
 
+std::string GmshMeshName(int order) { return "gmsh tets, order " + std::to_string(order); }
+
 /// gmsh: the unit cube in tetrahedra of `order` with the exact field as a
 /// NodeData view, probed point by point by gmsh::view::probe; invmap reads
 /// the .msh gmsh writes.
 Row GmshRow(int order, const Options& options) {
   Row row;
-  row.mesh = "gmsh tets, order " + std::to_string(order);
+  row.mesh = GmshMeshName(order);
   gmsh::clear();
   gmsh::model::add("cube");
   gmsh::model::occ::addBox(0, 0, 0, 1, 1, 1);
@@ -324,6 +329,8 @@ int Main(int argc, char** argv) {
       options.points = std::stoll(next());
     } else if (a == "--threads") {
       options.threads = std::stoi(next());
+    } else if (a == "--only") {
+      options.only = next();
     } else if (a == "--markdown") {
       options.markdown = next();
     } else if (a == "--csv") {
@@ -332,7 +339,7 @@ int Main(int argc, char** argv) {
       options.workDir = next();
     } else {
       std::fprintf(stderr,
-                   "usage: invmap_bench_probe [--quick] [--points N] [--threads T] [--markdown F] [--csv F] "
+                   "usage: invmap_bench_probe [--quick] [--points N] [--threads T] [--only TEXT] [--markdown F] [--csv F] "
                    "[--work-dir D]\n");
       return 2;
     }
@@ -346,10 +353,15 @@ int Main(int argc, char** argv) {
   std::vector<Row> rows;
   for (const ProbeMeshKind kind : {ProbeMeshKind{false, 1}, ProbeMeshKind{false, 2}, ProbeMeshKind{true, 1},
                                    ProbeMeshKind{true, 2}}) {
+    if (ProbeMeshName(kind).find(options.only) == std::string::npos) continue;
     const int cells = options.quick ? 6 : (kind.hexes ? (kind.order == 1 ? 40 : 30) : (kind.order == 1 ? 24 : 20));
     rows.push_back(VtkRow(kind, cells, options));
   }
-  for (int order : {2, 3}) rows.push_back(GmshRow(order, options));
+  for (int order : {2, 3}) {
+    if (GmshMeshName(order).find(options.only) != std::string::npos) {
+      rows.push_back(GmshRow(order, options));
+    }
+  }
   gmsh::finalize();
   Report(rows, options, threads);
   return 0;

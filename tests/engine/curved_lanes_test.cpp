@@ -46,22 +46,7 @@ void ExpectThreadInvariant(const Geometry& g, const QueryMix& mix, std::uint64_t
   const QuerySet q = MakeQueries(reference.cells(), g.dimension, reference.size(), mix, seed);
   const BuildResult built = Manifold::Build(g);
   ASSERT_TRUE(built.error.empty()) << built.error;
-  for (int bucketSize : {7, 32}) {
-    Results one;
-    for (int threads : {1, 2, 7}) {
-      InversionOptions options;
-      options.threads = threads;
-      options.bucketSize = bucketSize;
-      std::string error;
-      const Results results = InvertQueries(built.manifold, q, options, &error);
-      ASSERT_TRUE(error.empty()) << error;
-      if (threads == 1) {
-        one = results;
-      } else {
-        EXPECT_EQ(CompareBitwise(one, results), "") << "threads 1 vs " << threads << ", bucket " << bucketSize;
-      }
-    }
-  }
+  ExpectSameBitsOnThreads("curved lanes", built.manifold, q, {7, 32});
 }
 
 QueryMix NearMix() {

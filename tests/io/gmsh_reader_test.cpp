@@ -1277,7 +1277,7 @@ TEST_P(GmshBallTest, CurvedTetsInvertToThemselves) {
   std::int64_t unpaired = 0;
   for (std::int64_t c = 0; c < store.size(); ++c) {
     if (!store.solver(c).isTetrahedron()) continue;
-    for (int face = 0; face < 4; ++face) unpaired += store.tetAdjacency().Neighbor(c, face) < 0 ? 1 : 0;
+    for (int face = 0; face < 4; ++face) unpaired += store.faceAdjacency().Neighbor(c, face) < 0 ? 1 : 0;
   }
   EXPECT_EQ(unpaired, static_cast<std::int64_t>(skin.cellTypes.size()));
 

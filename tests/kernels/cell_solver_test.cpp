@@ -23,7 +23,9 @@
 #include <string>
 #include <vector>
 
+#include "kernels/active_set.h"
 #include "kernels/cell_solver.h"
+#include "kernels/reference_faces.h"
 #include "kernels/newton_lanes.h"
 #include "tests/support/lane_output.h"
 #include "tests/support/reference_cell.h"
@@ -868,6 +870,70 @@ TEST(CellSolverInside, FindsAPointInTheOutwardBulge) {
   ASSERT_TRUE(solver.SolveInside(p, nullptr, &r));
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(r.ref[i], s[i], 1e-12);
   EXPECT_LE(r.distance, 1e-13);
+}
+
+TEST(CellSolverInside, AffineHexesWedgesAndQuadsInClosedForm) {
+  // Parallelepipeds, straight prisms and parallelograms of several degrees:
+  // FrameCoordinates gives the preimage of any point (inside the domain or
+  // not), SolveInside finds every point inside at its own coordinates and
+  // refuses every point outside, and where it refuses, the face it names
+  // first (invmap::kernels::FacesAt) is the one the point lies farthest beyond.
+  using namespace invmap::testing;
+  struct Case {
+    invmap::kernels::CellType type;
+    std::array<int, 3> degrees;
+    int dim;
+  };
+  const Case cases[] = {{invmap::kernels::CellType::Hex, {1, 1, 1}, 3}, {invmap::kernels::CellType::Hex, {2, 1, 3}, 3}, {invmap::kernels::CellType::Wedge, {1, 1, 0}, 3},
+                        {invmap::kernels::CellType::Wedge, {2, 3, 0}, 3}, {invmap::kernels::CellType::Quad, {1, 1, 0}, 2}, {invmap::kernels::CellType::Quad, {3, 2, 0}, 2}};
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-0.6, 1.6);
+  for (const Case& c : cases) {
+    const double a[9] = {1.0, 0.3, -0.2, 0.1, 0.8, 0.25, -0.15, 0.2, 1.3};
+    const double a2[4] = {1.0, 0.3, 0.1, 0.8};
+    const double b[3] = {0.5, -1.0, 2.0};
+    const RefCell cell = AffineCell(c.type, c.degrees, c.dim, c.dim == 3 ? a : a2, b);
+    const invmap::kernels::CellSolver solver(cell.view());
+    ASSERT_TRUE(solver.isAffine()) << Describe(cell);
+    int inside = 0, outside = 0;
+    for (int i = 0; i < 400; ++i) {
+      double ref[3] = {u(rng), u(rng), c.dim == 3 ? u(rng) : 0.0};
+      double x[3] = {0, 0, 0};
+      RefEvaluate(cell, ref, x);
+      double frame[3] = {0, 0, 0};
+      ASSERT_TRUE(solver.FrameCoordinates(x, frame)) << Describe(cell);
+      for (int k = 0; k < c.dim; ++k) EXPECT_NEAR(frame[k], ref[k], 1e-12) << Describe(cell);
+      const double least = invmap::kernels::LeastBarycentric(invmap::kernels::CellShape(c.type, c.degrees), ref);
+      if (std::abs(least) < 1e-6) continue;  // too near a face to say
+      invmap::kernels::CellSolveResult r;
+      const bool holds = solver.SolveInside(x, nullptr, &r);
+      EXPECT_EQ(holds, least > 0) << Describe(cell) << " ref " << ref[0] << " " << ref[1] << " " << ref[2];
+      if (holds) {
+        ++inside;
+        for (int k = 0; k < c.dim; ++k) EXPECT_NEAR(r.ref[k], ref[k], 1e-12);
+        EXPECT_LE(r.distance, 1e-12 * cell.size());
+        continue;
+      }
+      ++outside;
+      // The face the point lies farthest beyond: the least barycentric
+      // coordinate of its preimage (faces numbered as invmap::kernels::NumFaces).
+      const invmap::kernels::CellShape shape(c.type, c.degrees);
+      int faces[invmap::kernels::kMaxFaces];
+      ASSERT_GT(invmap::kernels::FacesAt(shape, r.ref, faces), 0);
+      int farthest = -1, face = 0;
+      double lowest = 0.0;
+      for (int f = 0; f < shape.numFactors(); ++f) {
+        double lambda[4];
+        invmap::kernels::FactorBarycentric(shape, f, ref, lambda);
+        for (int k = 0; k <= shape.factor(f).dim; ++k, ++face) {
+          if (lambda[k] < lowest) lowest = lambda[k], farthest = face;
+        }
+      }
+      EXPECT_EQ(faces[0], farthest) << Describe(cell);
+    }
+    EXPECT_GT(inside, 10) << Describe(cell);
+    EXPECT_GT(outside, 20) << Describe(cell);
+  }
 }
 
 TEST(CellSolverInside, FindsInteriorPointsOfCurvedTetrahedra) {

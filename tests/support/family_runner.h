@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <initializer_list>
 #include <string>
 
 #include "invmap/invmap.h"
@@ -38,6 +39,29 @@ inline CheckSummary RunFamily(const char* name, const Geometry& geometry, const 
   std::fflush(stdout);
   EXPECT_EQ(summary.failures, 0) << name << ": " << summary.report;
   return summary;
+}
+
+/// Inverts `queries` on 1, 2 and 7 threads for each of `bucketSizes` and
+/// expects the same bits from each (CompareBitwise).
+inline void ExpectSameBitsOnThreads(const char* name, const Manifold& manifold, const QuerySet& queries,
+                                    std::initializer_list<int> bucketSizes) {
+  for (int bucketSize : bucketSizes) {
+    Results one;
+    for (int threads : {1, 2, 7}) {
+      InversionOptions options;
+      options.threads = threads;
+      options.bucketSize = bucketSize;
+      std::string error;
+      const Results results = InvertQueries(manifold, queries, options, &error);
+      ASSERT_TRUE(error.empty()) << name << ": " << error;
+      if (threads == 1) {
+        one = results;
+      } else {
+        EXPECT_EQ(CompareBitwise(one, results), "")
+            << name << ": threads 1 vs " << threads << ", bucket " << bucketSize;
+      }
+    }
+  }
 }
 
 }  // namespace invmap::testing

@@ -1485,6 +1485,19 @@ void RandomSimplexPoint(int d, const bool* zero, std::mt19937_64& rng, double* s
 
 }  // namespace
 
+std::array<double, 3> RefDomainCenter(CellType type) {
+  switch (type) {
+    case CellType::Tri:
+      return {1.0 / 3, 1.0 / 3, 0.0};
+    case CellType::Tet:
+      return {0.25, 0.25, 0.25};
+    case CellType::Wedge:
+      return {1.0 / 3, 1.0 / 3, 0.5};
+    default:
+      return {0.5, 0.5, 0.5};
+  }
+}
+
 std::array<double, 3> RandomRefPoint(CellType type, std::mt19937_64& rng) {
   std::array<double, 3> u{{0, 0, 0}};
   int offset = 0;

@@ -241,6 +241,10 @@ struct Query {
   std::array<double, 3> sourceRef{{0, 0, 0}};
 };
 
+/// The centre of the reference domain of `type` (docs/formats.md section 1):
+/// each simplex factor's centroid.
+std::array<double, 3> RefDomainCenter(kernels::CellType type);
+
 /// Uniformly distributed point of the reference domain of `type`.
 std::array<double, 3> RandomRefPoint(kernels::CellType type, std::mt19937_64& rng);
 

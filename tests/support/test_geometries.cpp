@@ -469,6 +469,18 @@ Patch BumpySphereMesh(int nLon, int nLat, const Vec3& c, double r) {
   return patch;
 }
 
+Geometry MixedVolumeMesh() {
+  const auto map = [](double x, double y, double z) {
+    return Vec3{x + 0.15 * y * y + 0.05 * z, y + 0.1 * std::sin(2 * x) + 0.05 * z * x, z + 0.1 * x * y};
+  };
+  Geometry g;
+  g.dimension = 3;
+  g.patches.push_back(GridMesh(CellType::Hex, 3, 3, 3, 2, map));
+  g.patches.push_back(GridMesh(CellType::Wedge, 3, 3, 3, 2, [&](double a, double b, double c) { return map(1 + a, b, c); }));
+  g.patches.push_back(GridMesh(CellType::Tet, 3, 3, 3, 2, [&](double a, double b, double c) { return map(1 + a, b, 1 + c); }));
+  return g;
+}
+
 Patch WavyHeightField(int n, int dim) {
   return GridMesh(CellType::Tri, dim, n, n, 0, [](double a, double b, double) {
     return Vec3{a + 0.2 * b * b, b, 0.05 * std::sin(12 * a) * std::cos(9 * b) + 0.03 * std::sin(25 * a * b)};

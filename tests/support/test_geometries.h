@@ -101,6 +101,12 @@ Geometry QuadraticMesh(bool hexes);
 /// each quad prism into 2.
 Patch GridMesh(CellType type, int dim, int nx, int ny, int nz, const std::function<Vec3(double, double, double)>& f);
 
+/// A conforming mesh of three linear patches under one curved map: 3 x 3 x 2
+/// hexes on [0, 1]^3, 3 x 3 x 2 prisms of 2 wedges each on [1, 2] x [0, 1]^2
+/// (sharing the hexes' faces at x = 1), and 3 x 3 x 2 cubes of 6 tets on
+/// [1, 2] x [0, 1] x [1, 2] (sharing the wedges' triangles at z = 1).
+Geometry MixedVolumeMesh();
+
 /// A linear triangle mesh patch: a bumpy sphere (latitude-longitude grid
 /// with nLon x nLat quads, 2 triangles each, fans at the poles).
 Patch BumpySphereMesh(int nLon, int nLat, const Vec3& c, double r);
