@@ -16,9 +16,11 @@ void GatherSearchedCandidates(const CellStore& store, bool lanesSolved, BucketSc
   for (std::vector<double>& axis : scratch.searchedBox) axis.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
     const std::int64_t s = scratch.candidates[scratch.searched[j]].cell;
+    double lo[3], hi[3];
+    store.SubdivisionBox(s, lo, hi);
     for (int k = 0; k < store.dimension(); ++k) {
-      scratch.searchedBox[k][j] = store.subdivisionBoxLo(s)[k];
-      scratch.searchedBox[3 + k][j] = store.subdivisionBoxHi(s)[k];
+      scratch.searchedBox[k][j] = lo[k];
+      scratch.searchedBox[3 + k][j] = hi[k];
     }
   }
 }

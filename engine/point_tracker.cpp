@@ -124,8 +124,8 @@ void PointTracker::Impl::Search(const double* p, PointAnswer* answer) {
   hasPrevious = true;
   previousCell = best.cell;
   std::copy(best.ref, best.ref + 3, previousRef);
-  const engine::CellOrigin& origin = store.origin(best.cell);
-  const kernels::CellShape& shape = store.solver(best.cell).cell().shape;
+  const engine::CellOrigin origin = store.origin(best.cell);
+  const kernels::CellShape& shape = store.shape(best.cell);
   double ref[3] = {best.ref[0], best.ref[1], best.ref[2]};
   kernels::SnapToDomain(shape.type(), ref);
   answer->status = Status::Found;

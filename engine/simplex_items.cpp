@@ -9,11 +9,12 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
   itemOfCell_.clear();
   paramDims_.clear();
   vertices_.clear();
+  simplexCount_ = 0;
   const std::vector<int>& items = bvh.Items();
   int maxVertices = 0;
   for (const int item : items) {
     const std::int64_t cell = store.affineSimplexCell(item);
-    if (cell >= 0) maxVertices = std::max(maxVertices, store.solver(cell).cell().shape.paramDim() + 1);
+    if (cell >= 0) maxVertices = std::max(maxVertices, store.shape(cell).paramDim() + 1);
   }
   if (maxVertices == 0) return;
   const int dim = store.dimension();
@@ -25,12 +26,13 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
   for (std::size_t i = 0; i < items.size(); ++i) {
     cells_[i] = store.affineSimplexCell(items[i]);
     if (cells_[i] < 0) continue;
+    ++simplexCount_;
     itemOfCell_[cells_[i]] = static_cast<std::int32_t>(i);
-    const kernels::CellSolver& solver = store.solver(cells_[i]);
-    paramDims_[i] = static_cast<std::int8_t>(solver.cell().shape.paramDim());
+    paramDims_[i] = static_cast<std::int8_t>(store.shape(cells_[i]).paramDim());
     double* out = vertices_.data() + i * stride_;
     for (int v = 0; v <= paramDims_[i]; ++v) {
-      std::copy(solver.CornerPoint(v), solver.CornerPoint(v) + dim, out + v * dim);
+      const double* vertex = store.SimplexVertex(cells_[i], v);
+      std::copy(vertex, vertex + dim, out + v * dim);
     }
   }
 }

@@ -27,6 +27,9 @@ class SimplexItems {
 
   /// True when no item is an affine simplex.
   bool empty() const { return cells_.empty(); }
+  /// True when every item is an affine simplex (the search then never
+  /// tests an item's own box).
+  bool coversEveryItem() const { return !cells_.empty() && simplexCount_ == cells_.size(); }
   /// The cell of item `i` (BVH leaf order) when it is an affine simplex, else -1.
   std::int64_t cell(int i) const { return cells_.empty() ? -1 : cells_[i]; }
   /// The item of `cell` when it is an affine simplex item, else -1.
@@ -54,6 +57,7 @@ class SimplexItems {
   std::vector<std::int8_t> paramDims_;
   std::vector<double> vertices_;  ///< stride_ doubles per item
   int stride_ = 0;
+  std::size_t simplexCount_ = 0;
 };
 
 }  // namespace invmap::engine

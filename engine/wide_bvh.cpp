@@ -138,9 +138,9 @@ OrientedBox FitItemsBox(const Bvh& bvh, const ItemHulls& hulls, int first, int e
 
 }  // namespace
 
-WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull) {
+WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull, bool itemBoxes) {
   const std::vector<BvhNode>& nodes = bvh.Nodes();
-  itemOriented_.assign(bvh.Items().size(), UnboundedOrientedBox());
+  if (itemBoxes) itemOriented_.assign(bvh.Items().size(), UnboundedOrientedBox());
   if (nodes.empty()) return;
   std::copy(bvh.Origin(), bvh.Origin() + 3, origin_);
   for (const BvhNode& node : nodes) {
@@ -196,14 +196,14 @@ void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& 
   ItemRanges(bvh, &first, &end);
   const ItemHulls hulls = GatherHulls(bvh, hull);
   // Each item's moments and box from its own hull points.
-  std::vector<PointMoments> itemMoments(itemOriented_.size());
-  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(itemOriented_.size()), 1024,
+  std::vector<PointMoments> itemMoments(bvh.Items().size());
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(itemMoments.size()), 1024,
                [&](std::int64_t begin, std::int64_t stop) {
                  for (std::int64_t i = begin; i < stop; ++i) {
                    const int item = static_cast<int>(i);
                    PointMoments& m = itemMoments[i];
                    m = PointMoments::Of(hulls.points(item), hulls.count(item, item + 1));
-                   if (!m.complete) continue;
+                   if (!m.complete || itemOriented_.empty()) continue;
                    OrientedBoxFitter fitter(dimension, bvh.Origin(), m);
                    fitter.AddToInterval(hulls.points(item), hulls.count(item, item + 1));
                    itemOriented_[i] = fitter.Result();

@@ -56,8 +56,11 @@ class WideBvh {
   /// or a child itself where that is a leaf). Without `hull`, every oriented
   /// box is unbounded; with it, each child's is fitted to the hull points of
   /// all items below it, and each item's to its own. `dimension` (2 or 3)
-  /// keeps a planar geometry's axes in its plane.
-  explicit WideBvh(const Bvh& bvh, int dimension = 3, const HullPoints& hull = nullptr);
+  /// keeps a planar geometry's axes in its plane. Without `itemBoxes` the
+  /// items get none (ItemOrientedBox is then unbounded): for a tree whose
+  /// items the search solves outright, never testing their boxes (a
+  /// triangle mesh's, SimplexItems), they would cost 60 bytes an item.
+  explicit WideBvh(const Bvh& bvh, int dimension = 3, const HullPoints& hull = nullptr, bool itemBoxes = true);
 
   /// The nodes; empty when the Bvh is.
   const std::vector<WideNode>& Nodes() const { return nodes_; }
@@ -71,7 +74,9 @@ class WideBvh {
   /// hull of the points of the items below it either.
   static void ChildDistances2(const WideNode& node, const WidePoint& point, double* box2, double* bound2);
   /// Oriented box of item `i` (Bvh::Items() order).
-  const OrientedBox& ItemOrientedBox(int i) const { return itemOriented_[i]; }
+  const OrientedBox& ItemOrientedBox(int i) const {
+    return itemOriented_.empty() ? unbounded_ : itemOriented_[i];
+  }
   /// Lower bound of the squared distance from the point to the hull of the
   /// points of the item with this oriented box.
   static double OrientedDistance2(const OrientedBox& box, const WidePoint& point);
@@ -86,7 +91,8 @@ class WideBvh {
   void FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& hull, const std::vector<int>& slotBinary);
 
   std::vector<WideNode> nodes_;
-  std::vector<OrientedBox> itemOriented_;
+  std::vector<OrientedBox> itemOriented_;  ///< empty without item boxes
+  OrientedBox unbounded_ = UnboundedOrientedBox();
   double origin_[3] = {0, 0, 0};
   /// Largest |offset| of any bound: the scale of their rounding (+infinity
   /// for coordinates beyond the float range, where every bound becomes 0).
