@@ -75,6 +75,8 @@ class CellStore {
   /// `cell` as the kernels read it, solver(cell).cell(); a mesh triangle's
   /// vertices are copied to `triangle` (9 values), which the view points to.
   kernels::CellView View(std::int64_t cell, double* triangle) const;
+  /// The mesh triangles of a geometry of them alone; empty otherwise.
+  const MeshTriangles& meshTriangles() const { return triangles_; }
   /// Affine simplices: vertex `v` of `cell`, solver(cell).CornerPoint(v).
   const double* SimplexVertex(std::int64_t cell, int v) const {
     return triangles_.empty() ? solvers_[cell].CornerPoint(v) : triangles_.Vertex(cell, v);

@@ -34,6 +34,10 @@ class MeshTriangles {
   const double* Vertex(std::int64_t cell, int v) const {
     return vertices_.data() + 3 * static_cast<std::size_t>(corners_[3 * static_cast<std::size_t>(cell) + v]);
   }
+  /// The index of vertex `v` of `cell` in vertices().
+  std::int32_t Corner(std::int64_t cell, int v) const { return corners_[3 * static_cast<std::size_t>(cell) + v]; }
+  /// Every patch's vertices in turn, 3 coordinates each.
+  const double* vertices() const { return vertices_.data(); }
   /// The axis-aligned box of the triangle's vertices.
   void Box(std::int64_t cell, double* lo, double* hi) const;
   /// Heap memory of the arrays, in bytes.

@@ -122,7 +122,7 @@ struct PointSearch {
     const int pd = simplices.paramDim(i);
     const int dim = store.dimension();
     const double* vertices[4];
-    for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
+    for (int v = 0; v <= pd; ++v) vertices[v] = simplices.Vertex(i, v);
     kernels::CellSolveResult r;
     kernels::CellSolver::SolveAffineSimplex(pd, dim, vertices, p, &r);
     if (!Beats(r.distance, [&] { return store.cellSize(simplices.cell(i)); })) return;
