@@ -31,7 +31,7 @@ BucketList CullBucket(const CellStore& store, const Bvh& bvh, const QueryPoints&
                       std::int64_t count, const double* lo, const double* hi, double maxDistance,
                       BucketScratch& scratch) {
   BucketList list;
-  list.use = NearestCells(bvh, lo, hi, &scratch.candidates, &scratch.stack, maxDistance, kMaxBucketCandidates) &&
+  list.use = NearestCells(bvh, lo, hi, &scratch.candidates, &scratch.stack, maxDistance, kMaxBucketCandidates, &store) &&
              scratch.candidates.size() <= kMaxBucketCandidates;
   list.lanesSolved = list.use && SolveAffineSimplexLanes(store, points, first, count, maxDistance, scratch);
   if (list.use) GatherSearchedCandidates(store, list.lanesSolved, scratch);

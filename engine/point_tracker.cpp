@@ -11,6 +11,7 @@
 #include "engine/affine_regions.h"
 #include "engine/api_errors.h"
 #include "engine/manifold_access.h"
+#include "engine/nearest_cells.h"
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
 #include "kernels/cell_solver.h"
@@ -99,7 +100,7 @@ void PointTracker::Impl::Search(const double* p, PointAnswer* answer) {
     }
     for (int i = node.first; i < node.first + node.count; ++i) {
       const std::int64_t s = bvh.Items()[i];
-      const engine::BvhBox& box = bvh.ItemBoxes()[i];
+      const engine::BvhBox box = engine::ItemBoxOf(bvh, store, i);
       if (!(BoxDistance2(box.lo, box.hi, p, dim) < best.distance2)) continue;
       if (store.isRegion(s)) {
         const engine::RegionSolution r = engine::SolveAffineRegion(store.subdivisionRegion(s), p);

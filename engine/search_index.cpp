@@ -33,6 +33,8 @@ SearchIndex SearchIndex::Build(const Geometry& geometry, int maxThreads) {
     const std::vector<BvhBox> boxes = SubdivisionBoxes(cells, maxThreads);
     BvhBuildOptions options;
     options.maxThreads = maxThreads;
+    // Mesh triangles: the store gives a triangle's box from its vertices.
+    options.keepItemBoxes = cells.meshTriangles().empty();
     bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
   }
   SimplexItems simplices;
