@@ -187,6 +187,8 @@ WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull, bool ite
       slotBinary[4 * wideIndex + s] = slots[s];
     }
   }
+  // The array grew by doubling: up to half of it would stay unused.
+  nodes_.shrink_to_fit();
   if (hull) FitOrientedBoxes(bvh, dimension, hull, slotBinary);
 }
 
@@ -195,35 +197,45 @@ void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& 
   std::vector<int> first, end;
   ItemRanges(bvh, &first, &end);
   const ItemHulls hulls = GatherHulls(bvh, hull);
-  // Each item's moments and box from its own hull points.
-  std::vector<PointMoments> itemMoments(bvh.Items().size());
+  auto momentsOf = [&hulls](int item) { return PointMoments::Of(hulls.points(item), hulls.count(item, item + 1)); };
+  // With item boxes, each item's moments and box from its own hull points;
+  // without, the moments are made where the leaves merge them (not kept:
+  // about 110 bytes an item).
+  std::vector<PointMoments> itemMoments(itemOriented_.size());
   ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(itemMoments.size()), 1024,
                [&](std::int64_t begin, std::int64_t stop) {
                  for (std::int64_t i = begin; i < stop; ++i) {
                    const int item = static_cast<int>(i);
                    PointMoments& m = itemMoments[i];
-                   m = PointMoments::Of(hulls.points(item), hulls.count(item, item + 1));
-                   if (!m.complete || itemOriented_.empty()) continue;
+                   m = momentsOf(item);
+                   if (!m.complete) continue;
                    OrientedBoxFitter fitter(dimension, bvh.Origin(), m);
                    fitter.AddToInterval(hulls.points(item), hulls.count(item, item + 1));
                    itemOriented_[i] = fitter.Result();
                  }
                });
-  // The binary nodes' moments, merged up from their items and children
-  // (children come after their parent: a backward pass sees them first).
+  auto itemMomentsOf = [&](int item) { return itemMoments.empty() ? momentsOf(item) : itemMoments[item]; };
+  // The binary nodes' moments: the leaves' merged from their items (in
+  // parallel), then the inner nodes' from their children (children come
+  // after their parent: a backward pass sees them first).
   const std::vector<BvhNode>& nodes = bvh.Nodes();
   std::vector<PointMoments> nodeMoments(nodes.size());
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(nodes.size()), 1024,
+               [&](std::int64_t begin, std::int64_t stop) {
+                 for (std::int64_t i = begin; i < stop; ++i) {
+                   const BvhNode& node = nodes[i];
+                   if (node.count == 0) continue;
+                   PointMoments m = itemMomentsOf(node.first);
+                   for (int item = node.first + 1; item < node.first + node.count; ++item) {
+                     m = PointMoments::Merge(m, itemMomentsOf(item));
+                   }
+                   nodeMoments[i] = m;
+                 }
+               });
+  std::vector<PointMoments>().swap(itemMoments);
   for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
     const BvhNode& node = nodes[i];
-    if (node.count > 0) {
-      PointMoments m = itemMoments[node.first];
-      for (int item = node.first + 1; item < node.first + node.count; ++item) {
-        m = PointMoments::Merge(m, itemMoments[item]);
-      }
-      nodeMoments[i] = m;
-    } else {
-      nodeMoments[i] = PointMoments::Merge(nodeMoments[node.first], nodeMoments[node.first + 1]);
-    }
+    if (node.count == 0) nodeMoments[i] = PointMoments::Merge(nodeMoments[node.first], nodeMoments[node.first + 1]);
   }
   // Every slot's intervals read the hull points of all items below it: one
   // pass over the points per level of the tree.
