@@ -39,9 +39,14 @@ SearchIndex SearchIndex::Build(const Geometry& geometry, int maxThreads) {
   }
   SimplexItems simplices;
   simplices.Build(cells, bvh);
-  WideBvh wideBvh(
-      bvh, cells.dimension(), [&cells](int s, std::vector<double>* xyz) { cells.SubdivisionHullPoints(s, xyz); },
-      !simplices.coversEveryItem());
+  // A mesh's triangles give their vertices by index: no copy of them.
+  WideBvh wideBvh =
+      simplices.meshVertices()
+          ? WideBvh(bvh, IndexedHulls{simplices.meshVertices(), simplices.corners(), 3})
+          : WideBvh(
+                bvh, cells.dimension(),
+                [&cells](int s, std::vector<double>* xyz) { cells.SubdivisionHullPoints(s, xyz); },
+                !simplices.coversEveryItem());
   PouPatches pou;
   // The validation checked every pou_manifold patch (its topology included):
   // a failure here is a bug.

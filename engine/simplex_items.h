@@ -44,6 +44,10 @@ class SimplexItems {
     return meshVertices_ ? meshVertices_ + 3 * static_cast<std::size_t>(corners_[3 * static_cast<std::size_t>(i) + v])
                          : vertices_.data() + static_cast<std::size_t>(i) * stride_ + v * dimension_;
   }
+  /// Mesh triangles alone: the mesh's vertices and every item's three
+  /// corners (indices into them, Bvh::Items() order); null otherwise.
+  const double* meshVertices() const { return meshVertices_; }
+  const std::int32_t* corners() const { return meshVertices_ ? corners_.data() : nullptr; }
   /// The vertices of item `i` side by side (paramDim(i) + 1 points), when
   /// they are copied (not for a store of mesh triangles alone).
   const double* vertices(int i) const { return vertices_.data() + static_cast<std::size_t>(i) * stride_; }

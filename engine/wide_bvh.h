@@ -48,6 +48,15 @@ struct WidePoint {
 /// child above it then get the unbounded oriented box).
 using HullPoints = std::function<void(int box, std::vector<double>* xyz)>;
 
+/// Hull points by index, for items that share them (a triangle mesh's
+/// vertices): item i (Bvh::Items() order) has the `perItem` (at most 4)
+/// points vertices + 3 * corners[perItem * i + j], 3D. Nothing is copied.
+struct IndexedHulls {
+  const double* vertices = nullptr;
+  const std::int32_t* corners = nullptr;
+  int perItem = 0;
+};
+
 /// Immutable 4-ary tree; node 0 is the root. Safe to read from many threads.
 class WideBvh {
  public:
@@ -61,6 +70,10 @@ class WideBvh {
   /// items the search solves outright, never testing their boxes (a
   /// triangle mesh's, SimplexItems), they would cost 60 bytes an item.
   explicit WideBvh(const Bvh& bvh, int dimension = 3, const HullPoints& hull = nullptr, bool itemBoxes = true);
+  /// The same tree in 3D with hull points by index, and no item boxes: the
+  /// same boxes as the constructor above given those points, without the
+  /// copy of them it makes (72 bytes a triangle while it builds).
+  WideBvh(const Bvh& bvh, const IndexedHulls& hulls);
 
   /// The nodes; empty when the Bvh is.
   const std::vector<WideNode>& Nodes() const { return nodes_; }
@@ -85,10 +98,16 @@ class WideBvh {
     return nodes_.capacity() * sizeof(WideNode) + itemOriented_.capacity() * sizeof(OrientedBox);
   }
 
+  /// The hull points of every item while the tree is built (wide_bvh.cpp).
+  struct Hulls;
+
  private:
+  /// Copies `bvh`'s nodes into 4-wide ones; returns the binary node of each
+  /// slot (4 per wide node), -1 for an unused one.
+  std::vector<int> Collapse(const Bvh& bvh);
   /// Fits the oriented boxes of every child and item to the hull points
   /// (see the constructor).
-  void FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& hull, const std::vector<int>& slotBinary);
+  void FitOrientedBoxes(const Bvh& bvh, int dimension, const Hulls& hulls, const std::vector<int>& slotBinary);
 
   std::vector<WideNode> nodes_;
   std::vector<OrientedBox> itemOriented_;  ///< empty without item boxes

@@ -1,14 +1,20 @@
 // Geometries of triangle meshes alone keep only their vertices and corners
 // (engine/mesh_triangles.h): several patches of them answer as the exact
 // point-triangle distances (Ericson) say, the manifold costs a small part of
-// what a cell with a solver costs, and the solvers the rarer paths build on
-// demand answer as the closed form does.
+// what a cell with a solver costs, the solvers the rarer paths build on
+// demand answer as the closed form does, and the wide tree fitted to the
+// vertices by index has the boxes of the one fitted to copies of them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <vector>
 
+#include "engine/bvh_build.h"
 #include "engine/cell_store.h"
+#include "engine/wide_bvh.h"
 #include "invmap/invmap.h"
 #include "tests/engine/built_cells.h"
 #include "tests/support/closest_reference.h"
@@ -96,6 +102,50 @@ TEST(MeshTrianglesTest, SolversBuiltOnDemandAnswerAsTheClosedForm) {
     // Asked again, the same solver.
     EXPECT_EQ(&store.solver(cell), &solver);
   }
+}
+
+TEST(MeshTrianglesTest, OrientedBoxesFromIndexedVerticesAreThoseOfTheCopies) {
+  const Patch mesh = BumpySphereMesh(90, 45, {{0.1, 0.2, -0.1}}, 1.0);
+  const std::size_t count = mesh.cells.size() / 3;
+  std::vector<engine::BvhBox> boxes(count);
+  for (std::size_t t = 0; t < count; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      boxes[t].lo[k] = boxes[t].hi[k] = mesh.points[3 * mesh.cells[3 * t] + k];
+      for (int v = 1; v < 3; ++v) {
+        boxes[t].lo[k] = std::min(boxes[t].lo[k], mesh.points[3 * mesh.cells[3 * t + v] + k]);
+        boxes[t].hi[k] = std::max(boxes[t].hi[k], mesh.points[3 * mesh.cells[3 * t + v] + k]);
+      }
+    }
+  }
+  const engine::Bvh bvh = engine::BuildBvh(boxes.data(), static_cast<int>(count));
+  std::vector<std::int32_t> corners;
+  for (const int item : bvh.Items()) {
+    for (int v = 0; v < 3; ++v) corners.push_back(static_cast<std::int32_t>(mesh.cells[3 * item + v]));
+  }
+  const engine::WideBvh copied(
+      bvh, 3,
+      [&](int t, std::vector<double>* xyz) {
+        for (int v = 0; v < 3; ++v) {
+          for (int k = 0; k < 3; ++k) xyz->push_back(mesh.points[3 * mesh.cells[3 * t + v] + k]);
+        }
+      },
+      false);
+  const engine::WideBvh indexed(bvh, engine::IndexedHulls{mesh.points.data(), corners.data(), 3});
+  ASSERT_EQ(copied.Nodes().size(), indexed.Nodes().size());
+  ASSERT_GT(copied.Nodes().size(), 100u);
+  // Field by field (the node's padding is not part of it).
+  int differences = 0;
+  for (std::size_t n = 0; n < copied.Nodes().size(); ++n) {
+    const engine::WideNode& a = copied.Nodes()[n];
+    const engine::WideNode& b = indexed.Nodes()[n];
+    differences += std::memcmp(a.lo, b.lo, sizeof(a.lo)) != 0 || std::memcmp(a.hi, b.hi, sizeof(a.hi)) != 0 ||
+                   std::memcmp(a.axis, b.axis, sizeof(a.axis)) != 0 ||
+                   std::memcmp(a.orientedLo, b.orientedLo, sizeof(a.orientedLo)) != 0 ||
+                   std::memcmp(a.orientedHi, b.orientedHi, sizeof(a.orientedHi)) != 0 ||
+                   std::memcmp(a.first, b.first, sizeof(a.first)) != 0 ||
+                   std::memcmp(a.count, b.count, sizeof(a.count)) != 0;
+  }
+  EXPECT_EQ(differences, 0);
 }
 
 }  // namespace
