@@ -38,7 +38,7 @@ SearchIndex SearchIndex::Build(const Geometry& geometry, int maxThreads) {
     bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
   }
   SimplexItems simplices;
-  simplices.Build(cells, bvh);
+  simplices.Build(cells, bvh, maxThreads);
   // A mesh's triangles give their vertices by index: no copy of them.
   WideBvh wideBvh =
       simplices.meshVertices()

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 
+#include "common/parallel.h"
+
 namespace invmap::engine {
 
-void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
+void SimplexItems::Build(const CellStore& store, const Bvh& bvh, int maxThreads) {
   cells_.clear();
   itemOfCell_.clear();
   paramDims_.clear();
@@ -17,7 +19,9 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
   int maxVertices = 0;
   for (const int item : items) {
     const std::int64_t cell = store.affineSimplexCell(item);
-    if (cell >= 0) maxVertices = std::max(maxVertices, store.shape(cell).paramDim() + 1);
+    if (cell < 0) continue;
+    maxVertices = std::max(maxVertices, store.shape(cell).paramDim() + 1);
+    ++simplexCount_;
   }
   if (maxVertices == 0) return;
   const MeshTriangles& triangles = store.meshTriangles();
@@ -31,23 +35,28 @@ void SimplexItems::Build(const CellStore& store, const Bvh& bvh) {
     stride_ = maxVertices * dimension_;
     vertices_.assign(items.size() * static_cast<std::size_t>(stride_), 0.0);
   }
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    const std::int64_t cell = store.affineSimplexCell(items[i]);
-    cells_[i] = static_cast<std::int32_t>(cell);
-    if (cell < 0) continue;
-    ++simplexCount_;
-    itemOfCell_[cell] = static_cast<std::int32_t>(i);
-    paramDims_[i] = static_cast<std::int8_t>(store.shape(cell).paramDim());
-    if (meshVertices_) {
-      for (int v = 0; v < 3; ++v) corners_[3 * i + v] = triangles.Corner(cell, v);
-      continue;
-    }
-    double* out = vertices_.data() + i * stride_;
-    for (int v = 0; v <= paramDims_[i]; ++v) {
-      const double* vertex = store.SimplexVertex(cell, v);
-      std::copy(vertex, vertex + dimension_, out + v * dimension_);
-    }
-  }
+  // Every item writes its own slots, and its cell's (a cell is one item).
+  ForEachBlock(
+      ExecutionPolicy::Par, static_cast<std::int64_t>(items.size()), 4096,
+      [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t i = begin; i < end; ++i) {
+          const std::int64_t cell = store.affineSimplexCell(items[i]);
+          cells_[i] = static_cast<std::int32_t>(cell);
+          if (cell < 0) continue;
+          itemOfCell_[cell] = static_cast<std::int32_t>(i);
+          paramDims_[i] = static_cast<std::int8_t>(store.shape(cell).paramDim());
+          if (meshVertices_) {
+            for (int v = 0; v < 3; ++v) corners_[3 * i + v] = triangles.Corner(cell, v);
+            continue;
+          }
+          double* out = vertices_.data() + i * stride_;
+          for (int v = 0; v <= paramDims_[i]; ++v) {
+            const double* vertex = store.SimplexVertex(cell, v);
+            std::copy(vertex, vertex + dimension_, out + v * dimension_);
+          }
+        }
+      },
+      maxThreads);
 }
 
 std::size_t SimplexItems::MemoryBytes() const {

@@ -24,8 +24,8 @@ class SimplexItems {
  public:
   /// Copies the vertices of every BVH item of `bvh` (built over the
   /// subdivisions of `store`) that is an affine simplex cell; nothing when
-  /// there is none.
-  void Build(const CellStore& store, const Bvh& bvh);
+  /// there is none. `maxThreads` bounds the threads used (0 = all).
+  void Build(const CellStore& store, const Bvh& bvh, int maxThreads = 0);
 
   /// True when no item is an affine simplex.
   bool empty() const { return cells_.empty(); }
