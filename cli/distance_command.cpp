@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "cli/run_summary.h"
 #include "invmap/distance.h"
 #include "io/file_io.h"
@@ -36,11 +37,6 @@ DistanceCommandOptions& Options() {
   static DistanceCommandOptions options;
   return options;
 }
-
-/// A usage error (exit code 2) with its message.
-struct UsageError {
-  std::string message;
-};
 
 /// The 12 numbers of a pose: separated by commas (and optional white
 /// space). False when there are not exactly 12 finite numbers.
@@ -159,14 +155,21 @@ Pose PoseOption(const std::string& text, const char* option, int dimension) {
   Pose pose;
   if (text.empty()) return pose;
   std::string why;
-  if (!ParsePose(text, &pose, &why)) throw UsageError{std::string(option) + ": " + why};
+  if (!ParsePose(text, &pose, &why)) throw UsageError(std::string(option) + ": " + why);
   why = CheckPose(pose, dimension);
-  if (!why.empty()) throw UsageError{std::string(option) + ": " + why};
+  if (!why.empty()) throw UsageError(std::string(option) + ": " + why);
   return pose;
 }
 
 int Run(const DistanceCommandOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  if (!options.output.empty()) {
+    RefuseOutputOverInput(options.output, options.a, "--a");
+    RefuseOutputOverInput(options.output, options.b, "--b");
+    if (!options.posesB.empty()) RefuseOutputOverInput(options.output, options.posesB, "--poses-b");
+    RequireOutputExtension(options.output, ".json", "distance", "--output");
+    CheckWritable(options.output);
+  }
   std::vector<Pose> poses;
   std::vector<std::int64_t> poseLines;
   if (!options.posesB.empty()) poses = ReadPoses(options.posesB, &poseLines);
@@ -257,7 +260,7 @@ int RunDistance() {
   try {
     return Run(Options());
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "invmap distance: %s\n", e.message.c_str());
+    std::fprintf(stderr, "invmap distance: %s\n", e.what());
     return 2;
   }
 }

@@ -132,23 +132,19 @@ void WriteScan(const GenerateOptions& options) {
   io::WritePoints(options.output, points.data(), points.size() / 3, 3);
 }
 
-/// Throws UsageError unless `output` ends in `extension`, the one format
-/// sample `what` is written in (a .json name on a gmsh mesh would make the
-/// next command read it as a geometry file and fail).
-void RequireExtension(const std::string& output, const char* extension, const std::string& what) {
-  if (io::LowerExtension(output) == extension) return;
-  throw UsageError("--output " + output + ": generate " + what + " writes " + extension + " files (name it *" +
-                   extension + ")");
-}
 
 }  // namespace
 
 int RunGenerate(const GenerateOptions& options) {
   const std::string& w = options.what;
-  if (w == "surface" || w == "torus" || w == "curve") RequireExtension(options.output, ".json", w);
-  if (w == "tets") RequireExtension(options.output, ".msh", w);
-  if (w == "trimesh") RequireExtension(options.output, ".ply", w);
-  if (w == "bracket") RequireExtension(options.output, ".step", w);
+  const std::string command = "generate " + w;
+  const auto require = [&](const char* extension) {
+    RequireOutputExtension(options.output, extension, command.c_str(), "--output");
+  };
+  if (w == "surface" || w == "torus" || w == "curve") require(".json");
+  if (w == "tets") require(".msh");
+  if (w == "trimesh") require(".ply");
+  if (w == "bracket") require(".step");
   if (w == "surface") {
     io::WriteGeometryJson(samples::WavySurface(options.spans), options.output);
   } else if (w == "torus") {

@@ -79,6 +79,7 @@ int Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& 
     return 2;
   }
   const Manifold& manifold = loaded.manifold;
+  const auto built = std::chrono::steady_clock::now();
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;
   readOptions.forcedDim = dim;
@@ -115,7 +116,7 @@ int Stream(const InvertOptions& options, bool keepRaw, const char* verb, Sink&& 
   if (!options.quiet) {
     std::printf("invmap %s: %s onto %s -> %s\n", verb, options.points.c_str(), options.geometry.c_str(),
                 options.output.c_str());
-    summary.Print(stdout, seconds);
+    summary.Print(stdout, seconds, std::chrono::duration<double>(built - start).count());
     if (options.signedDistance) deviation.Print(stdout);
   }
   return 0;
@@ -232,6 +233,9 @@ Manifold BuildManifold(const Geometry& geometry, const std::string& path) {
 
 int RunInvert(const InvertOptions& options) {
   if (options.allMinima) return RunInvertAllMinima(options);
+  if (options.color && io::LowerExtension(options.output) != ".ply") {
+    throw UsageError("--color colours .ply output; " + options.output + " is not a .ply file");
+  }
   return Stream(options, false, "invert", ResultSink{options, nullptr});
 }
 

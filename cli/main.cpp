@@ -59,11 +59,15 @@ int main(int argc, char** argv) {
   invmap::cli::InvertOptions invert;
   CLI::App* invertCommand = app.add_subcommand("invert", "closest point, cell, parameters and distance of every point");
   AddInvertOptions(invertCommand, &invert, false);
-  invertCommand->add_flag("--color", invert.color,
-                          ".ply output: colour the points by distance (viridis; --signed: cool-warm, blue inside to red outside, centred on 0)");
+  auto* color = invertCommand->add_flag(
+      "--color", invert.color,
+      ".ply output: colour the points by distance (viridis; --signed: cool-warm, blue inside to red outside, centred on 0)");
   invertCommand->add_option("--tolerance", invert.tolerance, "--signed: report the share of points within +-T")
-      ->check(kNonNegative);
-  invertCommand->add_flag("--all-minima", invert.allMinima, "every local minimum of each point's distance (.csv, .npy)");
+      ->check(kNonNegative)
+      ->needs("--signed");
+  invertCommand->add_flag("--all-minima", invert.allMinima, "every local minimum of each point's distance (.csv, .npy)")
+      ->excludes("--signed")
+      ->excludes(color);
 
   invmap::cli::InvertOptions trim;
   std::string keep = "near";
@@ -88,7 +92,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(int64_t{20}, int64_t{200000000}));
   generateCommand->add_option("--geometry,-g", generate.geometry, "points, scan: geometry to sample (scan: a CAD model)");
   generateCommand->add_option("--count,-n", generate.count, "points: number of points")
-      ->check(CLI::Range(int64_t{0}, int64_t{2000000000}));
+      ->check(CLI::Range(int64_t{1}, int64_t{2000000000}));
   generateCommand->add_option("--kind", generate.kind, "points: near, far, inside or box")
       ->check(CLI::IsMember({"near", "far", "inside", "box"}));
   generateCommand->add_option("--spread", generate.spread, "points, near: largest offset relative to the size")
@@ -155,8 +159,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    // --help and --version print and succeed; a parse error is a usage
+    // error, worded like every other message of the command.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "invmap: %s\nRun with --help for more information.\n", e.what());
+    return 2;
   }
 
   try {

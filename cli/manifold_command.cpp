@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "invmap/pou.h"
 #include "io/file_io.h"
 #include "io/geometry_file.h"
@@ -19,6 +20,14 @@ int RunManifold(const ManifoldOptions& options) {
   if (extension != ".obj" && extension != ".ply" && extension != ".off" && extension != ".stl") {
     throw io::InputError(options.mesh, 0, "expected a triangle mesh (.obj, .ply, .off or .stl)");
   }
+  RefuseOutputOverInput(options.output, options.mesh, "--mesh");
+  RequireOutputExtension(options.output, ".json", "manifold", "--output");
+  if (!options.tessellate.empty()) {
+    RefuseOutputOverInput(options.tessellate, options.mesh, "--mesh", "--tessellate");
+    RequireOutputExtension(options.tessellate, ".ply", "manifold", "--tessellate");
+  }
+  CheckWritable(options.output);
+  if (!options.tessellate.empty()) CheckWritable(options.tessellate);
   const Geometry mesh = io::ReadGeometryFile(options.mesh);
   if (mesh.patches.size() != 1 || mesh.patches[0].cell != CellType::Tri) {
     throw io::InputError(options.mesh, 0, "the mesh has faces other than triangles (quads); a triangle mesh is needed");

@@ -8,14 +8,28 @@
 
 namespace invmap::cli {
 
-void RefuseOutputOverInput(const std::string& output, const std::string& input, const char* option) {
+void RefuseOutputOverInput(const std::string& output, const std::string& input, const char* option,
+                           const char* outputOption) {
   // stat follows symbolic links, so a link to the input has its device and
   // inode, as does a hard link or the same file by another spelling.
   struct stat outputFile {}, inputFile {};
   if (::stat(output.c_str(), &outputFile) != 0 || ::stat(input.c_str(), &inputFile) != 0) return;
   if (outputFile.st_dev != inputFile.st_dev || outputFile.st_ino != inputFile.st_ino) return;
-  throw UsageError("--output " + output + " is the " + option + " file " + input +
+  throw UsageError(std::string(outputOption) + " " + output + " is the " + option + " file " + input +
                    ": writing it would destroy the input; choose another output");
+}
+
+void RequireOutputExtension(const std::string& output, const char* extension, const char* command,
+                            const char* option) {
+  if (io::LowerExtension(output) == extension) return;
+  throw UsageError(std::string(option) + " " + output + ": " + command + " writes " + extension + " files (name it *" +
+                   extension + ")");
+}
+
+void CheckWritable(const std::string& output) {
+  // The temporary file AtomicOutput creates beside the target is removed
+  // again when it goes out of scope uncommitted.
+  io::AtomicOutput probe(output);
 }
 
 void CheckInversionPaths(const std::string& geometry, const std::string& points, const std::string& output,

@@ -91,6 +91,7 @@ int RunProbe(const ProbeOptions& options) {
   if (!SelectFields(model, options, &fields)) return 2;
 
   const Manifold manifold = BuildManifold(model.geometry, options.geometry);
+  const auto built = std::chrono::steady_clock::now();
   const int dim = model.geometry.dimension;
 
   io::PointReadOptions pointOptions;
@@ -124,7 +125,7 @@ int RunProbe(const ProbeOptions& options) {
   if (!options.quiet) {
     std::printf("invmap probe: %s onto %s -> %s (%zu field columns)\n", options.points.c_str(),
                 options.geometry.c_str(), options.output.c_str(), writeOptions.extraColumns.size());
-    summary.Print(stdout, seconds);
+    summary.Print(stdout, seconds, std::chrono::duration<double>(built - start).count());
   }
   return 0;
 }

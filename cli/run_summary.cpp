@@ -36,10 +36,12 @@ void RunSummary::Add(const Results& results, std::size_t count) {
   }
 }
 
-void RunSummary::Print(std::FILE* out, double seconds) const {
+void RunSummary::Print(std::FILE* out, double seconds, double setupSeconds) const {
   std::fprintf(out, "points      %lld (found %lld, none %lld, invalid %lld)\n", static_cast<long long>(points_),
                static_cast<long long>(found_), static_cast<long long>(none_), static_cast<long long>(invalid_));
-  std::fprintf(out, "time        %.3f s, %.0f points/s\n", seconds, seconds > 0 ? points_ / seconds : 0.0);
+  const double pointSeconds = seconds - setupSeconds;
+  std::fprintf(out, "time        %.3f s (geometry read and built in %.3f s), %.0f points/s\n", seconds, setupSeconds,
+               pointSeconds > 0 ? points_ / pointSeconds : 0.0);
   if (found_ == 0) return;
   std::vector<float> sorted = samples_;
   std::sort(sorted.begin(), sorted.end());

@@ -17,10 +17,12 @@ class RunSummary {
  public:
   /// Adds the results of `count` points.
   void Add(const Results& results, std::size_t count);
-  /// Prints points, found/none/invalid, time, points/s and the distance
-  /// minimum, mean, maximum and percentiles (from a deterministic sample of
-  /// at most kMaxSamples found distances, so memory stays bounded).
-  void Print(std::FILE* out, double seconds) const;
+  /// Prints points, found/none/invalid, the run's time (`seconds`, of which
+  /// `setupSeconds` went to reading the geometry and building its index),
+  /// points/s over the rest, and the distance minimum, mean, maximum and
+  /// percentiles (from a deterministic sample of at most kMaxSamples found
+  /// distances, so memory stays bounded).
+  void Print(std::FILE* out, double seconds, double setupSeconds) const;
 
   std::int64_t points() const { return points_; }
 

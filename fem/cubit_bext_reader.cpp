@@ -193,7 +193,19 @@ FieldGeometry ReadBext(io::InputBuffer& in) {
   std::vector<std::string_view> tokens;
   const bool header = lines.Next(&tokens) && tokens.size() == 5 && tokens[0] == "B" && tokens[1] == "E" &&
                       tokens[2] == "X" && tokens[3] == "T";
-  if (!header) lines.Fail("not a Bezier extraction file: the first line must be 'B E X T 2.0'");
+  if (!header) {
+    // The binary form's layout is not defined in what was available
+    // (docs/fields.md): say so rather than only that the header is wrong.
+    for (std::string_view token : tokens) {
+      for (const char c : token) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == '\x7f') {
+          lines.Fail("a binary file: the binary LS-DYNA Bezier extraction form is not read (only the ASCII form, "
+                     "whose first line is 'B E X T 2.0')");
+        }
+      }
+    }
+    lines.Fail("not a Bezier extraction file: the first line must be 'B E X T 2.0'");
+  }
   if (tokens[4] != "2.0") lines.Fail("BEXT version " + std::string(tokens[4]) + " is not read (only 2.0)");
   ExtractedSpline spline;
   std::vector<std::vector<ExtractionElement>> patches;

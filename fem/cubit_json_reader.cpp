@@ -103,6 +103,16 @@ FieldGeometry ReadText(const std::string& text, const std::string& name) {
     const std::size_t offset = std::min<std::size_t>(e.byte, text.size());
     const std::int64_t line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(offset), '\n');
     throw io::InputError(name, line, "not valid JSON");
+  } catch (const Json::out_of_range& e) {
+    // A number beyond the doubles: the parser names its text, not where it is.
+    const std::string what = e.what();
+    const std::size_t open = what.find('\''), close = what.rfind('\'');
+    std::int64_t line = 0;
+    if (open != std::string::npos && close > open + 1) {
+      const std::size_t at = text.find(what.substr(open + 1, close - open - 1));
+      if (at != std::string::npos) line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+    }
+    throw io::InputError(name, line, "not valid JSON: a number out of the range of doubles");
   }
   const Node root(document, "", name);
   if (!document.is_object()) root.Fail("expected a JSON object");

@@ -1,6 +1,7 @@
 #include "fem/vtu_reader.h"
 
 #include <vtkCellData.h>
+#include <vtkCellType.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -14,12 +15,14 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "fem/file_checks.h"
 #include "fem/lagrange_cells.h"
 #include "fem/vtk_cells.h"
 #include "fem/vtk_messages.h"
 #include "io/input_error.h"
+#include "kernels/cell_shape.h"
 
 namespace invmap::fem {
 namespace {
@@ -39,7 +42,8 @@ std::vector<double> ReadNodes(vtkUnstructuredGrid* grid, const std::string& path
   return nodes;
 }
 
-/// The numeric point data arrays as node fields over the builder's patch.
+/// The numeric point data arrays as node fields over the builder's patch,
+/// but for the rational weights (part of the geometry, not a field).
 std::vector<NodeField> ReadPointFields(vtkUnstructuredGrid* grid, const LagrangePatchBuilder& builder) {
   std::vector<NodeField> fields;
   std::set<std::string> names;
@@ -47,7 +51,8 @@ std::vector<NodeField> ReadPointFields(vtkUnstructuredGrid* grid, const Lagrange
   const vtkIdType n = grid->GetNumberOfPoints();
   for (int a = 0; a < data->GetNumberOfArrays(); ++a) {
     vtkDataArray* array = data->GetArray(a);  // null for non-numeric arrays
-    if (array == nullptr || array->GetName() == nullptr || array->GetNumberOfTuples() != n) continue;
+    if (array == nullptr || array == data->GetRationalWeights()) continue;
+    if (array->GetName() == nullptr || array->GetNumberOfTuples() != n) continue;
     const std::string name = array->GetName();
     if (name.empty() || !names.insert(name).second) continue;
     const int components = array->GetNumberOfComponents();
@@ -61,6 +66,24 @@ std::vector<NodeField> ReadPointFields(vtkUnstructuredGrid* grid, const Lagrange
   }
   return fields;
 }
+
+/// VTK's rational weights of the Bezier cells (the point data array that
+/// the RationalWeights attribute names), or null; checked to hold one value
+/// per point.
+vtkDataArray* RationalWeights(vtkUnstructuredGrid* grid, const std::string& path) {
+  vtkDataArray* weights = grid->GetPointData()->GetRationalWeights();
+  if (weights == nullptr) return nullptr;
+  const std::string name = weights->GetName() == nullptr ? "" : weights->GetName();
+  if (weights->GetNumberOfComponents() != 1 || weights->GetNumberOfTuples() != grid->GetNumberOfPoints()) {
+    throw io::InputError(path, 0, "rational weights '" + name + "': " +
+                                      std::to_string(weights->GetNumberOfComponents()) + " components and " +
+                                      std::to_string(weights->GetNumberOfTuples()) + " tuples, expected 1 and " +
+                                      std::to_string(grid->GetNumberOfPoints()) + " (one per point)");
+  }
+  return weights;
+}
+
+bool IsBezierType(int vtkType) { return vtkType >= VTK_BEZIER_CURVE && vtkType <= VTK_BEZIER_WEDGE; }
 
 /// Checks the sizes the file's XML declares (points, cells, components of
 /// each piece and array) against the file's size before VTK allocates them:
@@ -127,6 +150,18 @@ FieldGeometry ReadVtu(const std::string& path) {
 
   const std::vector<double> nodes = ReadNodes(grid, path);
   const vtkIdType numNodes = grid->GetNumberOfPoints();
+  // With rational weights VTK's Bezier cells evaluate rationally; their
+  // change of basis is learned from the same grid without the weights (the
+  // Bernstein polynomials in VTK's node order), and the weights applied in
+  // homogeneous coordinates (lagrange_cells.h).
+  vtkDataArray* rationalWeights = RationalWeights(grid, path);
+  vtkNew<vtkUnstructuredGrid> polynomialGrid;
+  if (rationalWeights != nullptr) {
+    polynomialGrid->ShallowCopy(grid);
+    polynomialGrid->GetPointData()->SetRationalWeights(nullptr);
+  }
+  vtkUnstructuredGrid* shapeGrid = rationalWeights != nullptr ? polynomialGrid.Get() : grid;
+  std::vector<double> cellWeights;
   vtkDataArray* degrees = grid->GetCellData()->GetHigherOrderDegrees();
   VtkCellConversions conversions;
   bool anyVolume = false;
@@ -154,14 +189,30 @@ FieldGeometry ReadVtu(const std::string& path) {
     if (degrees != nullptr && degrees->GetNumberOfComponents() == 3 && c < degrees->GetNumberOfTuples()) {
       for (int k = 0; k < 3; ++k) orders[k] = static_cast<int>(degrees->GetComponent(c, k));
     }
-    const VtkCellConversion* conversion = conversions.Find(grid, c, orders);
+    const VtkCellConversion* conversion = conversions.Find(shapeGrid, c, orders);
     if (conversion == nullptr || conversion->converter.numNodes() != count) {
       throw io::InputError(path, 0, where + ": " + std::to_string(count) +
                                         " points, whose VTK shape functions are not a polynomial of degree 8 or "
-                                        "less (a rational or malformed cell)");
+                                        "less (a malformed cell)");
     }
     elementNodes.assign(points, points + count);
-    builder.AddElement(conversion->type, conversion->degree, conversion->converter, elementNodes.data());
+    if (rationalWeights != nullptr && IsBezierType(vtkType)) {
+      cellWeights.resize(static_cast<std::size_t>(count));
+      for (vtkIdType j = 0; j < count; ++j) {
+        cellWeights[j] = rationalWeights->GetComponent(points[j], 0);
+        const double w = cellWeights[j];
+        if (!(w > 0.0) || !std::isfinite(w) || w > kernels::kMaxWeight || w < 1.0 / kernels::kMaxWeight) {
+          std::ostringstream text;
+          text << where << ": point " << points[j] << " has rational weight " << w
+               << " (weights must be positive, in [1e-50, 1e50])";
+          throw io::InputError(path, 0, text.str());
+        }
+      }
+      builder.AddRationalElement(conversion->type, conversion->degree, conversion->converter, elementNodes.data(),
+                                 cellWeights.data());
+    } else {
+      builder.AddElement(conversion->type, conversion->degree, conversion->converter, elementNodes.data());
+    }
     anyVolume = anyVolume || ParamDimOf(conversion->type) == 3;
   }
 

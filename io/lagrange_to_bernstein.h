@@ -63,6 +63,9 @@ class LagrangeToBernstein {
   int numControlPoints() const { return numControl_; }
   /// Entry (i, j): weight of node j in control point i.
   double coefficient(int i, int j) const { return matrix_[static_cast<std::size_t>(i) * numNodes_ + j]; }
+  /// The node that control point i equals (its row is a unit vector up to
+  /// rounding), or -1.
+  int copiedNode(int i) const { return copiedNode_[static_cast<std::size_t>(i)]; }
 
   /// Control points from nodal positions: `nodes` holds numNodes() points of
   /// 3 coordinates each; `control` receives numControlPoints() points of the

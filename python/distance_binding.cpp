@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -48,7 +49,7 @@ Pose ToPose(const py::handle& value, const char* name, int dimension) {
   return pose;
 }
 
-DistanceOptions MakeOptions(bool allMinima, std::optional<double> maxDistance, std::optional<int> threads) {
+DistanceOptions MakeOptions(bool allMinima, std::optional<double> maxDistance, std::optional<std::int64_t> threads) {
   DistanceOptions options;
   options.allMinima = allMinima;
   if (maxDistance) options.maxDistance = CheckedMaxDistance(*maxDistance);
@@ -106,7 +107,7 @@ void CheckDimensions(const PyManifold& a, const PyManifold& b) {
 }
 
 py::dict Distance(const PyManifold& a, const PyManifold& b, const py::handle& poseA, const py::handle& poseB,
-                  bool allMinima, std::optional<double> maxDistance, std::optional<int> threads) {
+                  bool allMinima, std::optional<double> maxDistance, std::optional<std::int64_t> threads) {
   CheckDimensions(a, b);
   const Pose pa = ToPose(poseA, "pose_a", a.dimension());
   const Pose pb = ToPose(poseB, "pose_b", b.dimension());
@@ -128,7 +129,7 @@ py::dict Distance(const PyManifold& a, const PyManifold& b, const py::handle& po
 class PyDistanceTracker {
  public:
   PyDistanceTracker(py::object a, py::object b, const py::handle& poseA, std::optional<double> maxDistance,
-                    bool allMinima, std::optional<int> threads)
+                    bool allMinima, std::optional<std::int64_t> threads)
       : a_(std::move(a)), b_(std::move(b)), allMinima_(allMinima) {
     const PyManifold& ma = a_.cast<const PyManifold&>();
     const PyManifold& mb = b_.cast<const PyManifold&>();
@@ -220,7 +221,7 @@ py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
 
 /// Manifold.local_minima: every local minimum of each point's distance.
 py::dict LocalMinimaPy(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                       std::optional<int> threads) {
+                       std::optional<std::int64_t> threads) {
   const NumpyPoints view = ReadNumpyPoints(points, self.dimension());
   const DistanceOptions checked = MakeOptions(false, maxDistance, threads);
   InversionOptions options;

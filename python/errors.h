@@ -3,7 +3,10 @@
 // "invmap: " prefix).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -34,10 +37,11 @@ inline double CheckedMaxDistance(double maxDistance) {
   return maxDistance;
 }
 
-/// threads as given from Python: >= 0 (0: all cores), else InputError.
-inline int CheckedThreads(int threads) {
+/// threads as given from Python: >= 0 (0: all cores), else InputError. More
+/// than the cores runs as many as the cores, so a huge count is not an error.
+inline int CheckedThreads(std::int64_t threads) {
   if (threads < 0) throw InputError("threads: " + std::to_string(threads) + ", expected >= 0 (0: all cores)");
-  return threads;
+  return static_cast<int>(std::min<std::int64_t>(threads, std::numeric_limits<int>::max()));
 }
 
 }  // namespace invmap::python

@@ -123,18 +123,7 @@ PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const s
     throw InputError("cells: shape " + ShapeText(cellInput) + ", a " + cellName + " cell has " +
                      std::to_string(cellVertices) + " vertices");
   }
-  // An unsigned index beyond the int64 range would wrap to a negative one in
-  // the cast below and be reported as such: name it as given.
-  if (cellInput.dtype().kind() == 'u') {
-    const auto unsignedCells = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
-    for (py::ssize_t i = 0; i < unsignedCells.size(); ++i) {
-      const std::uint64_t index = unsignedCells.data()[i];
-      if (index > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
-        throw InputError("from_mesh: patch 0: cells[" + std::to_string(i / cellVertices) + "]: vertex index " +
-                         std::to_string(index) + " out of range [0, " + std::to_string(vertexArray.shape(0)) + ")");
-      }
-    }
-  }
+  CheckUnsignedIndices(cellInput, "from_mesh: patch 0: cells", vertexArray.shape(0));
   const auto cellArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(cellInput);
   Geometry geometry;
   geometry.dimension = static_cast<int>(vertexArray.shape(1));
@@ -194,7 +183,7 @@ py::array Adopt(std::vector<T>&& values, std::vector<py::ssize_t> shape, const p
 }
 
 /// The options of invert and trim, validated (None means the default).
-InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<int> threads, bool pointwise) {
+InversionOptions MakeOptions(std::optional<double> maxDistance, std::optional<std::int64_t> threads, bool pointwise) {
   InversionOptions options;
   options.pointwise = pointwise;
   if (maxDistance) options.maxDistance = CheckedMaxDistance(*maxDistance);
@@ -262,7 +251,7 @@ std::vector<double> Signed(const PyManifold& self, const py::handle& points, con
 
 /// Manifold.invert: the Results as numpy arrays.
 py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<double> maxDistance,
-                std::optional<int> threads, bool pointwise, bool signedDistance) {
+                std::optional<std::int64_t> threads, bool pointwise, bool signedDistance) {
   Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise));
   if (!signedDistance) return ResultsDict(std::move(results), self.dimension());
   std::vector<double> sd = Signed(self, points, results, threads.value_or(0));
@@ -274,7 +263,7 @@ py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<
 
 /// Manifold.probe: Manifold.invert's dict with "fields" added.
 py::dict Probe(const PyManifold& self, const py::handle& points, const std::optional<std::vector<std::string>>& names,
-               std::optional<double> maxDistance, std::optional<int> threads) {
+               std::optional<double> maxDistance, std::optional<std::int64_t> threads) {
   const InversionOptions options = MakeOptions(maxDistance, threads, false);
   Results results = InvertPoints(self, points, options);
   py::dict fields = ProbeFieldsDict(self.fields(), results, names, options.threads);

@@ -1,5 +1,7 @@
 #include "python/numpy_points.h"
 
+#include <cstdint>
+#include <limits>
 #include <string>
 
 #include "python/errors.h"
@@ -32,6 +34,19 @@ py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> IndexArray(
     throw InputError(std::string(field) + ": expected an array of integer vertex indices");
   }
   return py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(array);
+}
+
+void CheckUnsignedIndices(const py::array& indices, const std::string& rows, std::int64_t vertexCount) {
+  if (indices.dtype().kind() != 'u') return;
+  const auto values = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(indices);
+  const py::ssize_t rowWidth = indices.ndim() == 2 && indices.shape(1) > 0 ? indices.shape(1) : 1;
+  for (py::ssize_t i = 0; i < values.size(); ++i) {
+    const std::uint64_t index = values.data()[i];
+    if (index > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+      throw InputError(rows + "[" + std::to_string(i / rowWidth) + "]: vertex index " + std::to_string(index) +
+                       " out of range [0, " + std::to_string(vertexCount) + ")");
+    }
+  }
 }
 
 namespace {

@@ -43,6 +43,13 @@ pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>
 pybind11::array_t<std::int64_t, pybind11::array::c_style | pybind11::array::forcecast> IndexArray(
     const pybind11::handle& values, const char* field);
 
+/// Throws InputError when `indices` (rows of vertex indices, as IndexArray
+/// accepts them) is unsigned and holds an index beyond the int64 range: the
+/// cast to int64 would wrap it to a negative index and the message would
+/// name a value the caller never gave. The message reads
+/// "<rows>[r]: vertex index N out of range [0, vertexCount)".
+void CheckUnsignedIndices(const pybind11::array& indices, const std::string& rows, std::int64_t vertexCount);
+
 /// The elements of a C-ordered array. memcpy, because numpy arrays need not
 /// be aligned.
 template <typename T, int Flags>

@@ -44,6 +44,7 @@ PyManifold BuildManifold(const py::handle& vertices, const py::handle& triangles
   if (triangleArray.ndim() != 2 || triangleArray.shape(1) != 3) {
     throw InputError("triangles: shape " + ShapeText(triangleArray) + ", expected (T, 3)");
   }
+  CheckUnsignedIndices(py::array::ensure(triangles), "manifold: triangles", vertexArray.shape(0));
   const std::vector<double> xyz = CopyElements(vertexArray);
   const std::vector<std::int64_t> corners = CopyElements(triangleArray);
   py::gil_scoped_release noGil;

@@ -120,8 +120,8 @@ def test_points_on_the_surface_are_found_at_gap_tolerance_zero(surface):
 def test_threads_do_not_change_results(surface, capfd):
     points = query_points(surface, 3000)
     one = surface.invert(points, threads=1)
-    # More threads than this machine's cores too, with no library warning on stderr.
-    for threads in (2, 3, 7, 64):
+    # More threads than this machine's cores too (any count beyond int), with no library warning on stderr.
+    for threads in (2, 3, 7, 64, 10**12):
         assert_results_equal(one, surface.invert(points, threads=threads))
     assert capfd.readouterr().err == ""
 

@@ -198,3 +198,12 @@ def bad_meshes():
 def test_bad_meshes_name_the_vertex_or_edge(name, vertices, triangles, message):
     with pytest.raises(invmap.InputError, match=message):
         invmap.manifold(vertices, triangles)
+
+
+def test_an_unsigned_index_beyond_int64_is_named_as_given():
+    vertices, triangles = octahedron()
+    huge = triangles.astype(np.uint64)
+    huge[2, 1] = 2**64 - 1
+    with pytest.raises(invmap.InputError,
+                       match=r"^manifold: triangles\[2\]: vertex index 18446744073709551615 out of range \[0, 6\)"):
+        invmap.manifold(vertices, huge)

@@ -316,6 +316,30 @@ TEST_F(CliTest, AnOutputOverAnInputIsRefusedByAnyPathBeforeAnythingIsRead) {
   EXPECT_TRUE(fs::is_symlink(Path("link.xyz")));
 }
 
+TEST_F(CliTest, OptionsThatWouldBeIgnoredAreUsageErrors) {
+  ASSERT_EQ(Run("generate surface --spans 2 -o " + Path("s.json")), 0);
+  WriteFile("p.xyz", "0.1 0.2 0.3\n");
+  const std::string run = "invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -q";
+  std::string log;
+  // --color colours .ply output only.
+  EXPECT_EQ(Run(run + " --color -o " + Path("r.csv"), &log), 2) << log;
+  EXPECT_NE(log.find("--color"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(Path("r.csv")));
+  // --tolerance is a figure of the signed deviation summary.
+  EXPECT_EQ(Run(run + " --tolerance 0.1 -o " + Path("r.csv"), &log), 2) << log;
+  EXPECT_NE(log.find("--tolerance"), std::string::npos) << log;
+  // The all-minima rows carry no sign and no colour.
+  EXPECT_EQ(Run(run + " --all-minima --signed -o " + Path("r.csv"), &log), 2) << log;
+  EXPECT_EQ(Run(run + " --all-minima --color -o " + Path("r.csv"), &log), 2) << log;
+  EXPECT_FALSE(fs::exists(Path("r.csv")));
+  // A point file holds at least one point: generate writes none only as a usage error.
+  EXPECT_EQ(Run("generate points -g " + Path("s.json") + " -n 0 -o " + Path("none.xyz"), &log), 2) << log;
+  EXPECT_FALSE(fs::exists(Path("none.xyz")));
+  // Parse errors read like every other message of the command.
+  EXPECT_EQ(Run(run + " -o " + Path("r.csv") + " --threads 99999999999999999999", &log), 2) << log;
+  EXPECT_EQ(log.rfind("invmap: ", 0), 0u) << log;
+}
+
 TEST_F(CliTest, GenerateWritesOnlyFilesNamedForTheirFormat) {
   // A sample's output must carry its format's extension: a gmsh mesh named
   // .json would be read back as a geometry file and fail there.

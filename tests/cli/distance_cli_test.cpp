@@ -168,6 +168,25 @@ TEST_F(DistanceCliTest, InputAndOutputErrors) {
   EXPECT_EQ(Run(Models() + " -o " + Path("no/such/dir/d.json"), nullptr, &err), 4);
 }
 
+TEST_F(DistanceCliTest, AnOutputOverAnInputOrOfAnotherFormatIsRefusedBeforeAnyWork) {
+  WriteFile("poses.txt", "1,0,0,0,0,1,0,0,0,0,1,0\n");
+  const std::string torus = ReadFile(Path("torus.json"));
+  const std::string poses = ReadFile(Path("poses.txt"));
+  std::string err;
+  for (const std::string& input : {Path("torus.json"), Path("stick.json"), Path("poses.txt")}) {
+    SCOPED_TRACE(input);
+    EXPECT_EQ(Run(Models() + " --poses-b " + Path("poses.txt") + " -o " + input, nullptr, &err), 2) << err;
+    EXPECT_NE(err.find("writing it would destroy the input"), std::string::npos) << err;
+  }
+  EXPECT_EQ(ReadFile(Path("torus.json")), torus);
+  EXPECT_EQ(ReadFile(Path("poses.txt")), poses);
+  for (const std::string name : {"d.csv", "d.ply", "d"}) {
+    EXPECT_EQ(Run(Models() + " -o " + Path(name), nullptr, &err), 2) << name;
+    EXPECT_NE(err.find("distance writes .json files"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(Path(name))) << name;
+  }
+}
+
 }  // namespace
 
 namespace {

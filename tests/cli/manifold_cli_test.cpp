@@ -299,4 +299,29 @@ TEST_F(CliTest, ManifoldRefusesBadMeshesNamingTheVertexOrEdgeAndWritesNothing) {
   }
 }
 
+TEST_F(CliTest, ManifoldRefusesOutputsOverItsMeshOrOfAnotherFormatAndUnwritablePathsBeforeBuilding) {
+  const TriangleMesh mesh = invmap::testing::Bipyramid(4);
+  WriteFile("mesh.ply", MeshText(mesh, ".ply"));
+  const std::string original = ReadFile(Path("mesh.ply"));
+  const std::string m = "manifold -m " + Path("mesh.ply");
+  std::string out;
+  EXPECT_EQ(Run(m + " -o " + Path("mesh.ply"), &out), 2) << out;
+  EXPECT_NE(out.find("writing it would destroy the input"), std::string::npos) << out;
+  EXPECT_EQ(Run(m + " -o " + Path("S.json") + " --tessellate " + Path("mesh.ply"), &out), 2) << out;
+  EXPECT_EQ(ReadFile(Path("mesh.ply")), original);
+  EXPECT_EQ(Run(m + " -o " + Path("S.ply"), &out), 2) << out;
+  EXPECT_NE(out.find("manifold writes .json files"), std::string::npos) << out;
+  EXPECT_EQ(Run(m + " -o " + Path("S.json") + " --tessellate " + Path("T.obj"), &out), 2) << out;
+  EXPECT_NE(out.find("manifold writes .ply files"), std::string::npos) << out;
+  // A tessellation that cannot be written is found before the surface is
+  // built or written: exit 4 and nothing left behind.
+  EXPECT_EQ(Run(m + " -o " + Path("S.json") + " --tessellate " + Path("no/such/dir/T.ply"), &out), 4) << out;
+  EXPECT_NE(out.find("no/such/dir/T.ply"), std::string::npos) << out;
+  std::error_code ignored;
+  for (const auto& entry : fs::directory_iterator(dir_, ignored)) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_TRUE(name == "mesh.ply" || name == "run.log") << "left " << name;
+  }
+}
+
 }  // namespace

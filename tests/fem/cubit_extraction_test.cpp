@@ -201,6 +201,9 @@ TEST(CubitExtraction, BadBextFilesNameFileAndLine) {
   ExpectInputError([&] { fem::ReadCubitBext(dir.Write("a.bext", ReplaceLine(good, 1, "B E X T 3.0"))); },
               {"a.bext:1:", "version 3.0"});
   ExpectInputError([&] { fem::ReadCubitBext(dir.Write("b.bext", "hello\n")); }, {"b.bext:1:", "B E X T 2.0"});
+  // Bytes that are not text: the binary form, refused as such.
+  ExpectInputError([&] { fem::ReadCubitBext(dir.Write("binary.bext", std::string("\x01\x00\x00\x00" "BEXT\x02", 9))); },
+                   {"binary.bext:1:", "binary LS-DYNA Bezier extraction form is not read"});
   // Line 6 is the first control point.
   ExpectInputError([&] { fem::ReadCubitBext(dir.Write("c.bext", ReplaceLine(good, 6, "0 0 zero 1"))); },
               {"c.bext:6:", "'zero'"});
@@ -234,6 +237,10 @@ TEST(CubitExtraction, BadJsonFilesNameFileAndPath) {
               {"b.json", "elements.element_blocks[0]", "coefficient vector 999 out of range"});
   ExpectInputError([&] { fem::ReadCubitJson(dir.Write("c.json", "{\"control_points\": {}, \"elements\": {}}")); },
               {"c.json", "new Bezier extraction JSON format is not read"});
+  // A number past the doubles made the JSON library throw past the reader
+  // (found by fuzz_fem): an input error naming its line.
+  ExpectInputError([&] { fem::ReadCubitJson(dir.Write("f.json", "{\"patch_id\": 0,\n\"nodes\": [[1e999, 0, 0, 1]]}")); },
+                   {"f.json:2:", "a number out of the range of doubles"});
   EXPECT_FALSE(fem::LooksLikeCubitJson(dir.Write("d.json", "{\"format\": \"invmap-geometry\", \"version\": 1}")));
   EXPECT_TRUE(fem::LooksLikeCubitJson(dir.Write("e.json", " {\n  \"block_elem_map\": []}")));
 }

@@ -13,9 +13,11 @@
 
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 #include "tests/fem/exodus_writer.h"
+#include "tests/fem/vtk_test_cells.h"
 #include "tests/io/io_scratch.h"
 
 namespace invmap::testing {
@@ -156,6 +158,54 @@ TEST(ProbeCli, ExitCodesAndMessages) {
             std::string::npos)
       << out;
   EXPECT_FALSE(std::filesystem::exists(dir.Path("r.csv")));
+}
+
+/// A quarter circle of radius 2 in the plane z = 0.5 as one rational
+/// quadratic VTK Bezier curve, with point data X (each node's x) and weight
+/// `middleWeight` at the interior control point.
+std::string WriteRationalArc(const ScratchDir& dir, const std::string& name, double middleWeight) {
+  vtkNew<vtkUnstructuredGrid> grid;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> x, w;
+  x->SetName("X");
+  w->SetName("W");
+  const double nodes[3][3] = {{2, 0, 0.5}, {0, 2, 0.5}, {2, 2, 0.5}};  // VTK's order: ends, then the middle
+  for (int i = 0; i < 3; ++i) {
+    points->InsertNextPoint(nodes[i]);
+    x->InsertNextValue(nodes[i][0]);
+    w->InsertNextValue(i == 2 ? middleWeight : 1.0);
+  }
+  grid->SetPoints(points);
+  const vtkIdType ids[3] = {0, 1, 2};
+  grid->InsertNextCell(VTK_BEZIER_CURVE, 3, ids);
+  grid->GetPointData()->AddArray(x);
+  grid->GetPointData()->SetRationalWeights(w);
+  const std::string path = dir.Path(name);
+  EXPECT_TRUE(Write(grid, path, Encoding::Appended));
+  return path;
+}
+
+// A rational Bezier curve end to end: the field of the nodes' x, interpolated
+// with the cell's rational basis, is the x of the exact circle at the
+// closest point; a weight out of range is exit code 3 naming the cell and point.
+TEST(ProbeCli, RationalVtuBezierCells) {
+  const ScratchDir dir;
+  const std::string arc = WriteRationalArc(dir, "arc.vtu", std::sqrt(0.5));
+  const double theta = 0.4;
+  std::ofstream(dir.Path("p.xyz")) << std::setprecision(17) << 3 * std::cos(theta) << " " << 3 * std::sin(theta)
+                                  << " 0.5\n";
+  ASSERT_EQ(RunInvmap(dir, "probe -q -g " + arc + " -p " + dir.Path("p.xyz") + " -o " + dir.Path("r.csv")), 0);
+  const auto rows = Csv(ReadAll(dir.Path("r.csv")));
+  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows[0].back(), "X");
+  EXPECT_NEAR(std::stod(rows[1][10]), 1.0, 1e-12);                   // distance to the circle of radius 2
+  EXPECT_NEAR(std::stod(rows[1].back()), 2 * std::cos(theta), 1e-12);  // X at the closest point
+  std::string out;
+  const std::string bad = WriteRationalArc(dir, "bad.vtu", -1.0);
+  EXPECT_EQ(RunInvmap(dir, "probe -g " + bad + " -p " + dir.Path("p.xyz") + " -o " + dir.Path("s.csv"), &out), 3);
+  EXPECT_NE(out.find(bad + ": cell 0 (VTK_BEZIER_CURVE): point 2 has rational weight -1"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir.Path("s.csv")));
 }
 
 TEST(ProbeCli, ExodusTimeSteps) {

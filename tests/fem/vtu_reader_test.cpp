@@ -10,17 +10,12 @@
 #include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
-#include <vtkGenericCell.h>
-#include <vtkHigherOrderHexahedron.h>
-#include <vtkHigherOrderQuadrilateral.h>
-#include <vtkHigherOrderWedge.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridWriter.h>
 
 #include <filesystem>
 #include <fstream>
@@ -28,6 +23,7 @@
 #include "fem/vtk_cells.h"
 #include "io/input_error.h"
 #include "tests/fem/fem_test_support.h"
+#include "tests/fem/vtk_test_cells.h"
 #include "tests/io/io_scratch.h"
 
 namespace invmap::testing {
@@ -89,60 +85,6 @@ std::string CaseName(const ::testing::TestParamInfo<VtkCase>& info) {
   return name;
 }
 
-/// Nodes of a Lagrange or Bezier cell of `order`.
-int HigherOrderPoints(int vtkType, int order) {
-  const int p = order;
-  switch (vtkType) {
-    case VTK_LAGRANGE_CURVE:
-    case VTK_BEZIER_CURVE:
-      return p + 1;
-    case VTK_LAGRANGE_TRIANGLE:
-    case VTK_BEZIER_TRIANGLE:
-      return (p + 1) * (p + 2) / 2;
-    case VTK_LAGRANGE_QUADRILATERAL:
-    case VTK_BEZIER_QUADRILATERAL:
-      return (p + 1) * (p + 1);
-    case VTK_LAGRANGE_TETRAHEDRON:
-    case VTK_BEZIER_TETRAHEDRON:
-      return (p + 1) * (p + 2) * (p + 3) / 6;
-    case VTK_LAGRANGE_HEXAHEDRON:
-    case VTK_BEZIER_HEXAHEDRON:
-      return (p + 1) * (p + 1) * (p + 1);
-    default:
-      return (p + 1) * (p + 1) * (p + 2) / 2;
-  }
-}
-
-/// A VTK cell of the case's type, its node count set, with VTK's reference
-/// node coordinates.
-vtkSmartPointer<vtkCell> MakeReferenceCell(const VtkCase& c) {
-  vtkSmartPointer<vtkCell> cell;
-  cell.TakeReference(vtkGenericCell::InstantiateCell(c.vtkType));
-  if (c.order > 0) {
-    const int n = HigherOrderPoints(c.vtkType, c.order);
-    cell->GetPointIds()->SetNumberOfIds(n);
-    cell->GetPoints()->SetNumberOfPoints(n);
-    cell->Initialize();
-    if (auto* quad = vtkHigherOrderQuadrilateral::SafeDownCast(cell)) quad->SetUniformOrderFromNumPoints(n);
-    if (auto* hex = vtkHigherOrderHexahedron::SafeDownCast(cell)) hex->SetUniformOrderFromNumPoints(n);
-    if (auto* wedge = vtkHigherOrderWedge::SafeDownCast(cell)) wedge->SetUniformOrderFromNumPoints(n);
-  }
-  return cell;
-}
-
-/// Where the test puts a reference point: curved (a bend of each
-/// coordinate) or affine, always non-degenerate, in 3D. VTK's pixels and
-/// voxels are axis-aligned by definition: `aligned` scales and shifts only.
-std::array<double, 3> Place(const double* r, bool curved, bool aligned = false) {
-  if (aligned) return {0.3 + 1.1 * r[0], -0.2 + 0.9 * r[1], 0.5 + 1.2 * r[2]};
-  const double x = 0.3 + 1.1 * r[0] + 0.2 * r[1] - 0.1 * r[2];
-  const double y = -0.2 + 0.15 * r[0] + 0.9 * r[1] + 0.25 * r[2];
-  const double z = 0.5 - 0.1 * r[0] + 0.2 * r[1] + 1.2 * r[2];
-  if (!curved) return {x, y, z};
-  return {x + 0.15 * r[1] * r[1] - 0.1 * r[0] * r[2], y + 0.12 * r[0] * r[0] + 0.08 * r[2] * r[2],
-          z + 0.2 * r[0] * r[1] + 0.1 * r[0] * r[0]};
-}
-
 /// A polynomial of total degree `degree` (every monomial present).
 double Polynomial(const std::array<double, 3>& x, int degree) {
   double value = 0.25;
@@ -168,7 +110,7 @@ bool IsBezier(int vtkType) { return vtkType >= VTK_BEZIER_CURVE && vtkType <= VT
 /// A one-cell grid of the case: nodes placed by Place, point data "f" (the
 /// polynomial of the case's complete degree) and "v" (three components).
 vtkSmartPointer<vtkUnstructuredGrid> MakeGrid(const VtkCase& c, bool curved) {
-  vtkSmartPointer<vtkCell> reference = MakeReferenceCell(c);
+  vtkSmartPointer<vtkCell> reference = MakeReferenceCell(c.vtkType, c.order);
   const int n = static_cast<int>(reference->GetNumberOfPoints());
   const double* pcoords = reference->GetParametricCoords();
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
@@ -192,38 +134,6 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeGrid(const VtkCase& c, bool curved) {
   grid->GetPointData()->AddArray(f);
   grid->GetPointData()->AddArray(v);
   return grid;
-}
-
-/// The writer's encodings.
-enum class Encoding { Ascii, Binary, BinaryZlib, Appended, AppendedRawZlib };
-
-bool Write(vtkUnstructuredGrid* grid, const std::string& path, Encoding encoding) {
-  vtkNew<vtkXMLUnstructuredGridWriter> writer;
-  writer->SetFileName(path.c_str());
-  writer->SetInputData(grid);
-  writer->SetCompressorTypeToNone();
-  switch (encoding) {
-    case Encoding::Ascii:
-      writer->SetDataModeToAscii();
-      break;
-    case Encoding::Binary:
-      writer->SetDataModeToBinary();
-      break;
-    case Encoding::BinaryZlib:
-      writer->SetDataModeToBinary();
-      writer->SetCompressorTypeToZLib();
-      break;
-    case Encoding::Appended:
-      writer->SetDataModeToAppended();
-      writer->EncodeAppendedDataOn();
-      break;
-    case Encoding::AppendedRawZlib:
-      writer->SetDataModeToAppended();
-      writer->EncodeAppendedDataOff();
-      writer->SetCompressorTypeToZLib();
-      break;
-  }
-  return writer->Write() == 1;
 }
 
 CellType InvmapType(int vtkType) {
@@ -304,32 +214,8 @@ TEST_P(VtuCellTest, ParametersRoundTrip) {
   const ScratchDir dir;
   const vtkSmartPointer<vtkUnstructuredGrid> grid = MakeGrid(c, true);
   const ReadBack read = WriteReadAndBuild(grid, dir.Path("cell.vtu"), Encoding::Appended);
-  const Manifold& manifold = read.built.manifold;
-  const CellType type = InvmapType(c.vtkType);
-  const bool volume = type == CellType::Tet || type == CellType::Hex || type == CellType::Wedge;
-  vtkCell* cell = grid->GetCell(0);
-  std::vector<double> weights(static_cast<std::size_t>(cell->GetNumberOfPoints()));
-  std::mt19937 rng(static_cast<unsigned>(c.vtkType + 7 * c.order));
-  std::vector<double> xyz;
-  std::vector<std::array<double, 3>> expected;
-  for (int trial = 0; trial < 50; ++trial) {
-    const std::array<double, 3> r = RandomReferencePoint(type, rng, 0.02);
-    double pcoords[3] = {r[0], r[1], r[2]};
-    double x[3];
-    int subId = 0;
-    cell->EvaluateLocation(subId, pcoords, x, weights.data());
-    xyz.insert(xyz.end(), x, x + 3);
-    expected.push_back(r);
-  }
-  Results results;
-  ASSERT_EQ(manifold.Invert(PointsView::Interleaved(xyz.data(), expected.size(), 3), {}, &results), Error::Ok);
-  const int paramDim = type == CellType::Line ? 1 : (type == CellType::Tri || type == CellType::Quad) ? 2 : 3;
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    ASSERT_EQ(results.status[i], Status::Found);
-    EXPECT_LT(results.distance[i], 1e-10) << "point " << i;
-    if (!volume) continue;
-    for (int k = 0; k < paramDim; ++k) EXPECT_NEAR(results.params[3 * i + k], expected[i][k], 1e-9) << "point " << i;
-  }
+  ExpectVtkPointsRoundTrip(read.built.manifold, grid->GetCell(0), InvmapType(c.vtkType),
+                           static_cast<unsigned>(c.vtkType + 7 * c.order), 50);
 }
 
 class VtuFieldTest : public ::testing::TestWithParam<VtkCase> {};
