@@ -181,7 +181,10 @@ bool ProvesPairBound(const PairCertificateInput& in) {
   // takes out of the face (a minimum on an edge two cells share).
   bool pressing[kMaxPairConstraints];
   bool any = false;
-  for (int c = 0; c < in.numActive; ++c) any = any || (pressing[c] = in.multiplier[c] > 0.0);
+  for (int c = 0; c < in.numActive; ++c) {
+    pressing[c] = in.multiplier[c] > 0.0;  // every one: `any ||` would skip the rest once one presses
+    any = any || pressing[c];
+  }
   // Into the coordinates y of the bounds: t - x_S = M y.
   Matrix m = Matrix::Identity(n, n);
   if (in.basis) {
