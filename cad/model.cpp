@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <new>
+#include <vector>
 
 #include "cad/model_conversion.h"
 #include "cad/model_impl.h"
@@ -102,6 +103,47 @@ void Model::SignDistances(const double* xyz, std::size_t count, const Results& r
         }
       },
       threads);
+  if (impl_->solidParts.Count() > 1) SignInOtherSolids(xyz, count, results, signedDistances, threads);
+}
+
+void Model::SignInOtherSolids(const double* xyz, std::size_t count, const Results& results, double* signedDistances,
+                              int threads) const {
+  // The sign above is the side of the solid whose face is nearest. Inside
+  // that solid is inside the model; outside it, the point may still be
+  // inside another solid that touches it there or holds it, and only one
+  // whose box holds the closest point can (cad/solid_parts.h). A face that
+  // bounds two solids at once (a compsolid) tells neither side: every solid
+  // around it is asked.
+  const PseudoNormals& normals = impl_->normals;
+  const SolidParts& parts = impl_->solidParts;
+  std::vector<std::vector<std::size_t>> asked(parts.Count());
+  for (std::size_t i = 0; i < count; ++i) {
+    const double d = results.distance[i];
+    if (results.status[i] != Status::Found || d == 0.0) continue;
+    const int patch = results.patch[i];
+    const bool shared = normals.SharedBetweenSolids(patch);
+    if (shared) {
+      signedDistances[i] = d;
+    } else if (signedDistances[i] < 0.0) {
+      continue;
+    }
+    const int own = normals.SolidOf(patch);
+    for (std::size_t s = 0; s < parts.Count(); ++s) {
+      if ((shared || static_cast<int>(s) != own) && parts.MayHold(static_cast<int>(s), &results.closest[3 * i])) {
+        asked[s].push_back(i);
+      }
+    }
+  }
+  for (std::size_t s = 0; s < parts.Count(); ++s) {
+    if (asked[s].empty()) continue;
+    std::vector<double> points;
+    points.reserve(3 * asked[s].size());
+    for (const std::size_t i : asked[s]) points.insert(points.end(), xyz + 3 * i, xyz + 3 * i + 3);
+    const std::vector<double> signs = parts.Signs(static_cast<int>(s), points, threads);
+    for (std::size_t k = 0; k < asked[s].size(); ++k) {
+      if (signs[k] < 0.0) signedDistances[asked[s][k]] = -results.distance[asked[s][k]];
+    }
+  }
 }
 
 bool IsCadFile(const std::string& path) { return HasCadExtension(path); }
@@ -122,6 +164,7 @@ void Model::Impl::BuildTopology() {
     openParts.push_back(part);
   }
   normals.Build(shape, model);
+  solidParts.Build(normals.Solids(), model);
   TopTools_IndexedDataMapOfShapeListOfShape faceShells;
   TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SHELL, faceShells);
   for (int f = 1; f <= model.faceMap.Extent(); ++f) {

@@ -82,10 +82,12 @@ class Model {
 
   /// The signed distances of `count` points (`xyz`, 3 per point) whose
   /// results on this model's geometry are `results`: the distance, negative
-  /// for points inside a solid (a closed shell), 0 on the surface, NaN where
-  /// the point was not found. Signs come from the face normal at the
-  /// closest point, or from the faces around it when that point is on an
-  /// edge or a vertex (docs/cad.md). Precondition: SignedUnsupported() is
+  /// for points inside any of its solids (closed shells), positive outside
+  /// all of them, 0 on the surface, NaN where the point was not found.
+  /// Signs come from the face normal at the closest point, or from the
+  /// faces around it when that point is on an edge or a vertex; in a model
+  /// of several solids, from each solid that may hold the point, on its own
+  /// (docs/cad.md). Precondition: SignedUnsupported() is
   /// empty. Thread-safe; `threads` as InversionOptions::threads.
   void SignDistances(const double* xyz, std::size_t count, const Results& results, double* signedDistances,
                      int threads = 0) const;
@@ -94,6 +96,10 @@ class Model {
   friend std::vector<double> SimulateScan(const Model& model, const ScanOptions& options);
   friend Patch Tessellate(const Model& model, double deflection);
   Model();
+  /// SignDistances' second pass on a model of several solids: the points
+  /// inside a solid other than the one their nearest face bounds.
+  void SignInOtherSolids(const double* xyz, std::size_t count, const Results& results, double* signedDistances,
+                         int threads) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -8,6 +8,7 @@
 
 #include "cad/model_conversion.h"
 #include "cad/pseudo_normals.h"
+#include "cad/solid_parts.h"
 #include "cad/model.h"
 
 namespace invmap::cad {
@@ -20,8 +21,10 @@ struct Model::Impl {
   std::vector<std::string> openParts;
   /// The faces around each edge and vertex, for the signs (cad/pseudo_normals.h).
   PseudoNormals normals;
+  /// Each solid on its own, for models of several (cad/solid_parts.h).
+  SolidParts solidParts;
 
-  /// Fills openParts and normals from shape and model.
+  /// Fills openParts, normals and solidParts from shape and model.
   void BuildTopology();
 };
 

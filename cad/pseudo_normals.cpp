@@ -8,8 +8,10 @@
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopTools_DataMapOfShapeShape.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListIteratorOfListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
@@ -111,6 +113,7 @@ void PseudoNormals::Build(const TopoDS_Shape& shape, const ConvertedModel& model
   TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SOLID, faceSolids);
   TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SHELL, faceShells);
   TopTools_IndexedMapOfShape solids;
+  TopTools_DataMapOfShapeShape shellSolids;
 
   faces_.resize(model.faces.size());
   for (std::size_t f = 0; f < model.faces.size(); ++f) {
@@ -140,15 +143,21 @@ void PseudoNormals::Build(const TopoDS_Shape& shape, const ConvertedModel& model
     if (const int at = faceSolids.FindIndex(record.face); at > 0 && !faceSolids(at).IsEmpty()) {
       solid = faceSolids(at).First();
     } else if (const int shellAt = faceShells.FindIndex(record.face); shellAt > 0 && !faceShells(shellAt).IsEmpty()) {
-      BRep_Builder builder;
-      TopoDS_Solid made;
-      builder.MakeSolid(made);
-      builder.Add(made, faceShells(shellAt).First());
-      solid = made;
+      // One solid per shell, made the first time one of its faces comes.
+      const TopoDS_Shape& shell = faceShells(shellAt).First();
+      if (!shellSolids.IsBound(shell)) {
+        BRep_Builder builder;
+        TopoDS_Solid made;
+        builder.MakeSolid(made);
+        builder.Add(made, shell);
+        shellSolids.Bind(shell, made);
+      }
+      solid = shellSolids(shell);
     }
     if (!solid.IsNull()) data.solid = solids.Add(solid) - 1;
   }
   for (int s = 1; s <= solids.Extent(); ++s) solids_.push_back(solids(s));
+  MarkSharedFaces(shape, model);
   classifiers_.resize(solids_.size());
 
   // Each vertex's pseudo-normal: the normals of its faces weighted by the
@@ -190,6 +199,39 @@ void PseudoNormals::Build(const TopoDS_Shape& shape, const ConvertedModel& model
         vertexNormals_[v] += angle * n;
       }
     }
+  }
+}
+
+void PseudoNormals::MarkSharedFaces(const TopoDS_Shape& shape, const ConvertedModel& model) {
+  if (solids_.size() < 2) return;
+  // A sub-shape listed under two different shells bounds two solids (the
+  // shells of one solid, its outer one and its voids', share nothing; a
+  // closed shell outside any solid is a solid of its own here).
+  auto sharedKind = [&](TopAbs_ShapeEnum kind) {
+    TopTools_IndexedDataMapOfShapeListOfShape ancestors;
+    TopExp::MapShapesAndAncestors(shape, kind, TopAbs_SHELL, ancestors);
+    TopTools_IndexedMapOfShape shared;
+    for (int k = 1; k <= ancestors.Extent(); ++k) {
+      const TopTools_ListOfShape& shells = ancestors(k);
+      for (TopTools_ListIteratorOfListOfShape it(shells); it.More(); it.Next()) {
+        if (!it.Value().IsSame(shells.First())) {
+          shared.Add(ancestors.FindKey(k));
+          break;
+        }
+      }
+    }
+    return shared;
+  };
+  const TopTools_IndexedMapOfShape faces = sharedKind(TopAbs_FACE), edges = sharedKind(TopAbs_EDGE),
+                                   vertices = sharedKind(TopAbs_VERTEX);
+  for (std::size_t f = 0; f < model.faces.size(); ++f) {
+    const TopoDS_Face& face = model.faces[f].face;
+    bool shared = faces.Contains(face);
+    for (TopExp_Explorer it(face, TopAbs_EDGE); it.More() && !shared; it.Next()) shared = edges.Contains(it.Current());
+    for (TopExp_Explorer it(face, TopAbs_VERTEX); it.More() && !shared; it.Next()) {
+      shared = vertices.Contains(it.Current());
+    }
+    faces_[f].shared = shared;
   }
 }
 

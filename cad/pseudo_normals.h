@@ -36,6 +36,15 @@ class PseudoNormals {
   /// geometry is `closest` on face `patch`, cell `cell`, parameters `uv`.
   double Sign(const double* p, int patch, std::int64_t cell, const double* uv, const double* closest) const;
 
+  /// The model's solids (a closed shell outside any solid made one), and
+  /// the one face `face` bounds (-1 for none).
+  const std::vector<TopoDS_Shape>& Solids() const { return solids_; }
+  int SolidOf(int face) const { return faces_[face].solid; }
+  /// True when face `face`, or an edge or vertex of it, bounds more than one
+  /// solid (a compsolid's shared face): Sign then tells the side of one of
+  /// them, which says nothing about the others.
+  bool SharedBetweenSolids(int face) const { return faces_[face].shared; }
+
  private:
   struct EdgeUse {
     int face;
@@ -60,6 +69,7 @@ class PseudoNormals {
     std::vector<EdgeCell> edgeCells;
     std::vector<int> edges;  ///< Every edge of the face.
     int solid = -1;          ///< Its solid for the classifier.
+    bool shared = false;     ///< SharedBetweenSolids.
   };
 
   /// The outward unit normal of face f at (u, v) (zero where it has none,
@@ -67,6 +77,8 @@ class PseudoNormals {
   gp_Vec Normal(int face, double u, double v) const;
   /// The sign from edge e at own parameter s (a vertex's at its ends).
   double EdgeSign(const gp_Vec& offset, int edge, double s) const;
+  /// Sets FaceData::shared.
+  void MarkSharedFaces(const TopoDS_Shape& shape, const ConvertedModel& model);
   /// The sign by the classifier (slow; the last resort).
   double ClassifierSign(int face, const gp_Pnt& p) const;
 

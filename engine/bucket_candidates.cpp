@@ -1,6 +1,7 @@
 #include "engine/bucket_candidates.h"
 
 #include "engine/nearest_cells.h"
+#include "engine/point_search.h"
 #include "engine/simplex_lanes.h"
 
 namespace invmap::engine {
@@ -31,7 +32,9 @@ BucketList CullBucket(const CellStore& store, const Bvh& bvh, const QueryPoints&
                       std::int64_t count, const double* lo, const double* hi, double maxDistance,
                       BucketScratch& scratch) {
   BucketList list;
-  list.use = NearestCells(bvh, lo, hi, &scratch.candidates, &scratch.stack, maxDistance, kMaxBucketCandidates, &store) &&
+  // Boxes within the gap tolerance and the widest band (PointSearch::Prune2).
+  const double reach = maxDistance + PointSearch::GapBand(store.largestSize());
+  list.use = NearestCells(bvh, lo, hi, &scratch.candidates, &scratch.stack, reach, kMaxBucketCandidates, &store) &&
              scratch.candidates.size() <= kMaxBucketCandidates;
   list.lanesSolved = list.use && SolveAffineSimplexLanes(store, points, first, count, maxDistance, scratch);
   if (list.use) GatherSearchedCandidates(store, list.lanesSolved, scratch);

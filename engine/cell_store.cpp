@@ -1,5 +1,7 @@
 #include "engine/cell_store.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -62,6 +64,7 @@ CellStore::CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, 
       solvers_(std::move(solvers)),
       regions_(std::move(regions)),
       tetAdjacency_(std::move(tetAdjacency)) {
+  FindLargestSize();
   // Algorithm 6: the subdivisions the BVH is built over, every region once
   // (at its first cell) and every cell outside a region; without regions,
   // the cells themselves (no arrays).
@@ -97,6 +100,34 @@ CellStore::CellStore(MeshTriangles triangles)
   nets_.patchFirst = triangles_.patchFirst();
   nets_.numPatches = nets_.patchFirst.size() - 1;
   nets_.splineSpans.assign(nets_.numPatches, {0, 0, 0});
+  FindLargestSize();
+}
+
+void CellStore::FindLargestSize() {
+  // Regions' boxes are unions of their cells' boxes: the diagonal of all
+  // boxes bounds every region's size, and every cell's (with its own size,
+  // which is positive even for a cell that is a single point).
+  double lo[3], hi[3];
+  std::fill(lo, lo + 3, std::numeric_limits<double>::infinity());
+  std::fill(hi, hi + 3, -std::numeric_limits<double>::infinity());
+  for (std::int64_t c = 0; c < size(); ++c) {
+    double cellLo[3], cellHi[3];
+    if (triangles_.empty()) {
+      std::copy(solvers_[c].boxLo(), solvers_[c].boxLo() + 3, cellLo);
+      std::copy(solvers_[c].boxHi(), solvers_[c].boxHi() + 3, cellHi);
+    } else {
+      triangles_.Box(c, cellLo, cellHi);
+    }
+    largestSize_ = std::max(largestSize_, kernels::CellSolver::SizeOfBox(cellLo, cellHi, dimension()));
+    for (int k = 0; k < dimension(); ++k) {
+      lo[k] = std::min(lo[k], cellLo[k]);
+      hi[k] = std::max(hi[k], cellHi[k]);
+    }
+  }
+  if (size() > 0) {
+    const double depth = dimension() > 2 ? hi[2] - lo[2] : 0.0;
+    largestSize_ = std::max(largestSize_, std::hypot(hi[0] - lo[0], hi[1] - lo[1], depth));
+  }
 }
 
 CellStore::CellStore(CellStore&&) noexcept = default;

@@ -88,6 +88,11 @@ class CellStore {
   /// Index of the first cell of `patch` (cells of a patch are contiguous);
   /// patchFirstCell(numPatches()) == size().
   std::int64_t patchFirstCell(std::size_t patch) const { return nets_.patchFirst[patch]; }
+  /// The largest size of a cell or affine region, or more (the diagonal of
+  /// all cells' boxes): its gap band (PointSearch::GapBand) is at least any
+  /// subdivision's, so a box test widened by it never loses a cell whose
+  /// answer would be found within the gap tolerance.
+  double largestSize() const { return largestSize_; }
   /// Heap memory of the cells: control points, weights, solvers and their nets.
   std::size_t MemoryBytes() const;
 
@@ -154,6 +159,8 @@ class CellStore {
             std::vector<AffineRegion> regions);
   explicit CellStore(MeshTriangles triangles);
 
+  /// Sets largestSize_ from the cells' boxes.
+  void FindLargestSize();
   const kernels::CellSolver& TriangleSolver(std::int64_t cell) const;
   const CellOrigin& TriangleOrigin(std::int64_t cell) const;
 
@@ -165,6 +172,7 @@ class CellStore {
   std::vector<std::int32_t> regionOfCell_;    // -1 outside every region
   std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
   TetAdjacency tetAdjacency_;
+  double largestSize_ = 0.0;
   // Geometries of triangle meshes alone: their cells (empty otherwise), and
   // the solvers solver() built for them.
   MeshTriangles triangles_;

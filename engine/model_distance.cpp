@@ -60,6 +60,22 @@ std::int64_t FirstCellInside(const PlacedModel& x, const PlacedModel& y, double 
   return -1;
 }
 
+/// The largest distance from the model's origin of a point of its cells:
+/// of a corner of their boxes (each holds its cell's control points, which
+/// hold the cell).
+double ModelRadius(const DistanceCells& cells) {
+  double r2 = 0.0;
+  for (const BvhBox& box : cells.bvh().ItemBoxes()) {
+    double corner2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double m = std::max(std::abs(box.lo[k]), std::abs(box.hi[k]));
+      corner2 += m * m;
+    }
+    r2 = std::max(r2, corner2);
+  }
+  return std::sqrt(r2) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+}
+
 }  // namespace
 
 /// The pair kernels' view of distance cell `cell` of model `m`. Affine cells
@@ -101,6 +117,19 @@ kernels::PairSolveResult SolvePlacedCells(const PlacedModel& a, std::int64_t cel
   return kernels::SolveCellPair(sideA, sideB, startA, startB, &ws->pair, bound2);
 }
 
+namespace {
+
+/// ProbeCellPair (kernels/pair_search.h) of one cell pair.
+kernels::PairSolveResult ProbePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,
+                                          std::int64_t cellB, double bound2, ModelDistanceWorkspace* ws) {
+  const bool convex = a.cells->cell(cellA).affine && b.cells->cell(cellB).affine;
+  const kernels::PairSide sideA = PlacedSide(a, cellA, 0, !convex, ws);
+  const kernels::PairSide sideB = PlacedSide(b, cellB, 1, !convex, ws);
+  return kernels::ProbeCellPair(sideA, sideB, &ws->pair, bound2);
+}
+
+}  // namespace
+
 CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const ModelDistanceOptions& options,
                            ModelDistanceWorkspace* ws) {
   CellPairAnswer answer;
@@ -112,14 +141,17 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   // Found means within maxDistance: the bound admits a pair at exactly it.
   double best2 = options.maxDistance < kInf ? options.maxDistance * options.maxDistance * (1.0 + 1e-15) : kInf;
   const double zero = kernels::kDistanceTolerance * std::max(cellsA.modelSize(), cellsB.modelSize());
+  PairBoundCache* cache = options.boundCache;
+  if (cache) {
+    if (!cache->hasRadius()) cache->SetRadius(ModelRadius(cellsB));
+    cache->MoveTo(bIntoA);
+  }
+  auto record = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
+    if (cache) cache->Record(ia, ib, r.lowerBound);
+  };
 
   // Pairs whose search ran out of its budget, and the bound of what it
   // left open: they matter only if that is below the final answer.
-  struct OpenPair {
-    double openBound2;  ///< Lower bound of what its search left open.
-    double bound2;      ///< The bound it was searched under.
-    std::int64_t a, b;
-  };
   std::vector<OpenPair> open;
   auto accept = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
     if (!(r.distance * r.distance < best2)) return;
@@ -134,24 +166,52 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     answer.distance = r.distance;
   };
   auto consider = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
+    record(ia, ib, r);
     if (r.status == kernels::PairStatus::Farther) return;
     if (r.status == kernels::PairStatus::NotCertified) open.push_back({r.openBound2, best2, ia, ib});
     accept(ia, ib, r);
   };
+  // Pairs the traversal only probed (one local solve each, which lowers the
+  // bound at once); each is searched after the traversal, nearest bound
+  // first, under the best distance all of them found, which prunes far
+  // more of it than the bound it was reached under.
+  std::vector<OpenPair>& probed = ws->probed;
+  probed.clear();
+  auto probe = [&](std::int64_t ia, std::int64_t ib) {
+    const kernels::PairSolveResult r = ProbePlacedCells(a, ia, b, ib, best2, ws);
+    record(ia, ib, r);
+    if (r.status == kernels::PairStatus::Farther) return;
+    if (r.status == kernels::PairStatus::NotCertified) probed.push_back({r.openBound2, best2, ia, ib});
+    accept(ia, ib, r);
+  };
 
+  // The previous answer's pair, solved first from its parameters: it is
+  // solved whole (the traversal below skips it).
+  std::int64_t warmA = -1, warmB = -1;
   if (options.warm && options.warm->found && options.warm->cell[0] >= 0 && options.warm->cell[1] >= 0 &&
       options.warm->cell[0] < cellsA.size() && options.warm->cell[1] < cellsB.size()) {
     const CellPairAnswer& warm = *options.warm;
-    consider(warm.cell[0], warm.cell[1],
-             SolvePlacedCells(a, warm.cell[0], b, warm.cell[1], warm.ref[0], warm.ref[1], best2, ws));
+    warmA = warm.cell[0];
+    warmB = warm.cell[1];
+    consider(warmA, warmB, SolvePlacedCells(a, warmA, b, warmB, warm.ref[0], warm.ref[1], best2, ws));
   }
 
   const Bvh& treeA = cellsA.bvh();
   const Bvh& treeB = cellsB.bvh();
   // Nodes by their oriented bounds: the axis-aligned boxes of a tilted
   // patch are fat, its oriented ones as thin as it is flat.
+  const std::size_t nodesB = treeB.Nodes().size();
+  if (ws->movedStamp.size() != nodesB || ++ws->stamp == 0) {
+    ws->movedStamp.assign(nodesB, 0);
+    ws->moved.resize(nodesB);
+    ws->stamp = 1;
+  }
   auto nodeBound = [&](int na, int nb) {
-    return OrientedPairLowerBound(cellsA.nodeOriented(na), cellsB.nodeOriented(nb), bIntoA, std::sqrt(best2));
+    if (ws->movedStamp[nb] != ws->stamp) {
+      ws->moved[nb] = Moved(cellsB.nodeOriented(nb), bIntoA);
+      ws->movedStamp[nb] = ws->stamp;
+    }
+    return OrientedPairLowerBound(cellsA.nodeOriented(na), ws->moved[nb], std::sqrt(best2));
   };
   auto diagonal2 = [](const BvhBox& box) {
     double d2 = 0.0;
@@ -176,7 +236,9 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     std::sort(candidates.begin(), candidates.end());
     for (const auto& [lb, pair] : candidates) {
       if (!(lb * lb < best2) || !(best2 > zero * zero)) break;
-      consider(pair.first, pair.second, SolvePlacedCells(a, pair.first, b, pair.second, nullptr, nullptr, best2, ws));
+      if (pair.first == warmA && pair.second == warmB) continue;
+      if (cache && cache->Excludes(pair.first, pair.second, std::sqrt(best2))) continue;
+      probe(pair.first, pair.second);
     }
   };
   // Descend the larger node (a leaf stays whole).
@@ -207,16 +269,47 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
 
   std::vector<ModelDistanceWorkspace::Entry>& heap = ws->heap;
   heap.clear();
-  heap.push_back({nodeBound(0, 0), 0, 0});
+  // With a cache, where the traversal stops is kept (PairBoundCache): every
+  // pair of nodes it prunes, with its bound, and every pair of leaves it solves.
+  std::vector<PairBoundCache::FrontierEntry>& frontier = ws->frontier;
+  frontier.clear();
+  auto stopAt = [&](int na, int nb, double lb) {
+    if (cache) frontier.push_back({na, nb, lb, cache->drift()});
+  };
+  const bool fromRoots = !cache || cache->frontier().empty();
+  if (fromRoots) {
+    heap.push_back({nodeBound(0, 0), 0, 0});
+  } else {
+    // The previous frontier covers every pair of cells once: an entry whose
+    // bound the drift has not used up stays pruned; the rest are
+    // descended from.
+    for (const PairBoundCache::FrontierEntry& e : cache->frontier()) {
+      if (cache->Holds(e, std::sqrt(best2))) {
+        frontier.push_back(e);
+        continue;
+      }
+      const double lb = nodeBound(e.nodeA, e.nodeB);
+      if (lb * lb < best2) {
+        heap.push_back({lb, e.nodeA, e.nodeB});
+      } else {
+        stopAt(e.nodeA, e.nodeB, lb);
+      }
+    }
+    std::make_heap(heap.begin(), heap.end(), heapOrder);
+  }
   while (!heap.empty() && best2 > zero * zero) {
     std::pop_heap(heap.begin(), heap.end(), heapOrder);
     const ModelDistanceWorkspace::Entry entry = heap.back();
     heap.pop_back();
-    if (!(entry.lowerBound * entry.lowerBound < best2)) break;  // every other pair is farther still
+    if (!(entry.lowerBound * entry.lowerBound < best2)) {
+      stopAt(entry.nodeA, entry.nodeB, entry.lowerBound);
+      break;  // every other pair is farther still
+    }
     const BvhNode& nodeA = treeA.Nodes()[entry.nodeA];
     const BvhNode& nodeB = treeB.Nodes()[entry.nodeB];
     if (nodeA.count > 0 && nodeB.count > 0) {
       solveLeaves(nodeA, nodeB);
+      stopAt(entry.nodeA, entry.nodeB, entry.lowerBound);
       continue;
     }
     const bool splitA = splitsA(entry.nodeA, entry.nodeB);
@@ -227,8 +320,19 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
       if (lb * lb < best2) {
         heap.push_back({lb, na, nb});
         std::push_heap(heap.begin(), heap.end(), heapOrder);
+      } else {
+        stopAt(na, nb, lb);
       }
     }
+  }
+  // What the traversal left in its heap is pruned by the entries' bounds.
+  for (const ModelDistanceWorkspace::Entry& entry : heap) stopAt(entry.nodeA, entry.nodeB, entry.lowerBound);
+  if (cache) cache->SetFrontier(&frontier, fromRoots);
+
+  std::sort(probed.begin(), probed.end(), [](const OpenPair& x, const OpenPair& y) { return x.openBound2 < y.openBound2; });
+  for (const OpenPair& pair : probed) {
+    if (!(pair.openBound2 < best2) || !(best2 > zero * zero)) break;
+    consider(pair.a, pair.b, SolvePlacedCells(a, pair.a, b, pair.b, nullptr, nullptr, best2, ws));
   }
 
   // An open pair is settled when its open parts lie beyond the answer; one

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "engine/distance_cells.h"
+#include "engine/pair_bound_cache.h"
 #include "invmap/invmap.h"
 #include "kernels/pair_search.h"
 
@@ -44,7 +45,18 @@ struct ModelDistanceOptions {
   /// A previous answer whose cell pair is solved first, from its
   /// parameters (trackers), or null.
   const CellPairAnswer* warm = nullptr;
+  /// The lower bounds of cell pairs proved at earlier motions of the same
+  /// two models (trackers), or null: read to skip pairs, and updated.
+  PairBoundCache* boundCache = nullptr;
   int threads = 0;  ///< For the inside tests' inversions.
+};
+
+/// A pair of cells left for later, and the squared lower bound of what of
+/// it is still open.
+struct OpenPair {
+  double openBound2;  ///< Lower bound of what its search (or probe) left open.
+  double bound2;      ///< The bound it was searched under.
+  std::int64_t a, b;
 };
 
 /// Scratch of the queries; one per thread.
@@ -56,6 +68,13 @@ struct ModelDistanceWorkspace {
   };
   std::vector<Entry> heap;
   std::vector<std::pair<double, std::pair<std::int64_t, std::int64_t>>> candidates;
+  std::vector<OpenPair> probed;
+  std::vector<PairBoundCache::FrontierEntry> frontier;  ///< The traversal's, for a PairBoundCache.
+  /// B's node bounds moved into A's frame, as the traversal meets them:
+  /// valid where movedStamp equals stamp (one stamp per query).
+  std::vector<OrientedBounds> moved;
+  std::vector<std::uint32_t> movedStamp;
+  std::uint32_t stamp = 0;
   kernels::DistanceNets scratchNets[2];
   std::int64_t scratchNetsCell[2] = {-1, -1};
   const DistanceCells* scratchNetsModel[2] = {nullptr, nullptr};

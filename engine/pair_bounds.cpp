@@ -136,13 +136,26 @@ void OrientedCorners(const OrientedBounds& box, double* corners) {
   }
 }
 
+OrientedBounds Moved(const OrientedBounds& box, const kernels::RigidMotion& motion) {
+  OrientedBounds moved;
+  motion.Apply(box.center, moved.center);
+  for (int j = 0; j < 3; ++j) {
+    motion.Rotate(box.axis[j], moved.axis[j]);
+    moved.half[j] = box.half[j];
+  }
+  return moved;
+}
+
 double OrientedPairLowerBound(const OrientedBounds& a, const OrientedBounds& b, const kernels::RigidMotion& bIntoA,
                               double target) {
-  // B's box in A's frame, then in A's axes: centre offset t, B's axes as
-  // the columns of r (r[i][j] = a_i . b_j).
-  double center[3], axes[3][3];
-  bIntoA.Apply(b.center, center);
-  for (int j = 0; j < 3; ++j) bIntoA.Rotate(b.axis[j], axes[j]);
+  return OrientedPairLowerBound(a, Moved(b, bIntoA), target);
+}
+
+double OrientedPairLowerBound(const OrientedBounds& a, const OrientedBounds& b, double target) {
+  // B's box in A's axes: centre offset t, B's axes as the columns of r
+  // (r[i][j] = a_i . b_j).
+  const double* center = b.center;
+  const double(*axes)[3] = b.axis;
   double d[3], magnitude = 0.0;
   for (int k = 0; k < 3; ++k) {
     d[k] = center[k] - a.center[k];

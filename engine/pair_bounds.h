@@ -55,6 +55,13 @@ void OrientedCorners(const OrientedBounds& box, double* corners);
 /// (a bound of at least it is returned then).
 double OrientedPairLowerBound(const OrientedBounds& a, const OrientedBounds& b, const kernels::RigidMotion& bIntoA,
                               double target = std::numeric_limits<double>::infinity());
+/// The same for two boxes in one frame (B's moved into A's beforehand:
+/// a traversal meets each of B's nodes many times).
+double OrientedPairLowerBound(const OrientedBounds& a, const OrientedBounds& b,
+                              double target = std::numeric_limits<double>::infinity());
+
+/// `box` under `motion` (its centre and axes moved).
+OrientedBounds Moved(const OrientedBounds& box, const kernels::RigidMotion& motion);
 
 /// The motion of B's frame into A's: motionA^-1 o motionB.
 kernels::RigidMotion RelativeMotion(const kernels::RigidMotion& motionA, const kernels::RigidMotion& motionB);

@@ -68,6 +68,18 @@ struct PointSearch {
     return std::nextafter(gap * gap, std::numeric_limits<double>::infinity());
   }
 
+  /// The squared distance within which a box's cells may still beat the
+  /// best: the best's, or before any answer the gap tolerance widened by the
+  /// largest band of any cell (equality admitted). Without that band a
+  /// point on a cell's surface but a rounding's width outside its box (the
+  /// box of the control points, the point an evaluation of the cell) was
+  /// pruned with a gap tolerance of 0 and came back none.
+  double Prune2() const {
+    if (bestCell >= 0) return best * best;
+    const double gap = best + GapBand(store.largestSize());
+    return std::nextafter(gap * gap, std::numeric_limits<double>::infinity());
+  }
+
   /// True when an answer at `distance` from a cell of size size() replaces
   /// the best: a found answer only a strictly nearer one; before any, one
   /// within the gap tolerance and its band (size() is read only then: it
@@ -209,7 +221,7 @@ inline std::int64_t PointSearch::SolveWarmCell() {
     SolveSimplexItem(item);
     return warmCell;
   }
-  if (store.inRegion(warmCell) || CellBoxDistance2(store.solver(warmCell), p, store.dimension()) > best * best) {
+  if (store.inRegion(warmCell) || CellBoxDistance2(store.solver(warmCell), p, store.dimension()) > Prune2()) {
     return -1;
   }
   SolveCell(warmCell);

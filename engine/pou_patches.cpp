@@ -128,7 +128,10 @@ std::size_t PouPatches::MemoryBytes() const {
 void PouPatches::Invert(const QueryPoints& points, const InversionOptions& options, Results* results) const {
   const std::int64_t n = points.count;
   if (surfaces_.empty() || n == 0) return;
-  // Morton order, so that each point's search starts from its neighbour's answer.
+  // Morton order, so that each point's search starts from its neighbour's
+  // answer; not when pointwise (InversionOptions::pointwise), where each
+  // search starts from the nearest pieces alone and its answer depends on
+  // the point and the geometry only.
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   bool any = false;
   for (std::int64_t i = 0; i < n; ++i) {
@@ -171,7 +174,9 @@ void PouPatches::Invert(const QueryPoints& points, const InversionOptions& optio
             const double band = hadAnswer ? 0.0 : surface.tolerance;
             const double x[3] = {points.coord[0][i], points.coord[1][i], points.coord[2][i]};
             pou::PointSearch search(surface.surface, x, surface.tolerance, cutoff, band);
-            if (previous[k].chart >= 0) search.Seed(previous[k].chart, previous[k].u, previous[k].v);
+            if (previous[k].chart >= 0 && !options.pointwise) {
+              search.Seed(previous[k].chart, previous[k].u, previous[k].v);
+            }
             // Depth first over the wide tree, nearest child first; an entry
             // is skipped when its bound (recorded when it was pushed) no
             // longer beats the cut-off.

@@ -64,7 +64,7 @@ void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplice
   while (!pending.empty()) {
     const WideEntry entry = pending.back();
     pending.pop_back();
-    if (entry.lowerBound2 > search.best * search.best) continue;
+    if (entry.lowerBound2 > search.Prune2()) continue;
     if (entry.count > 0) {
       for (int i = entry.first; i < entry.first + entry.count; ++i) {
         // An affine simplex is solved outright: its closed form costs less
@@ -74,8 +74,8 @@ void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplice
           if (simplexCell != seeded) search.SolveSimplexItem(i);
           continue;
         }
-        if (BoxDistance2(itemBoxes[i], search.p, dim) > search.best * search.best) continue;
-        if (WideBvh::OrientedDistance2(wide.ItemOrientedBox(i), point) > search.best * search.best) continue;
+        if (BoxDistance2(itemBoxes[i], search.p, dim) > search.Prune2()) continue;
+        if (WideBvh::OrientedDistance2(wide.ItemOrientedBox(i), point) > search.Prune2()) continue;
         if (search.IsCell(items[i], seeded)) continue;
         search.Solve(items[i]);
       }
@@ -95,7 +95,7 @@ void SearchBvh(const Bvh& bvh, const WideBvh& wide, const SimplexItems& simplice
       // An unused slot is skipped outright: with no best distance yet (an
       // infinite gap tolerance, or a squared distance that overflows) its
       // infinite bound would pass the test.
-      if (node.count[c] < 0 || !(bound2[c] <= search.best * search.best)) continue;
+      if (node.count[c] < 0 || !(bound2[c] <= search.Prune2())) continue;
       const WideEntry child{bound2[c], node.first[c], node.count[c]};
       int at = n++;
       for (; at > 0 && order[at - 1] < box2[c]; --at) {

@@ -47,7 +47,7 @@ void SearchCandidates(PointSearch& search) {
   heap.clear();
   for (std::size_t j = 0; j < searched.size(); ++j) {
     const double lowerBound2 = SearchedBoxDistance2(search.scratch, j, search.p, dim);
-    if (lowerBound2 <= search.best * search.best && !search.IsCell(candidates[searched[j]].cell, seeded)) {
+    if (lowerBound2 <= search.Prune2() && !search.IsCell(candidates[searched[j]].cell, seeded)) {
       heap.emplace_back(lowerBound2, searched[j]);
     }
   }
@@ -57,7 +57,7 @@ void SearchCandidates(PointSearch& search) {
     std::pop_heap(heap.begin(), heap.end(), later);
     const auto [lowerBound2, c] = heap.back();
     heap.pop_back();
-    if (lowerBound2 > search.best * search.best) break;
+    if (lowerBound2 > search.Prune2()) break;
     search.Solve(candidates[c].cell);
   }
 }

@@ -122,10 +122,9 @@ void TriangleParameters(int n, const double* a, const double* b, const double* c
   }
 }
 
-}  // namespace
-
-double ClosestPointOnSimplex(int dim, int ambientDim, const double* const* v, const double* p, double* ref,
-                             double* closest, bool* onBoundary) {
+/// ClosestPointOnSimplex on a simplex whose extent is within [2^-100, 2^100].
+double ClosestPointOnUnitSimplex(int dim, int ambientDim, const double* const* v, const double* p, double* ref,
+                                 double* closest, bool* onBoundary) {
   const int n = ambientDim;
   if (dim == 1) {
     const double t = SegmentParameter(n, v[0], v[1], p);
@@ -189,6 +188,62 @@ double ClosestPointOnSimplex(int dim, int ambientDim, const double* const* v, co
   }
   *onBoundary = true;
   return best;
+}
+
+/// Bounds of the extents solved unscaled, and the farthest a scaled query
+/// point is taken (in units of the scaled simplex, whose extent is about 1).
+constexpr double kUnscaledLow = 0x1p-100, kUnscaledHigh = 0x1p100;
+constexpr int kFarthestExponent = 400;
+
+}  // namespace
+
+double SimplexUnitScale(int dim, int ambientDim, const double* const* v) {
+  double extent = 0.0;
+  for (int i = 1; i <= dim; ++i) {
+    for (int k = 0; k < ambientDim; ++k) extent = std::max(extent, std::abs(v[i][k] - v[0][k]));
+  }
+  // This runs for every triangle a search solves: compared, not frexp'd.
+  if (extent == 0.0 || (extent >= kUnscaledLow && extent < kUnscaledHigh)) return 1.0;
+  int exponent = 0;
+  std::frexp(extent, &exponent);  // extent in [2^(exponent - 1), 2^exponent)
+  return std::ldexp(1.0, -exponent);
+}
+
+double ClosestPointOnSimplex(int dim, int ambientDim, const double* const* v, const double* p, double* ref,
+                             double* closest, bool* onBoundary) {
+  const int n = ambientDim;
+  const double scale = SimplexUnitScale(dim, n, v);
+  if (scale == 1.0) return ClosestPointOnUnitSimplex(dim, n, v, p, ref, closest, onBoundary);
+  // The simplex relative to v[0] and scaled by a power of two: the same
+  // differences the closed forms take, exactly scaled. A query point more
+  // than 2^400 extents away is taken nearer along its ray from v[0] (its
+  // closest point then differs by a fraction 2^-400 of its distance; the
+  // distance is measured from the point itself below).
+  double scaled[4][3] = {}, q[3] = {0, 0, 0};
+  double far = 0.0;
+  for (int k = 0; k < n; ++k) {
+    for (int i = 1; i <= dim; ++i) scaled[i][k] = (v[i][k] - v[0][k]) * scale;
+    q[k] = p[k] - v[0][k];
+    far = std::max(far, std::abs(q[k]));
+  }
+  int farExponent = 0;
+  std::frexp(far * scale, &farExponent);
+  const double pull = farExponent > kFarthestExponent ? std::ldexp(1.0, kFarthestExponent - farExponent) : 1.0;
+  for (int k = 0; k < n; ++k) q[k] = q[k] * pull * scale;
+  const double* corners[4] = {scaled[0], scaled[1], scaled[2], scaled[3]};
+  double unused[3];
+  if (ClosestPointOnUnitSimplex(dim, n, corners, q, ref, unused, onBoundary) == 0.0 && dim == n) {
+    std::copy(p, p + n, closest);  // inside a volume: the point itself
+    return 0.0;
+  }
+  // The closest point from its reference coordinates, in the given units.
+  double d2 = 0.0;
+  for (int k = 0; k < n; ++k) {
+    closest[k] = v[0][k];
+    for (int i = 1; i <= dim; ++i) closest[k] += ref[i - 1] * (v[i][k] - v[0][k]);
+    d2 += (closest[k] - p[k]) * (closest[k] - p[k]);
+  }
+  return d2;
 }
 
 }  // namespace invmap::kernels

@@ -137,8 +137,10 @@ void SolveChunk(int dim, int ambientDim, const double* const* v, const double* x
   }
 }
 
-/// True when the simplex is too flat for the lane formulas.
+/// True when the simplex is too flat for the lane formulas, or lies
+/// outside the extents they take unscaled (ClosestPointOnSimplex scales it).
 bool Degenerate(int dim, int ambientDim, const double* const* v) {
+  if (SimplexUnitScale(dim, ambientDim, v) != 1.0) return true;
   const Vec a = Load(v[0], ambientDim);
   const Vec e1 = Sub(Load(v[1], ambientDim), a);
   if (dim == 1) return !(Dot(e1, e1) > 0);

@@ -182,7 +182,7 @@ bool ProvesPairBound(const PairCertificateInput& in) {
   bool pressing[kMaxPairConstraints];
   bool any = false;
   for (int c = 0; c < in.numActive; ++c) {
-    pressing[c] = in.multiplier[c] > 0.0;  // every one: `any ||` would skip the rest once one presses
+    pressing[c] = in.multiplier[c] > 0.0;
     any = any || pressing[c];
   }
   // Into the coordinates y of the bounds: t - x_S = M y.

@@ -32,19 +32,33 @@ constexpr int kMaxTerms = 4 * (kMaxDim + 2);
 
 /// min and max over (i, j) of sum_t x[t][i] y[t][j]: the range of a joint
 /// net held as a sum of `terms` tensor products. [-inf, inf] when some
-/// coefficient is not finite.
+/// coefficient is not finite. Row by row (a row of the joint net summed
+/// term by term, which vectorizes along j); the sums are those of the
+/// coefficient-by-coefficient order, bit for bit.
 void ProductRange(int terms, const double* const* x, int nx, const double* const* y, int ny, double* lo,
                   double* hi) {
+  constexpr int kRowOnStack = 512;
+  double stackRow[kRowOnStack];
+  std::vector<double> heapRow;
+  double* row = stackRow;
+  if (ny > kRowOnStack) {
+    heapRow.resize(ny);
+    row = heapRow.data();
+  }
   double l = kInf, h = -kInf, check = 0.0;
   for (int i = 0; i < nx; ++i) {
-    double xi[kMaxTerms];
-    for (int t = 0; t < terms; ++t) xi[t] = x[t][i];
+    const double x0 = x[0][i];
+    const double* y0 = y[0];
+    for (int j = 0; j < ny; ++j) row[j] = x0 * y0[j];
+    for (int t = 1; t < terms; ++t) {
+      const double xt = x[t][i];
+      const double* yt = y[t];
+      for (int j = 0; j < ny; ++j) row[j] += xt * yt[j];
+    }
     for (int j = 0; j < ny; ++j) {
-      double v = 0.0;
-      for (int t = 0; t < terms; ++t) v += xi[t] * y[t][j];
-      l = std::min(l, v);
-      h = std::max(h, v);
-      check += v * 0.0;  // NaN once any coefficient is not finite
+      l = std::min(l, row[j]);
+      h = std::max(h, row[j]);
+      check += row[j] * 0.0;  // NaN once any coefficient is not finite
     }
   }
   if (check != 0.0 || !(l <= h)) {

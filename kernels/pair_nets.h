@@ -37,6 +37,8 @@ class PairNets {
   /// Values of one side's nets together (terms() nets of size(side)).
   int sideLength(int side) const { return terms_ * size_[side]; }
   bool rational() const { return rational_; }
+  /// True when side s is rational (else its WW net is 1).
+  bool rational(int side) const { return side_[side]->nets->rational(); }
 
   /// The nets of the whole domains.
   void BuildRoot(double* sideA, double* sideB) const;
@@ -54,6 +56,9 @@ class PairNets {
   double LeastWeight(const double* sideA, const double* sideB) const;
   /// The rounding of the quotients Q_ij / WW_ij (squared distance units).
   double RoundingSlack() const { return slack_; }
+  /// A's net centre minus B's, in the common frame (3 values): side A's map
+  /// is its centre plus NW_A / WW_A, B's its centre plus NW_B / WW_B.
+  const double* offset() const { return offset_; }
 
   /// Bounds of the Hessian of g = Q - level WW over the joint parameters (n
   /// x n, row-major, both triangles): the least and largest coefficient of

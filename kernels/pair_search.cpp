@@ -6,6 +6,7 @@
 
 #include "kernels/cell_bounds.h"
 #include "kernels/pair_certificate.h"
+#include "kernels/pair_taylor_bounds.h"
 #include "kernels/pair_local_solve.h"
 #include "kernels/pair_nets.h"
 #include "kernels/simplex_index.h"
@@ -27,7 +28,11 @@ constexpr int kLowerBound = 0;
 constexpr int kDepth = 1;
 constexpr int kHasSeed = 2;    ///< 1 when the slot holds a KKT point of its own.
 constexpr int kSeedValue = 3;  ///< Its squared distance.
-constexpr int kSeedPoint = 4;  ///< Its joint parameters.
+/// The depth from which a certificate is tried again after one failed on
+/// an ancestor (kernels/pair_certificate.h: one closes once the subdomain
+/// is small enough; trying at every depth costs more than the splits).
+constexpr int kRetryDepth = 4;
+constexpr int kSeedPoint = 5;  ///< Its joint parameters.
 constexpr int kVertices = kSeedPoint + kMaxPairParams;
 constexpr int kHeaderSize = kVertices + 2 * kMaxFactors * 4 * 3;
 
@@ -49,6 +54,28 @@ void SimplexVertices(const PairSide& side, double vertices[3][3]) {
   }
 }
 
+using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPairParams, kMaxPairParams>;
+
+/// The eigenvectors of `h` (n x n, symmetric) scaled to a unit diagonal,
+/// scaled back: columns of `basis` (column c at basis[c n]). Along them a
+/// direction in which the function barely bends is kept apart from the
+/// steep ones. False when h has no positive diagonal.
+bool ScaledEigenBasis(const Matrix& h, double* basis) {
+  const int n = static_cast<int>(h.rows());
+  double largest = 0.0;
+  for (int r = 0; r < n; ++r) largest = std::max(largest, h(r, r));
+  if (!(largest > 0.0) || !h.allFinite()) return false;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> scale(n);
+  for (int r = 0; r < n; ++r) scale[r] = 1.0 / std::sqrt(std::max(h(r, r), 1e-12 * largest));
+  const Matrix scaled = scale.asDiagonal() * h * scale.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Matrix> eigen(scaled);
+  const Matrix directions = scale.asDiagonal() * eigen.eigenvectors();
+  for (int c = 0; c < n; ++c) {
+    for (int r = 0; r < n; ++r) basis[c * n + r] = directions(r, c);
+  }
+  return true;
+}
+
 /// A split by bend is overruled when its edge is shorter than the longest
 /// by more than this factor (squared: 1024^2).
 constexpr double kBendSplitRatio2 = 1024.0 * 1024.0;
@@ -62,6 +89,7 @@ class PairSearch {
     n_ = layout_.n();
     tau_ = kDistanceTolerance * std::max(a.size, b.size);
     options_.size = a.size + b.size;
+    retryStep_ = std::max(1, n_ / 2);
     for (int side = 0; side < 2; ++side) {
       const PairSide& s = side == 0 ? a : b;
       double center[3];
@@ -78,6 +106,7 @@ class PairSearch {
   }
 
   PairSolveResult Solve(const double* startA, const double* startB, double bound2);
+  PairSolveResult Probe(double bound2);
   double RootLowerBound();
 
  private:
@@ -119,6 +148,9 @@ class PairSearch {
   int iterations_ = 0;
   PairLocalResult best_;
   double open_ = kInf;  ///< Least bound of the parts a search left open.
+  /// Depths between certificate attempts (kRetryDepth): about one split of
+  /// every parameter, which halves the Hessian's bounds' spread.
+  int retryStep_ = 1;
   int examined_ = 0;
 };
 
@@ -182,7 +214,6 @@ bool PairSearch::CertifyWith(double* slot, const double* w, double value, const 
   const double* sideB = sideA + nets.sideLength(0);
   const int n = n_;
   double lo[kMaxPairParams * kMaxPairParams], hi[kMaxPairParams * kMaxPairParams];
-  nets.HessianRanges(sideA, sideB, value, true, lo, hi, &ws_->hessianScratch);
 
   PairCertificateInput input;
   input.n = n;
@@ -263,7 +294,57 @@ bool PairSearch::CertifyWith(double* slot, const double* w, double value, const 
   input.numVertices = count;
   input.vertices = vertices;
   input.allowed = std::max(0.0, value - pruneLevel) * nets.LeastWeight(sideA, sideB);
-  // The cheap enclosure first, then the joint nets' own ranges.
+
+  // First the cheap test: f = |z|^2 itself, its Hessian bounded from each
+  // side's own enclosures (kernels/pair_hessian_bounds.h) along the
+  // eigenvectors of its Hessian at w (scaled to a unit diagonal), where a
+  // direction in which f barely bends is kept apart from the steep ones.
+  {
+    PairJet jet;
+    EvaluatePair(a_, b_, layout_, w, JetOrder::Second, &jet);
+    Matrix local = Matrix::Zero(n, n);
+    Matrix edgeMatrix = Matrix::Zero(n, n);
+    for (int side = 0; side < 2; ++side) {
+      const CellShape& shape = layout_.shape(side);
+      for (int f = 0; f < shape.numFactors(); ++f) {
+        const SimplexFactor& fac = shape.factor(f);
+        const int first = layout_.offset(side) + fac.offset;
+        edgeMatrix.block(first, first, fac.dim, fac.dim) = edges[side][f].topLeftCorner(fac.dim, fac.dim);
+      }
+    }
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c < n; ++c) {
+        double v = 0.0;
+        for (int k = 0; k < ambientDim_; ++k) v += jet.d1[k][r] * jet.d1[k][c] + jet.z[k] * jet.d2[k][r][c];
+        local(r, c) = 2.0 * v;
+      }
+    }
+    local = edgeMatrix.transpose() * local * edgeMatrix;
+    double basis[kMaxPairParams * kMaxPairParams];
+    PairCertificateInput ofF = input;
+    ofF.lo = lo;
+    ofF.hi = hi;
+    ofF.basis = basis;
+    ofF.allowed = std::max(0.0, value - pruneLevel);
+    double residualF[kMaxPairParams];
+    for (int i = 0; i < n; ++i) residualF[i] = 2.0 * kkt.gradient[i];
+    for (int c = 0; c < kkt.numActive; ++c) {
+      layout_.Normal(kkt.active[c], normal);
+      ofF.multiplier[c] = 2.0 * kkt.multiplier[c];
+      for (int i = 0; i < n; ++i) residualF[i] -= ofF.multiplier[c] * normal[i];
+    }
+    toLocal(residualF, ofF.residual);
+    const PairTaylorBounds taylor(nets, sideA, sideB);
+    if (ScaledEigenBasis(local, basis) && taylor.HessianBounds(basis, lo, hi) && ProvesPairBound(ofF)) {
+      return true;
+    }
+  }
+  // The joint nets' bounds cost their sizes' product and close the same
+  // subdomain about one split earlier: worth it only where splits do not
+  // help, along a valley of equal distances (the search has run long).
+  if (examined_ <= kHardSearch) return false;
+
+  nets.HessianRanges(sideA, sideB, value, true, lo, hi, &ws_->hessianScratch);
   if (ProvesPairBound(input)) return true;
   nets.HessianRanges(sideA, sideB, value, false, lo, hi, &ws_->hessianScratch);
   if (ProvesPairBound(input)) return true;
@@ -272,25 +353,15 @@ bool PairSearch::CertifyWith(double* slot, const double* w, double value, const 
   // one direction anywhere, but its bound from the entries' separate ranges
   // bends both ways. Bounds of the directional second derivatives along the
   // eigenvectors of the bounds' midpoint (scaled to a unit diagonal) keep it.
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPairParams, kMaxPairParams> mid(n, n);
-  double largest = 0.0;
+  Matrix mid(n, n);
   for (int r = 0; r < n; ++r) {
     for (int c = 0; c < n; ++c) {
       if (!std::isfinite(lo[r * n + c]) || !std::isfinite(hi[r * n + c])) return false;
       mid(r, c) = 0.5 * (lo[r * n + c] + hi[r * n + c]);
     }
-    largest = std::max(largest, mid(r, r));
   }
-  if (!(largest > 0.0)) return false;
-  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> scale(n);
-  for (int r = 0; r < n; ++r) scale[r] = 1.0 / std::sqrt(std::max(mid(r, r), 1e-12 * largest));
-  const auto scaled = (scale.asDiagonal() * mid * scale.asDiagonal()).eval();
-  Eigen::SelfAdjointEigenSolver<decltype(mid)> eigen(scaled);
-  const auto directions = (scale.asDiagonal() * eigen.eigenvectors()).eval();
   double basis[kMaxPairParams * kMaxPairParams];
-  for (int c = 0; c < n; ++c) {
-    for (int r = 0; r < n; ++r) basis[c * n + r] = directions(r, c);
-  }
+  if (!ScaledEigenBasis(mid, basis)) return false;
   nets.HessianRangesInBasis(sideA, sideB, value, basis, lo, hi, &ws_->hessianScratch);
   input.basis = basis;
   return ProvesPairBound(input);
@@ -312,7 +383,6 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
   // a quarter of each edge either side of the centre). Along a valley of
   // equal distances that is across the valley, never along it, where
   // splits by length would multiply the subdomains for nothing.
-  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPairParams, kMaxPairParams>;
   const int n = n_;
   double center[kMaxPairParams];
   Center(slot, center);
@@ -433,6 +503,10 @@ PairSolveResult PairSearch::Finish(const PairLocalResult& best, bool certified, 
   result.distance = std::sqrt(best.squaredDistance);
   result.iterations = iterations_;
   result.subdomains = examined_;
+  // Every subdomain the search closed lies at or beyond the exclusion
+  // level of min(best, bound2), less the nets' rounding.
+  const double closed = ExclusionLevel(std::min(best.squaredDistance, bound2), tau_, 0.0);
+  result.lowerBound = std::sqrt(std::max(0.0, certified ? closed : std::min(closed, open_)));
   if (!certified) {
     // Whatever its distance: some part of the pair may still hold a closer point.
     result.status = PairStatus::NotCertified;
@@ -443,6 +517,32 @@ PairSolveResult PairSearch::Finish(const PairLocalResult& best, bool certified, 
     result.status = best.onBoundary ? PairStatus::ProjectedToBoundary : PairStatus::Converged;
   }
   return result;
+}
+
+PairSolveResult PairSearch::Probe(double bound2) {
+  if (!HaveNets() || (a_.affine && b_.affine)) return Solve(nullptr, nullptr, bound2);
+  const PairNets nets(a_, b_);
+  slack_ = nets.RoundingSlack();
+  const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+  if (ws_->slots.size() < static_cast<size_t>(slotSize)) ws_->slots.resize(slotSize);
+  double* sideA = ws_->slots.data() + kHeaderSize;
+  double* sideB = sideA + nets.sideLength(0);
+  nets.BuildRoot(sideA, sideB);
+  int argA = 0, argB = 0;
+  const double lowerBound = nets.LowerBound(sideA, sideB, &ws_->scratch, &argA, &argB) - slack_;
+  if (bound2 < kInf && lowerBound >= bound2) {
+    PairSolveResult far;
+    far.status = PairStatus::Farther;
+    far.lowerBound = std::sqrt(lowerBound);
+    return far;
+  }
+  double start[kMaxPairParams];
+  ControlPointLocation(nets.shape(0), argA, start);
+  ControlPointLocation(nets.shape(1), argB, start + layout_.offset(1));
+  best_ = Local(start);
+  if (best_.squaredDistance <= tau_ * tau_) return Finish(best_, true, bound2);
+  open_ = lowerBound;
+  return Finish(best_, false, bound2);
 }
 
 PairSolveResult PairSearch::Solve(const double* startA, const double* startB, double bound2) {
@@ -463,6 +563,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     if (bounded && pool[root][kLowerBound] - slack_ >= bound2) {
       PairSolveResult far;
       far.status = PairStatus::Farther;
+      far.lowerBound = std::sqrt(pool[root][kLowerBound] - slack_);
       return far;
     }
     if (!startA) {
@@ -519,7 +620,8 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
       open_ = std::min(open_, pool[s][kLowerBound] - slack_);
       break;
     }
-    if (CertifiedAround(pool[s], pruneLevel())) {
+    const bool tryCertificate = pool[s][kDepth] >= pool[s][kRetryDepth];
+    if (tryCertificate && CertifiedAround(pool[s], pruneLevel())) {
       pool.Free(s);
       continue;
     }
@@ -554,6 +656,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
       pool.Free(s);
       continue;
     }
+    if (tryCertificate && HoldsKktPoint(pool[s])) pool[s][kRetryDepth] = pool[s][kDepth] + retryStep_;
     int side = 0, factor = 0, vi = 0, vj = 1;
     if (HoldsKktPoint(pool[s])) {
       ChooseSplitByVariation(pool[s], &side, &factor, &vi, &vj);
@@ -618,6 +721,7 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
       const double gap = SimplexPlaneGap(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3);
       if (gap * gap >= bound2) {
         result.distance = gap;
+        result.lowerBound = gap;
         result.status = PairStatus::Farther;
         return result;
       }
@@ -625,6 +729,7 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
     const double d2 = ClosestPointsOfSimplices(a.cell.shape.paramDim(), pa, b.cell.shape.paramDim(), pb, 3,
                                                result.refA, result.refB, result.pointA, result.pointB);
     result.distance = std::sqrt(d2);
+    result.lowerBound = result.distance;
     bool onBoundary = false;
     for (int side = 0; side < 2; ++side) {
       const double* ref = side == 0 ? result.refA : result.refB;
@@ -643,6 +748,12 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
   }
   PairSearch search(a, b, ws);
   return search.Solve(startA, startB, bound2);
+}
+
+PairSolveResult ProbeCellPair(const PairSide& a, const PairSide& b, PairWorkspace* ws, double bound2) {
+  if (IsAffineSimplexSide(a) && IsAffineSimplexSide(b)) return SolveCellPair(a, b, nullptr, nullptr, ws, bound2);
+  PairSearch search(a, b, ws);
+  return search.Probe(bound2);
 }
 
 double PairNetLowerBound(const PairSide& a, const PairSide& b, PairWorkspace* ws) {

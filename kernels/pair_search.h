@@ -35,6 +35,11 @@ struct PairSolveResult {
   /// the pair the search left open (a caller that finds a closer pair
   /// elsewhere needs no more of this one); +inf otherwise.
   double openBound2 = std::numeric_limits<double>::infinity();
+  /// No pair of points of the two cells is nearer than this (to the
+  /// search's tolerance): the pair's distance when certified, else what the
+  /// nets, the bound it was searched under and its open parts prove. 0
+  /// when nothing is proved. A tracker keeps it for the next poses.
+  double lowerBound = 0.0;
 };
 
 /// Scratch memory of the pair search; one per thread.
@@ -57,6 +62,15 @@ bool IsAffineSimplexSide(const PairSide& side);
 /// Curved cells need their DistanceNets (PairSide::nets).
 PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double* startA, const double* startB,
                               PairWorkspace* ws, double bound2 = std::numeric_limits<double>::infinity());
+
+/// A quick look at a pair, for a caller that searches pairs only once it
+/// knows how near the models come: Farther when the pair's nets keep it at
+/// bound2 or beyond; else one local solve from where the nets come closest,
+/// its point returned with status NotCertified and openBound2 the nets'
+/// lower bound over the whole pair (SolveCellPair certifies it later). Two
+/// affine cells are solved at once, as SolveCellPair does.
+PairSolveResult ProbeCellPair(const PairSide& a, const PairSide& b, PairWorkspace* ws,
+                              double bound2 = std::numeric_limits<double>::infinity());
 
 /// The least squared distance the factored nets allow between the two
 /// cells (less their rounding): a lower bound without any solve.

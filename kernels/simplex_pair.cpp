@@ -177,6 +177,81 @@ void SegmentTriangle(const double* p0, const double* p1, const double* const* v,
   if (SegmentCrossesTriangle(p0, p1, v, &s, ref)) offer(0.0, s, ref);
 }
 
+/// The two quick answers of a pair of disjoint triangles (as in Larsen,
+/// Gottschalk, Lin and Manocha's PQP): the nearest vertex of a triangle
+/// lying wholly on one side of the other's plane, when it projects inside
+/// the other (every point of its triangle is at least that far from the
+/// plane); or the closest points of an edge of each whose joining vector
+/// v = y - x has both triangles on either side of the slab it spans (each
+/// edge's own vertices are, as its closest point; the third vertices are
+/// tested), which makes |v| the triangles' distance. False when neither
+/// holds: the full enumeration decides.
+bool SeparatedTriangles(const double* const* va, const double* const* vb, Best* best) {
+  static constexpr double kVertexRef[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+  for (int side = 0; side < 2; ++side) {
+    const double* const* onto = side == 0 ? va : vb;
+    const double* const* from = side == 0 ? vb : va;
+    Vec e1, e2, n;
+    Sub(onto[1], onto[0], e1);
+    Sub(onto[2], onto[0], e2);
+    Cross(e1, e2, n);
+    const double n2 = Dot(n, n);
+    if (!(n2 > 0.0)) continue;
+    double h[3];
+    for (int v = 0; v < 3; ++v) {
+      Vec r;
+      Sub(from[v], onto[0], r);
+      h[v] = Dot(r, n);
+    }
+    const bool above = h[0] > 0.0 && h[1] > 0.0 && h[2] > 0.0;
+    const bool below = h[0] < 0.0 && h[1] < 0.0 && h[2] < 0.0;
+    if (!above && !below) continue;
+    int nearest = 0;
+    for (int v = 1; v < 3; ++v) {
+      if (std::abs(h[v]) < std::abs(h[nearest])) nearest = v;
+    }
+    Vec r;
+    Sub(from[nearest], onto[0], r);
+    const double d11 = Dot(e1, e1), d12 = Dot(e1, e2), d22 = Dot(e2, e2), r1 = Dot(r, e1), r2 = Dot(r, e2);
+    const double det = d11 * d22 - d12 * d12;
+    if (!(det > 0.0)) continue;
+    const double ref[2] = {(d22 * r1 - d12 * r2) / det, (d11 * r2 - d12 * r1) / det};
+    if (!(ref[0] >= 0.0 && ref[1] >= 0.0 && ref[0] + ref[1] <= 1.0)) continue;
+    const double d2 = h[nearest] * h[nearest] / n2;
+    if (side == 0) {
+      best->Offer(d2, ref, kVertexRef[nearest]);
+    } else {
+      best->Offer(d2, kVertexRef[nearest], ref);
+    }
+    return true;
+  }
+  for (int ea = 0; ea < 3; ++ea) {
+    for (int eb = 0; eb < 3; ++eb) {
+      const double* p0 = va[ea];
+      const double* p1 = va[(ea + 1) % 3];
+      const double* q0 = vb[eb];
+      const double* q1 = vb[(eb + 1) % 3];
+      double s, t;
+      SegmentParameters(p0, p1, q0, q1, &s, &t);
+      Vec x, y, v, r;
+      PointOnSegment(p0, p1, s, x);
+      PointOnSegment(q0, q1, t, y);
+      Sub(y, x, v);
+      if (!(Dot(v, v) > 0.0)) continue;
+      Sub(va[(ea + 2) % 3], x, r);
+      if (Dot(r, v) > 0.0) continue;
+      Sub(vb[(eb + 2) % 3], y, r);
+      if (Dot(r, v) < 0.0) continue;
+      double ra[2], rb[2];
+      EdgeToTriangle(ea, s, ra);
+      EdgeToTriangle(eb, t, rb);
+      best->Offer(Dot(v, v), ra, rb);
+      return true;
+    }
+  }
+  return false;
+}
+
 void EvaluateSimplex(int dim, const double* const* v, const double* ref, double* x) {
   for (int k = 0; k < 3; ++k) {
     x[k] = v[0][k];
@@ -216,9 +291,11 @@ double ClosestPointsOfSimplices(int dimA, const double* const* a, int dimB, cons
   } else {
     // Two triangles: a closest pair has a vertex of one against the other,
     // or an edge against an edge; crossing triangles have an edge of one
-    // through the other. Each candidate once: 6 vertices, 9 edge pairs.
+    // through the other. Each candidate once: 6 vertices, 9 edge pairs
+    // (unless a quick answer settles it).
     const double vertexRef[3][2] = {{0, 0}, {1, 0}, {0, 1}};
-    for (int side = 0; side < 2; ++side) {
+    const bool settled = SeparatedTriangles(va, vb, &best);
+    for (int side = 0; side < 2 && !settled; ++side) {
       const double* const* from = side == 0 ? va : vb;
       const double* const* onto = side == 0 ? vb : va;
       for (int v = 0; v < 3; ++v) {
@@ -232,7 +309,7 @@ double ClosestPointsOfSimplices(int dimA, const double* const* a, int dimB, cons
         }
       }
     }
-    for (int ea = 0; ea < 3; ++ea) {
+    for (int ea = 0; ea < 3 && !settled; ++ea) {
       for (int eb = 0; eb < 3; ++eb) {
         double s, t;
         const double* p0 = va[ea];
@@ -249,7 +326,7 @@ double ClosestPointsOfSimplices(int dimA, const double* const* a, int dimB, cons
         best.Offer(Distance2(x, y), ra, rb);
       }
     }
-    if (best.d2 > 0.0) {
+    if (best.d2 > 0.0 && !settled) {
       for (int side = 0; side < 2; ++side) {
         const double* const* from = side == 0 ? va : vb;
         const double* const* onto = side == 0 ? vb : va;

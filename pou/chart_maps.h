@@ -14,6 +14,10 @@
 // from u's frame of the edge. Its domain (the gluing domain) is the lens of
 // points within sqrt(3)/2 of both v and u in the frame, those with
 // |a| < 3 pi / n (then |a n / 6| < pi / 2, so the map is one to one there).
+// The formula is used only up to FormulaAngle(n) from the edge: beyond a
+// half turn of the unfolded angle it would wrap around the frame, and at
+// valence 12 and more points a quarter turn from the edge would land back
+// next to it.
 // The half turn and the equal unfolding of every triangle make the maps
 // consistent: going around a triangle's corners composes to the identity.
 //
@@ -38,6 +42,16 @@ constexpr double kFrameRadius = 0.8660254037844386;
 /// Constants of the maps as scalars of type S.
 inline double AngleCos(int k, int n, double) { return std::cos(2.0 * kPi * k / n); }
 inline double AngleSin(int k, int n, double) { return std::sin(2.0 * kPi * k / n); }
+/// The largest angle from an edge's direction (in a chart of valence n) at
+/// which the transition map's formula is used: the unfolding multiplies
+/// angles by n / 6, and this keeps the unfolded angle within a half turn
+/// (min(pi, 6 pi / n)). It is at least 3 pi / n, the gluing domain's
+/// reach; the edge's bump is zero beyond 2 pi / n (an unfolded 60 degrees,
+/// where the disk of radius sqrt(3)/2 about the neighbour is seen from the
+/// vertex).
+inline double FormulaAngle(int n) { return n > 6 ? 6.0 * kPi / n : kPi; }
+/// The angle from an edge's direction beyond which the edge's bump is zero.
+inline double SupportAngle(int n) { return 2.0 * kPi / n; }
 /// |(x, y)| for chart-sized values (no overflow to guard against, unlike
 /// std::hypot, which is several times slower).
 inline double Length(double x, double y) { return std::sqrt(x * x + y * y); }

@@ -36,6 +36,14 @@ int ClosedMesh::CornerOf(std::int64_t t, std::int64_t v) const {
 std::string ClosedMesh::Build(const double* xyz, std::int64_t numVertices, const std::int64_t* triangles,
                               std::int64_t numTriangles) {
   if (numTriangles <= 0) return "the mesh has no triangle";
+  for (std::int64_t v = 0; v < numVertices; ++v) {
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(xyz[3 * v + k])) {
+        return "vertex " + std::to_string(v) + ": coordinate " + std::to_string(k) + " is not finite (" +
+               std::to_string(xyz[3 * v + k]) + ")";
+      }
+    }
+  }
   for (std::int64_t t = 0; t < numTriangles; ++t) {
     const std::int64_t* v = triangles + 3 * t;
     for (int k = 0; k < 3; ++k) {

@@ -21,7 +21,7 @@ class ClosedMesh {
   /// Checks `triangles` (3 vertex indices each, 0-based) over `numVertices`
   /// vertices at `xyz` and builds the rings. Returns an empty string, or a
   /// message naming the offending vertex, edge or triangle (0-based indices):
-  /// an index out of range, a triangle that repeats a vertex or has zero
+  /// a vertex coordinate that is not finite, an index out of range, a triangle that repeats a vertex or has zero
   /// area, an edge used by one triangle (a boundary) or by more than two
   /// (non-manifold), two triangles that run along an edge in the same
   /// direction (inconsistent orientation), a vertex in no triangle, a vertex

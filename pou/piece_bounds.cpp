@@ -124,9 +124,18 @@ struct CanonicalSector {
   double rho0, rho1, phi0, phi1;
 };
 
-/// False when the box's angles relative to the edge cross the half turn,
-/// where the maps' branch is cut (beyond any bump's reach).
-bool SectorOfEdge(const PouSurface& s, std::int64_t chart, int edge, const PolarExtent& e, CanonicalSector* out) {
+/// How a box lies relative to one edge's transition map.
+enum class EdgeSide {
+  Apart,   ///< No point of the box is within the edge's support angle: its bump is zero there.
+  Within,  ///< The whole box is within FormulaAngle of the edge: the sector is the box's.
+  Across,  ///< The box crosses FormulaAngle and meets the support angle: the
+           ///< sector holds (only) the box's points within FormulaAngle.
+};
+
+/// The box's angles relative to the edge (pou/chart_maps.h: the formula
+/// holds within FormulaAngle of the edge, the bump is zero beyond
+/// SupportAngle) and its canonical sector.
+EdgeSide SectorOfEdge(const PouSurface& s, std::int64_t chart, int edge, const PolarExtent& e, CanonicalSector* out) {
   const int n = s.valence(chart);
   double base = e.centreAngle - 2.0 * kPi * edge / n;
   base -= 2.0 * kPi * std::round(base / (2.0 * kPi));
@@ -138,10 +147,25 @@ bool SectorOfEdge(const PouSurface& s, std::int64_t chart, int edge, const Polar
   // Atan2's rounding, a few ulps of pi.
   lo -= 1e-14;
   hi += 1e-14;
-  if (!(lo > -kPi && hi < kPi)) return false;
+  const double formula = FormulaAngle(n), support = SupportAngle(n) * (1.0 + 1e-12);
   const double k = kFrameRadius / s.radius(chart), alpha = n / 6.0;
-  *out = {k * e.rMin, k * e.rMax, alpha * lo, alpha * hi};
-  return true;
+  if (lo > -formula && hi < formula) {
+    if (!(lo < support && hi > -support)) return EdgeSide::Apart;
+    *out = {k * e.rMin, k * e.rMax, alpha * lo, alpha * hi};
+    return EdgeSide::Within;
+  }
+  // The box's angles (lo and hi may pass a half turn) as they are, and a
+  // turn either way: the parts within FormulaAngle that meet the support.
+  double clipLo = HUGE_VAL, clipHi = -HUGE_VAL;
+  for (double turn : {-2.0 * kPi, 0.0, 2.0 * kPi}) {
+    const double a = std::max(lo + turn, -formula), b = std::min(hi + turn, formula);
+    if (!(a <= b) || !(a < support && b > -support)) continue;
+    clipLo = std::min(clipLo, a);
+    clipHi = std::max(clipHi, b);
+  }
+  if (!(clipLo <= clipHi)) return EdgeSide::Apart;
+  *out = {k * e.rMin, k * e.rMax, alpha * clipLo, alpha * clipHi};
+  return EdgeSide::Across;
 }
 
 /// |1 - rho e^(i phi)| over the sector: least where phi is nearest 0 and rho
@@ -219,6 +243,7 @@ double CanonicalDistance(const PouSurface& s, std::int64_t chart, int edge, doub
   const int n = s.valence(chart);
   double rel = std::atan2(v, u) - 2.0 * kPi * edge / n;
   rel -= 2.0 * kPi * std::round(rel / (2.0 * kPi));
+  if (!(std::fabs(rel) < FormulaAngle(n))) return HUGE_VAL;  // beyond the formula: no bump
   const double rho = kFrameRadius / s.radius(chart) * Length(u, v), phi = n / 6.0 * rel;
   return Length(1.0 - rho * std::cos(phi), rho * std::sin(phi));
 }
@@ -278,7 +303,7 @@ bool OutsideKites(const PouSurface& surface, std::int64_t chart, const ChartBox&
   if (!(extent.rMin > 0.0)) return false;
   for (int edge = 0; edge < surface.valence(chart); ++edge) {
     CanonicalSector c;
-    if (!SectorOfEdge(surface, chart, edge, extent, &c)) continue;
+    if (SectorOfEdge(surface, chart, edge, extent, &c) != EdgeSide::Within) continue;
     const double widest = std::max(std::fabs(c.phi0), std::fabs(c.phi1));
     if (widest < kPi / 3 && c.rho0 * std::cos(widest) * (1.0 - 1e-12) > 0.5) return true;
   }
@@ -294,9 +319,11 @@ void BoundShapes(const PouSurface& surface, std::int64_t chart, const ChartBox& 
   const double k = kFrameRadius / surface.radius(chart);
   const double farthest = kFrameRadius * kShapeBoundExtension;
   for (int edge = 0; edge < n; ++edge) {
-    // W's range: a sector, or for a box about the centre the disk |W| <= rho1.
+    // W's range: a sector (for a box across FormulaAngle, of its part within
+    // it, where its sub-boxes can meet the bump), or for a box about the
+    // centre the disk |W| <= rho1.
     CanonicalSector c{0.0, k * extent.rMax, -kPi, kPi};
-    if (extent.rMin > 0.0 && !SectorOfEdge(surface, chart, edge, extent, &c)) continue;
+    if (extent.rMin > 0.0 && SectorOfEdge(surface, chart, edge, extent, &c) == EdgeSide::Apart) continue;
     const double wMin = extent.rMin > 0.0 ? SectorMin(c) : std::max(0.0, 1.0 - c.rho1);
     if (!(wMin < kFrameRadius)) continue;
     const double wMax = std::min(farthest, extent.rMin > 0.0 ? SectorMax(c) : farthest);
@@ -332,7 +359,8 @@ void ReachingEdges(const PouSurface& surface, std::int64_t chart, const ChartBox
     parts->edges[i] = shapes.reach[i].edge;
     CanonicalSector c;
     if (extent.rMin > 0.0) {
-      parts->active[i] = SectorOfEdge(surface, chart, shapes.reach[i].edge, extent, &c) && SectorMin(c) < kFrameRadius;
+      parts->active[i] = SectorOfEdge(surface, chart, shapes.reach[i].edge, extent, &c) != EdgeSide::Apart &&
+                         SectorMin(c) < kFrameRadius;
     }
   }
 }
@@ -367,9 +395,12 @@ double ThirdDerivativeBound(const PouSurface& surface, std::int64_t chart, const
   std::vector<Majorant> bumps, mismatches;
   for (int i = 0; i < shapes.count; ++i) {
     CanonicalSector c;
-    if (!SectorOfEdge(surface, chart, shapes.reach[i].edge, extent, &c)) continue;
+    const EdgeSide side = SectorOfEdge(surface, chart, shapes.reach[i].edge, extent, &c);
+    if (side == EdgeSide::Apart) continue;
     const double wMin = SectorMin(c), wMax = SectorMax(c);
     if (!(wMin < kFrameRadius)) continue;
+    // The bump reaches a box that the formula does not cover whole.
+    if (side == EdgeSide::Across) return HUGE_VAL;
     if (wMax > kFrameRadius * kShapeBoundExtension || !sample.defined[i]) return HUGE_VAL;
     const std::int64_t z = surface.mesh().neighbor(chart, shapes.reach[i].edge);
     // g_z: order 3 from the majorants of its two terms.

@@ -86,8 +86,8 @@ void PouSurface::ComputeBounds() {
 namespace {
 
 /// The samples of every chart of one valence n and degree d, and their fit:
-/// a (2d + 1)^2 grid over [-R, R]^2, kept where the point's canonical image
-/// lies in the star, with the sector (star triangle) and the barycentric
+/// a (2 max(d, 2) + 1)^2 grid over [-R, R]^2, kept where the point's
+/// canonical image lies in the star, with the sector (star triangle) and the barycentric
 /// coordinates (of the vertex, the next neighbour, the one after) of that
 /// image in it.
 struct SampleGrid {
@@ -99,7 +99,10 @@ struct SampleGrid {
 
   void Build(int n, int d) {
     const double r = DomainRadius(n);
-    const int steps = 2 * d;
+    // At degree 1 a 3 x 3 grid would keep only the centre and the axes'
+    // points once the star no longer holds the square's corners (valence 5
+    // and more), where the bilinear twist uv vanishes: 5 x 5 determines it.
+    const int steps = 2 * std::max(d, 2);
     for (int j = 0; j <= steps; ++j) {
       for (int i = 0; i <= steps; ++i) {
         const double x = -r + 2.0 * r * i / steps, y = -r + 2.0 * r * j / steps;
@@ -190,7 +193,7 @@ void PouSurface::EvaluateParts(std::int64_t chart, double u, double v, BlendPart
     Jet<double> angle, distance;
     const JetPoint<double> frame = ToFrame(n, ToEdgeDirection(n, edge, p), &angle, &distance);
     const JetPoint<double> other = HalfTurn(frame);
-    if (!(std::fabs(angle.v) < kPi) || !(other.x.v > 0.0)) continue;
+    if (!(std::fabs(angle.v) < FormulaAngle(n)) || !(other.x.v > 0.0)) continue;
     parts->defined[i] = 1;
     const Jet<double> otherDistance = JetSqrt(other.x * other.x + other.y * other.y);
     if (otherDistance.v < kFrameRadius) parts->weights[i] = JetBump((1.0 / kFrameRadius) * otherDistance);

@@ -30,8 +30,8 @@ struct ThetaJet {
 /// them): psi_v and the bump gamma_v, and for each neighbour asked for its
 /// bump beta_z (zero outside its support) and psi_z o phi_zv, by the
 /// formula of the transition map wherever that is defined (the point not the
-/// centre, less than a half turn from the edge), inside the gluing domain or
-/// not. All as jets in the chart's (u, v).
+/// centre, less than FormulaAngle from the edge: pou/chart_maps.h), inside
+/// the gluing domain or not. All as jets in the chart's (u, v).
 struct BlendParts {
   Jet<double> own[3];
   Jet<double> ownWeight;

@@ -68,13 +68,20 @@ py::object ChartPoints(const PyManifold& self, const py::handle& cells, const py
     throw InputError("uv: shape " + ShapeText(uvArray) + ", expected (" + std::to_string(cellArray.shape(0)) + ", 2)");
   }
   const py::ssize_t n = cellArray.shape(0);
+  const std::int64_t* chart = cellArray.data();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    if (chart[i] < 0 || chart[i] >= charts->NumCharts()) {
+      throw InputError("cells[" + std::to_string(i) + "]: chart " + std::to_string(chart[i]) +
+                       " does not exist (the patch has charts 0 to " + std::to_string(charts->NumCharts() - 1) +
+                       ")");
+    }
+  }
   const char* names[] = {"point", "du", "dv", "duu", "duv", "dvv"};
   const int outputs = derivatives ? 6 : 1;
   std::vector<py::array_t<double>> out;
   for (int k = 0; k < outputs; ++k) out.emplace_back(std::vector<py::ssize_t>{n, 3});
   std::vector<double*> data;
   for (auto& array : out) data.push_back(array.mutable_data());
-  const std::int64_t* chart = cellArray.data();
   const double* at = uvArray.data();
   {
     py::gil_scoped_release noGil;
@@ -121,9 +128,9 @@ The charts of a pou_manifold patch evaluated at local coordinates.
 cells: (N,) integer array of charts (vertices); uv: (N, 2) real array of
   coordinates in each chart's p-domain (the disk of radius cos(pi / valence)).
 Returns an (N, 3) array of points, or with derivatives=True a dict of (N, 3)
-arrays: point, du, dv, duu, duv, dvv. Rows outside the p-domain (or of a
-chart out of range) are NaN. Raises InputError when the patch is not a
-pou_manifold.
+arrays: point, du, dv, duu, duv, dvv. Rows outside the p-domain are NaN.
+Raises InputError when the patch is not a pou_manifold, or naming the first
+entry of cells that is not a chart of the patch.
 )doc");
 }
 

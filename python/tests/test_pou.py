@@ -122,6 +122,37 @@ def test_inversion_never_farther_than_dense_sampling():
     assert result["distance"][0] > 0.5
 
 
+def bipyramid(n):
+    """Two apexes of valence n over an equator of n vertices (valence 4)."""
+    angles = 2 * np.pi * np.arange(n) / n
+    vertices = np.vstack([np.stack([np.cos(angles), np.sin(angles), 0.1 * np.cos(3 * angles)], 1),
+                          [[0, 0, 1.1], [0, 0, -0.9]]])
+    triangles = [(i, (i + 1) % n, n) for i in range(n)] + [((i + 1) % n, i, n + 1) for i in range(n)]
+    return vertices, np.array(triangles, dtype=np.int64)
+
+
+@pytest.mark.parametrize("degree", [None, 1, 2])
+def test_high_valence_and_low_degree_never_farther_than_dense_sampling(degree):
+    # Apexes of valence 24 (a cylinder's fan caps have such vertices), with
+    # the charts' own degrees and with bilinear and biquadratic charts; points
+    # up to about half the surface's size from it (far points over the flat
+    # apexes can exhaust the search's budget: docs/manifold.md).
+    vertices, triangles = bipyramid(24)
+    manifold = invmap.manifold(vertices, triangles, base="loop", degree=degree)
+    samples = chart_samples(manifold, valences(triangles, len(vertices)), 41)
+    rng = np.random.default_rng(2)
+    queries = samples[rng.choice(len(samples), 200)] + rng.normal(size=(200, 3)) * 0.3
+    result = manifold.invert(queries)
+    assert (result["status"] == 0).all()
+    brute = np.array([np.min(np.linalg.norm(samples - q, axis=1)) for q in queries])
+    assert (result["distance"] <= brute + 1e-9).all()
+    # Points of the charts are on the surface.
+    on = manifold.invert(samples[::7])
+    assert (on["distance"] <= 1e-9).all()
+    again = manifold.chart_points(result["cell"], result["params"][:, :2])
+    np.testing.assert_allclose(again, result["closest"], atol=1e-12)
+
+
 def test_the_command_writes_the_same_surface(cli, tmp_path):
     vertices, triangles = icosphere(1)
     mesh = tmp_path / "sphere.obj"
@@ -156,9 +187,18 @@ def test_points_outside_a_p_domain_are_nan():
     vertices, triangles = octahedron()
     manifold = invmap.manifold(vertices, triangles)
     radius = math.cos(math.pi / 4)
-    points = manifold.chart_points(np.array([0, 0, 6, -1]), np.array([[0, 0], [radius, 0], [0, 0], [0, 0]]))
+    points = manifold.chart_points(np.array([0, 0, 5]), np.array([[0, 0], [radius, 0], [0, -1.5 * radius]]))
     assert np.isfinite(points[0]).all()
     assert np.isnan(points[1:]).all()
+
+
+@pytest.mark.parametrize("chart", [6, -1])
+def test_a_chart_that_does_not_exist_is_named(chart):
+    vertices, triangles = octahedron()
+    manifold = invmap.manifold(vertices, triangles)
+    with pytest.raises(invmap.InputError,
+                       match=rf"^cells\[1\]: chart {chart} does not exist \(the patch has charts 0 to 5\)"):
+        manifold.chart_points(np.array([0, chart]), np.zeros((2, 2)))
 
 
 def test_degree_and_base_are_checked():
@@ -184,12 +224,17 @@ def bad_meshes():
     with_isolated = np.vstack([vertices, [[5, 5, 5]]])
     flat = vertices.copy()
     flat[4] = 0.5 * (flat[0] + flat[2])
+    unknown, infinite = vertices.copy(), vertices.copy()
+    unknown[3, 1] = np.nan
+    infinite[5, 2] = -np.inf
     return [
         ("boundary", vertices, triangles[:-1], r"edge \(0, 3\) is on the boundary"),
         ("orientation", vertices, flipped, r"run along edge \(\d, \d\) in the same direction"),
         ("non-manifold edge", vertices, doubled, r"edge \(0, 2\) is non-manifold"),
         ("isolated", with_isolated, triangles, r"vertex 6 belongs to no triangle"),
         ("degenerate", flat, triangles, r"triangle 0 \(vertices 0, 2, 4\) has zero area"),
+        ("nan vertex", unknown, triangles, r"^manifold: vertex 3: coordinate 1 is not finite \(nan\)$"),
+        ("infinite vertex", infinite, triangles, r"^manifold: vertex 5: coordinate 2 is not finite \(-inf\)$"),
         ("out of range", vertices, np.where(triangles == 5, 9, triangles), r"vertex 9|9"),
     ]
 

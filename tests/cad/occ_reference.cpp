@@ -1,6 +1,10 @@
 #include "tests/cad/occ_reference.h"
 
+#include "tests/cad/occ_nearest.h"
+
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepGProp.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
@@ -9,6 +13,7 @@
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
@@ -97,7 +102,12 @@ double ShapeSize(const TopoDS_Shape& shape) {
 }
 
 std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, double near, double far,
-                                 unsigned seed) {
+                                 unsigned seed, std::size_t farEvery) {
+  return PointsAround(shape, count, std::vector<double>{near}, far, seed, farEvery);
+}
+
+std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                 double far, unsigned seed, std::size_t farEvery) {
   Bnd_Box box;
   BRepBndLib::AddOptimal(shape, box, false, false);
   double lo[3], hi[3];
@@ -125,8 +135,10 @@ std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, d
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::vector<double> points;
+  std::size_t nearCount = 0;
   for (std::size_t i = 0; i < count; ++i) {
-    if (i % 2 == 0 && !cumulative.empty()) {
+    if (i % farEvery != farEvery - 1 && !cumulative.empty()) {
+      const double near = nears[nearCount++ % nears.size()];
       const double pick = unit(rng) * cumulative.back();
       const std::size_t t = std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin();
       double s = unit(rng), r = unit(rng);
@@ -142,6 +154,38 @@ std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, d
     } else {
       for (int k = 0; k < 3; ++k) points.push_back(lo[k] - far * size + unit(rng) * (hi[k] - lo[k] + 2.0 * far * size));
     }
+  }
+  return points;
+}
+
+std::vector<double> PointsNearEdges(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                    unsigned seed) {
+  const double size = ShapeSize(shape);
+  TopTools_IndexedMapOfShape map;
+  TopExp::MapShapes(shape, TopAbs_EDGE, map);
+  std::vector<BRepAdaptor_Curve> curves;
+  std::vector<double> cumulative;
+  for (int i = 1; i <= map.Extent(); ++i) {
+    const TopoDS_Edge& edge = TopoDS::Edge(map(i));
+    if (BRep_Tool::Degenerated(edge)) continue;
+    GProp_GProps properties;
+    BRepGProp::LinearProperties(edge, properties);
+    curves.emplace_back(edge);
+    cumulative.push_back((cumulative.empty() ? 0.0 : cumulative.back()) + properties.Mass());
+  }
+  std::vector<double> points;
+  if (curves.empty() || !(cumulative.back() > 0.0)) return points;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double pick = unit(rng) * cumulative.back();
+    const std::size_t e = std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin();
+    const BRepAdaptor_Curve& curve = curves[std::min(e, curves.size() - 1)];
+    gp_XYZ p = curve.Value(curve.FirstParameter() + unit(rng) * (curve.LastParameter() - curve.FirstParameter())).XYZ();
+    const gp_XYZ direction(gauss(rng), gauss(rng), gauss(rng));
+    p += direction.Normalized() * (nears[i % nears.size()] * size * unit(rng));
+    points.insert(points.end(), {p.X(), p.Y(), p.Z()});
   }
   return points;
 }
@@ -186,15 +230,17 @@ double FaceTolerance(const TopoDS_Face& face) {
 Comparison CheckAgainstOpenCascade(const TopoDS_Shape& shape, const cad::Model& model,
                                    const std::vector<double>& points, double tolerance) {
   const std::vector<TopoDS_Face> faces = Faces(shape);
-  const TopoDS_Compound boundary = Compound(faces);
+  std::vector<double> faceTolerance;
+  for (const TopoDS_Face& face : faces) faceTolerance.push_back(FaceTolerance(face));
   const double size = ShapeSize(shape);
   const Results results = InvertOnModel(model, points);
   const std::size_t n = points.size() / 3;
-  // OpenCascade's answers, two threads (each query has its own objects).
+  // OpenCascade's answers, two threads (each with its own extrema objects).
   std::vector<double> occ(n), onFace(n), parameterGap(n);
   auto work = [&](std::size_t first, std::size_t step) {
+    OccNearest nearest(faces);
     for (std::size_t i = first; i < n; i += step) {
-      occ[i] = OccDistance(boundary, &points[3 * i]);
+      occ[i] = nearest.Distance(&points[3 * i]);
       if (results.status[i] != Status::Found) continue;
       // On the face: its surface at the reported (u, v) is the reported
       // point, and the face classifier keeps (u, v).
@@ -203,7 +249,7 @@ Comparison CheckAgainstOpenCascade(const TopoDS_Shape& shape, const cad::Model& 
       const gp_Pnt2d uv(results.params[3 * i], results.params[3 * i + 1]);
       const gp_Pnt at = BRep_Tool::Surface(face)->Value(uv.X(), uv.Y());
       parameterGap[i] = at.Distance(gp_Pnt(x[0], x[1], x[2]));
-      BRepClass_FaceClassifier classifier(face, uv, std::max(1e-9 * size, FaceTolerance(face)));
+      BRepClass_FaceClassifier classifier(face, uv, std::max(1e-9 * size, faceTolerance[results.patch[i]]));
       onFace[i] = classifier.State() == TopAbs_OUT ? 1.0 : 0.0;
     }
   };
@@ -220,8 +266,7 @@ Comparison CheckAgainstOpenCascade(const TopoDS_Shape& shape, const cad::Model& 
     } else {
       const double excess = (results.distance[i] - occ[i]) / size;
       c.worstExcess = std::max(c.worstExcess, excess);
-      const TopoDS_Face& face = faces[results.patch[i]];
-      const double own = std::max(tolerance * size, 2.0 * FaceTolerance(face));
+      const double own = std::max(tolerance * size, 2.0 * faceTolerance[results.patch[i]]);
       if (excess > tolerance) {
         ++c.farther;
         why << "farther than OpenCascade by " << excess * size;

@@ -37,12 +37,23 @@ double OccDistance(const TopoDS_Shape& shape, const double* point);
 /// The diagonal of the shape's box.
 double ShapeSize(const TopoDS_Shape& shape);
 
-/// `count` query points: half near the surface (a random point of a
-/// triangle of OpenCascade's mesh, moved along a random direction by up to
-/// `near` times the size), half uniform in the box grown by `far` times the
-/// size on each side.
+/// `count` query points: every `farEvery`-th uniform in the box grown by
+/// `far` times the size on each side, the others near the surface (a random
+/// point of a triangle of OpenCascade's mesh, moved along a random direction
+/// by up to `near` times the size).
 std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, double near, double far,
-                                 unsigned seed);
+                                 unsigned seed, std::size_t farEvery = 2);
+/// The same with near points moved by up to nears[0], nears[1], ... times
+/// the size in turn.
+std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                 double far, unsigned seed, std::size_t farEvery);
+
+/// `count` query points near the model's edges, where trimming decides the
+/// answer: a random point of a random edge (weighted by length; degenerate
+/// edges left out), moved along a random direction by up to nears[0],
+/// nears[1], ... times the size in turn.
+std::vector<double> PointsNearEdges(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
+                                    unsigned seed);
 
 /// Inverts `points` (3 per point) on the model's geometry with one thread.
 Results InvertOnModel(const cad::Model& model, const std::vector<double>& points);
@@ -64,8 +75,8 @@ struct Comparison {
 };
 
 /// Checks every point's answer: found, never farther than OpenCascade's
-/// BRepExtrema_DistShapeShape to the faces beyond `tolerance` times the
-/// size, the reported (u, v) inside the reported face (its classifier) and
+/// distance to the faces (OccNearest: DistShapeShape's extrema, set up once)
+/// beyond `tolerance` times the size, the reported (u, v) inside the reported face (its classifier) and
 /// the face's surface there at the reported point (within the face's own
 /// tolerance where an edge answers). OpenCascade's queries run on two threads.
 Comparison CheckAgainstOpenCascade(const TopoDS_Shape& shape, const cad::Model& model,

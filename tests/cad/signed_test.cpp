@@ -26,44 +26,12 @@
 
 #include <cmath>
 #include <functional>
-#include <random>
 
 #include "tests/cad/occ_reference.h"
+#include "tests/cad/sign_points.h"
 
 namespace invmap::cadtest {
 namespace {
-
-/// Points around the shape's vertices and along its edges, moved off them
-/// in random directions by log-uniform amounts from 1e-9 to 1e-1 of the
-/// size; plus points near the surface (PointsAround).
-std::vector<double> PointsNearEdgesAndVertices(const TopoDS_Shape& shape, int perFeature, unsigned seed) {
-  const double size = ShapeSize(shape);
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::vector<gp_Pnt> anchors;
-  TopTools_IndexedMapOfShape vertices, edges;
-  TopExp::MapShapes(shape, TopAbs_VERTEX, vertices);
-  TopExp::MapShapes(shape, TopAbs_EDGE, edges);
-  for (int v = 1; v <= vertices.Extent(); ++v) {
-    for (int k = 0; k < perFeature; ++k) anchors.push_back(BRep_Tool::Pnt(TopoDS::Vertex(vertices(v))));
-  }
-  for (int e = 1; e <= edges.Extent(); ++e) {
-    double first, last;
-    const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(edges(e)), first, last);
-    if (curve.IsNull()) continue;
-    for (int k = 0; k < perFeature; ++k) anchors.push_back(curve->Value(first + (last - first) * unit(rng)));
-  }
-  std::vector<double> points;
-  for (const gp_Pnt& a : anchors) {
-    const gp_XYZ direction = gp_XYZ(gauss(rng), gauss(rng), gauss(rng)).Normalized();
-    const gp_XYZ p = a.XYZ() + direction * (size * std::pow(10.0, -9.0 + 8.0 * unit(rng)));
-    points.insert(points.end(), {p.X(), p.Y(), p.Z()});
-  }
-  const std::vector<double> around = PointsAround(shape, anchors.size(), 0.01, 0.1, seed);
-  points.insert(points.end(), around.begin(), around.end());
-  return points;
-}
 
 /// Checks the signs of invmap's signed distances: against `inside` (exact,
 /// when the solid has a closed form) at every distance, and against
@@ -94,19 +62,7 @@ void CheckSigns(const TopoDS_Shape& solid, const std::string& name, int perFeatu
     ASSERT_EQ(results.status[i], Status::Found);
     EXPECT_EQ(std::abs(signedDistances[i]), results.distance[i]);
     if (results.distance[i] == 0.0) continue;
-    // Nearer an edge than the model's tolerance there, the side is the
-    // model's to say, not the closed form's: a boolean's intersection edge
-    // is a curve within its tolerance of the exact one, and the point may
-    // lie between the two.
-    const TopoDS_Face& face = faces[results.patch[i]];
-    const double tolerance = FaceTolerance(face);
-    if (results.distance[i] < tolerance) {
-      TopoDS_Compound edges;
-      BRep_Builder builder;
-      builder.MakeCompound(edges);
-      for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) builder.Add(edges, it.Current());
-      if (OccDistance(edges, &results.closest[3 * i]) <= tolerance) continue;
-    }
+    if (WithinModelPrecisionOfAnEdge(faces[results.patch[i]], results.distance[i], &results.closest[3 * i])) continue;
     if (inside) {
       ++exact;
       const bool in = inside(&points[3 * i]);

@@ -147,6 +147,28 @@ TEST_F(DistanceCliTest, BadPoseLinesAreNamedByLine) {
   EXPECT_EQ(Run(Models() + " --poses-b " + Path("missing.txt"), nullptr, &err), 3);
 }
 
+TEST_F(DistanceCliTest, TranslationsBeyondTheSupportedRangeAreRefused) {
+  // Up to 1e100 the answer is right (the stick 1e100 above the torus, whose
+  // distance is 1e100 to 1e-16); beyond, squared distances of the pair
+  // search overflowed (1e155 gave a null distance, "certified").
+  std::string out, err;
+  ASSERT_EQ(Run(Models() + " --pose-b 1,0,0,0,0,1,0,0,0,0,1,1e100", &out), 0) << out;
+  const json answer = json::parse(out);
+  ASSERT_TRUE(answer["distance"].is_number()) << out;
+  EXPECT_NEAR(answer["distance"].get<double>() / 1e100, 1.0, 1e-12);
+  // (Not certified there: the torus's cells are far smaller than a rounding
+  // of the posed stick's coordinates, so no bound tells them apart.)
+  for (const char* tz : {"1.1e100", "1e155", "-1e200"}) {
+    EXPECT_EQ(Run(Models() + " --pose-b 1,0,0,0,0,1,0,0,0,0,1," + tz, nullptr, &err), 2) << tz;
+    EXPECT_NE(err.find("--pose-b: the pose's translation"), std::string::npos) << err;
+    EXPECT_NE(err.find("outside [-1e100, 1e100]"), std::string::npos) << err;
+  }
+  WriteFile("far.txt", "1,0,0,0,0,1,0,0,0,0,1,0\n1,0,0,1e155,0,1,0,0,0,0,1,0\n");
+  EXPECT_EQ(Run(Models() + " --poses-b " + Path("far.txt") + " -o " + Path("x.json"), nullptr, &err), 3);
+  EXPECT_NE(err.find("far.txt:2:"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(Path("x.json")));
+}
+
 TEST_F(DistanceCliTest, UsageErrors) {
   std::string err;
   EXPECT_EQ(Run(Models() + " --pose-b 1,0,0", nullptr, &err), 2);

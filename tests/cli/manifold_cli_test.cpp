@@ -133,13 +133,22 @@ TEST_F(CliTest, ManifoldFromEveryMeshFormatAndBaseIsTakenByInfoAndInvert) {
   WriteFile("points.xyz", points);
   for (const std::string extension : {".obj", ".ply", ".off", ".stl"}) {
     WriteFile("mesh" + extension, MeshText(mesh, extension));
+    // With the OBJ, also the lowest degrees (the apexes have valence 5).
+    const std::vector<int> degrees = extension == std::string(".obj") ? std::vector<int>{0, 1, 2} : std::vector<int>{0};
+    for (const int degree : degrees)
     for (const std::string base : {"flat", "pn", "loop"}) {
-      const std::string where = extension + " " + base;
+      const std::string option = degree > 0 ? " --degree " + std::to_string(degree) : "";
+      const std::string where = extension + " " + base + option;
       std::string out;
-      ASSERT_EQ(Run("manifold -m " + Path("mesh" + extension) + " --base " + base + " -o " + Path("S.json"), &out), 0)
+      ASSERT_EQ(Run("manifold -m " + Path("mesh" + extension) + " --base " + base + option + " -o " + Path("S.json"),
+                    &out),
+                0)
           << where << ": " << out;
       EXPECT_NE(out.find("7 charts, base " + base), std::string::npos) << where << ": " << out;
       const SurfaceFile surface = ReadSurface(ReadFile(Path("S.json")));
+      if (degree > 0) {
+        for (int d : surface.degrees) EXPECT_EQ(d, degree) << where;
+      }
       ASSERT_EQ(surface.xyz.size(), mesh.xyz.size()) << where;
       ASSERT_EQ(surface.triangles.size(), mesh.triangles.size()) << where;
       ASSERT_EQ(Run("info -g " + Path("S.json"), &out), 0) << where << ": " << out;
@@ -175,7 +184,12 @@ TEST_F(CliTest, ManifoldFromEveryMeshFormatAndBaseIsTakenByInfoAndInvert) {
         std::int64_t chart;
         std::complex<double> at;
         const double expected = reference.Closest(&queries[3 * i], &chart, &at);
-        EXPECT_NEAR(std::stod(f[distance]), expected, 1e-8 * size) << where << " point " << i;
+        // Never farther than the reference; at degrees 1 and 2 (charts that
+        // bend less smoothly into each other) the reference's polish may stop
+        // short of the minimum, which the surface's point evaluated by the
+        // reference itself (below) confirms.
+        EXPECT_LE(std::stod(f[distance]), expected + 1e-8 * size) << where << " point " << i;
+        EXPECT_NEAR(std::stod(f[distance]), expected, (degree > 0 ? 1e-5 : 1e-8) * size) << where << " point " << i;
         double p[3];
         reference.Evaluate(std::stoll(f[cell]), {std::stod(f[u]), std::stod(f[v])}, p);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(std::stod(f[x + c]), p[c], 1e-9 * size) << where << " point " << i;

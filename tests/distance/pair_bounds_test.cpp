@@ -2,7 +2,8 @@
 // above the true distance (random boxes and simplices under random rigid
 // motions, dense samples of both sets), and tight where they are meant to
 // be (thin boxes facing each other, parallel triangles). And the closed
-// form between two triangles against the tests' own.
+// form between two triangles against the tests' own (random, facing and
+// coplanar pairs).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -229,6 +230,37 @@ TEST(PairBounds, TriangleClosedFormMatchesTheReference) {
     crossing += reference == 0.0;
   }
   EXPECT_GT(crossing, 100);
+}
+
+TEST(PairBounds, TriangleClosedFormOfFacingAndPlanarPairs) {
+  // Mesh-like pairs (small triangles on nearly parallel planes, a vertex
+  // over a face or an edge over an edge) and coplanar ones (2D), where the
+  // closed form's quick answers apply or must not.
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 3000; ++trial) {
+    const bool planar = trial % 4 == 0;
+    const double gap = planar ? 0.0 : 0.3 * std::abs(u(rng));
+    double a[3][3], b[3][3];
+    for (int v = 0; v < 3; ++v) {
+      a[v][0] = u(rng);
+      a[v][1] = u(rng);
+      a[v][2] = planar ? 0.0 : 0.05 * u(rng);
+      b[v][0] = 0.8 * u(rng) + 0.5 * u(rng);
+      b[v][1] = 0.8 * u(rng);
+      b[v][2] = planar ? 0.0 : gap + 0.05 * u(rng);
+    }
+    const double* pa[3] = {a[0], a[1], a[2]};
+    const double* pb[3] = {b[0], b[1], b[2]};
+    double refA[3], refB[3], pointA[3], pointB[3];
+    const int ambient = planar ? 2 : 3;
+    const double d2 = kernels::ClosestPointsOfSimplices(2, pa, 2, pb, ambient, refA, refB, pointA, pointB);
+    const double reference = testing::TriangleTriangleDistance(a[0], a[1], a[2], b[0], b[1], b[2]);
+    EXPECT_NEAR(std::sqrt(d2), reference, 1e-12) << "trial " << trial;
+    double gap2 = 0.0;
+    for (int k = 0; k < ambient; ++k) gap2 += (pointA[k] - pointB[k]) * (pointA[k] - pointB[k]);
+    EXPECT_NEAR(std::sqrt(gap2), reference, 1e-12) << "trial " << trial;
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // contact) against a fresh query for that pose, and the tracker's errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -66,6 +67,63 @@ TEST(Trajectories, MeshAgainstMeshMatchesFreshQueries) {
     EXPECT_NEAR(tracked.nearest.distance, fresh.nearest.distance, 1e-12);
     ExpectConsistent(*big, IdentityRows(), *probe, poses[i], tracked.nearest, 1e-12);
   }
+}
+
+/// Poses of B in small steps (what a tracker keeps between poses lets it
+/// skip most pairs then), with jumps to other parts of A at `jumps`: a
+/// wander at a height that dips toward A now and then.
+std::vector<PoseRows> SmallSteps(int count, const std::vector<int>& jumps, double height, double step) {
+  std::vector<PoseRows> poses;
+  double x = 0.3, y = 0.4, angle = 0.0;
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), place(0.1, 0.9);
+  for (int i = 0; i < count; ++i) {
+    if (std::find(jumps.begin(), jumps.end(), i) != jumps.end()) {
+      x = place(rng);
+      y = place(rng);
+      angle += 2.0;
+    }
+    x = std::clamp(x + step * u(rng), 0.05, 0.95);
+    y = std::clamp(y + step * u(rng), 0.05, 0.95);
+    angle += 10.0 * step;
+    const double z = height * (0.8 + 0.2 * std::cos(0.05 * i));
+    poses.push_back(RotationRows({0.3, 0.2, 1.0}, angle, {x, y, z}));
+  }
+  return poses;
+}
+
+/// The tracker over `poses` against a fresh query per pose; A moves once, at `moveAAt`.
+void TrackAgainstFresh(const BuiltModel& a, const BuiltModel& b, const std::vector<PoseRows>& poses, int moveAAt,
+                       double tol) {
+  DistanceTracker tracker(a.model, b.model);
+  PoseRows poseA = IdentityRows();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (static_cast<int>(i) == moveAAt) {
+      poseA = RotationRows({0, 0, 1}, 0.01, {0.002, -0.001, 0.003});
+      ASSERT_EQ(tracker.SetPoseA(ToPose(poseA)), Error::Ok);
+    }
+    DistanceResult tracked;
+    std::string message;
+    ASSERT_EQ(tracker.Update(ToPose(poses[i]), &tracked, &message), Error::Ok) << message;
+    const DistanceResult fresh = DistanceQuery(a, poseA, b, poses[i]);
+    SCOPED_TRACE("pose " + std::to_string(i));
+    ASSERT_TRUE(tracked.nearest.found);
+    EXPECT_NEAR(tracked.nearest.distance, fresh.nearest.distance, tol);
+    EXPECT_TRUE(tracked.nearest.certified) << "fresh certified " << fresh.nearest.certified << " distance " << fresh.nearest.distance;
+    ExpectConsistent(a, poseA, b, poses[i], tracked.nearest, tol);
+  }
+}
+
+TEST(Trajectories, SmallStepsAndJumpsOverASurfaceMatchFreshQueries) {
+  const auto surface = BuildModel(WavySurface(0.05, 2, 2, 12, false));
+  const auto sphere = BuildModel(NurbsSphere({0, 0, 0}, 0.1));
+  TrackAgainstFresh(*surface, *sphere, SmallSteps(50, {20, 21, 40}, 0.3, 1e-3), 30, 1e-9);
+}
+
+TEST(Trajectories, SmallStepsAndJumpsOverAMeshMatchFreshQueries) {
+  const auto big = BuildModel(MeshGeometry(WavyHeightField(24, 3)));
+  const auto probe = BuildModel(MeshGeometry(BumpySphereMesh(10, 7, {0, 0, 0}, 0.08)));
+  TrackAgainstFresh(*big, *probe, SmallSteps(200, {70, 71, 140}, 0.35, 1e-3), 100, 1e-12);
 }
 
 TEST(Trajectories, MovingATooAndBadPoses) {

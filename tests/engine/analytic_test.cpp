@@ -4,9 +4,11 @@
 // including the near-ties around centres and axes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <random>
 
 #include "invmap/invmap.h"
@@ -79,6 +81,85 @@ TEST(AnalyticTest, NurbsSpheresAtTheEndsOfTheSupportedRange) {
     char name[64];
     std::snprintf(name, sizeof(name), "sphere of radius %g", r);
     RunAnalytic(name, g, q, [&](const double* p) { return SphereDistance(c, r, p); });
+  }
+}
+
+/// The surface of the cube c +- h as a mesh of 6 quads or 12 triangles.
+Patch CubeSurface(CellType type, const Vec3& c, double h) {
+  Patch patch;
+  patch.kind = Patch::Kind::Mesh;
+  patch.cell = type;
+  for (int corner = 0; corner < 8; ++corner) {
+    for (int k = 0; k < 3; ++k) patch.points.push_back(c[k] + ((corner >> k) & 1 ? h : -h));
+  }
+  const std::int64_t faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+  for (const auto& f : faces) {
+    if (type == CellType::Quad) {
+      patch.cells.insert(patch.cells.end(), f, f + 4);
+    } else {
+      patch.cells.insert(patch.cells.end(), {f[0], f[1], f[2], f[0], f[2], f[3]});
+    }
+  }
+  return patch;
+}
+
+/// The outline of the square (c[0], c[1]) +- h in 2D: 4 segments.
+Patch SquareOutline(const Vec3& c, double h) {
+  Patch patch;
+  patch.kind = Patch::Kind::Mesh;
+  patch.cell = CellType::Line;
+  patch.points = {c[0] - h, c[1] - h, c[0] + h, c[1] - h, c[0] + h, c[1] + h, c[0] - h, c[1] + h};
+  patch.cells = {0, 1, 1, 2, 2, 3, 3, 0};
+  return patch;
+}
+
+/// Distance from p to the box c +- h (solid: 0 inside) or to its surface.
+double BoxDistance(int dim, const Vec3& c, double h, const double* p, bool solid) {
+  double outside[3] = {0, 0, 0}, deepest = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < dim; ++k) {
+    const double q = std::abs(p[k] - c[k]) - h;
+    outside[k] = std::max(q, 0.0);
+    deepest = std::max(deepest, q);
+  }
+  if (deepest > 0.0) return std::hypot(outside[0], outside[1], outside[2]);
+  return solid ? 0.0 : -deepest;
+}
+
+TEST(AnalyticTest, AffineAndBilinearCellsAtTheEndsOfTheSupportedRange) {
+  // Triangles, segments and tetrahedra are solved in closed form, whose
+  // products of four to six edge lengths overflowed at 1e80 and underflowed
+  // at 1e-80 (distances off by up to 20%, a point inside a triangle 1e-90
+  // across reported 1e-91 from it); quads and hexes by Newton on their nets.
+  std::mt19937_64 rng(107);
+  for (const double h : {3e99, 1e95, 1e80, 1e-80, 1e-95, 2e-99}) {
+    const Vec3 c{{0.3 * h, -0.2 * h, 0.1 * h}};
+    const auto cube = [&](double u, double v, double w) {
+      return Vec3{{c[0] + h * (2 * u - 1), c[1] + h * (2 * v - 1), c[2] + h * (2 * w - 1)}};
+    };
+    struct Case {
+      const char* name;
+      int dim;
+      Patch patch;
+      bool solid;
+    };
+    const Case cases[] = {{"triangles", 3, CubeSurface(CellType::Tri, c, h), false},
+                          {"quads", 3, CubeSurface(CellType::Quad, c, h), false},
+                          {"tetrahedra", 3, GridMesh(CellType::Tet, 3, 2, 2, 2, cube), true},
+                          {"hexahedra", 3, GridMesh(CellType::Hex, 3, 2, 1, 1, cube), true},
+                          {"segments", 2, SquareOutline(c, h), false}};
+    for (const Case& cs : cases) {
+      Geometry g;
+      g.dimension = cs.dim;
+      g.patches.push_back(cs.patch);
+      QuerySet q;
+      q.dim = cs.dim;
+      const Vec3 centre{{c[0], c[1], cs.dim == 3 ? c[2] : 0.0}};
+      AddShell(&q, centre, 0.0, 1.5 * h, 600, "near", rng);
+      AddShell(&q, centre, 1.5 * h, 20 * h, 300, "far", rng);
+      char name[80];
+      std::snprintf(name, sizeof(name), "%s, cube of half-width %g", cs.name, h);
+      RunAnalytic(name, g, q, [&](const double* p) { return BoxDistance(cs.dim, c, h, p, cs.solid); });
+    }
   }
 }
 

@@ -2,6 +2,8 @@
 // edge or triangle at fault, and the rings of a valid one.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "pou/closed_mesh.h"
 #include "tests/support/pou_meshes.h"
 
@@ -77,6 +79,15 @@ TEST(ClosedMeshTest, DegenerateTriangles) {
   testing::TriangleMesh flat = testing::Bipyramid(4);
   for (int c = 0; c < 3; ++c) flat.xyz[3 * 3 + c] = flat.xyz[3 * 2 + c];  // vertex 3 onto vertex 2
   EXPECT_EQ(Check(flat), "triangle 0 (vertices 0, 2, 3) has zero area (degenerate)");
+}
+
+TEST(ClosedMeshTest, NonFiniteVertex) {
+  testing::TriangleMesh m = testing::Bipyramid(4);
+  m.xyz[3 * 2 + 1] = std::nan("");
+  EXPECT_EQ(Check(m), "vertex 2: coordinate 1 is not finite (nan)");
+  testing::TriangleMesh far = testing::Bipyramid(4);
+  far.xyz[3 * 5 + 2] = HUGE_VAL;
+  EXPECT_EQ(Check(far), "vertex 5: coordinate 2 is not finite (inf)");
 }
 
 TEST(ClosedMeshTest, ValenceTwo) {

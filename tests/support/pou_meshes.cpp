@@ -106,6 +106,31 @@ TriangleMesh Torus(int around, int across, double big, double small) {
   return m;
 }
 
+TriangleMesh Cylinder(int around, int rings) {
+  TriangleMesh m;
+  m.name = "cylinder" + std::to_string(around) + "x" + std::to_string(rings);
+  for (int k = 0; k <= rings; ++k) {
+    for (int i = 0; i < around; ++i) {
+      const double a = 2.0 * M_PI * i / around;
+      m.xyz.insert(m.xyz.end(), {std::cos(a), std::sin(a), 2.0 * k / rings});
+    }
+  }
+  const std::int64_t bottom = m.numVertices(), top = bottom + 1;
+  m.xyz.insert(m.xyz.end(), {0.0, 0.0, 0.0, 0.0, 0.0, 2.0});
+  const auto id = [&](int k, int i) { return static_cast<std::int64_t>(k * around + (i % around)); };
+  for (int k = 0; k < rings; ++k) {
+    for (int i = 0; i < around; ++i) {
+      m.triangles.insert(m.triangles.end(), {id(k, i), id(k, i + 1), id(k + 1, i + 1)});
+      m.triangles.insert(m.triangles.end(), {id(k, i), id(k + 1, i + 1), id(k + 1, i)});
+    }
+  }
+  for (int i = 0; i < around; ++i) {
+    m.triangles.insert(m.triangles.end(), {bottom, id(0, i + 1), id(0, i)});
+    m.triangles.insert(m.triangles.end(), {top, id(rings, i), id(rings, i + 1)});
+  }
+  return m;
+}
+
 TriangleMesh GenusTwo(int smoothing) {
   TriangleMesh m;
   m.name = "genus2";

@@ -1,5 +1,5 @@
 // Closed triangle meshes for the partition-of-unity surface tests: vertices
-// of valence 3 to 8, spheres and tori sampled from the analytic surfaces at
+// of any valence from 3, spheres and tori sampled from the analytic surfaces at
 // several resolutions, and a genus-2 surface.
 #pragma once
 
@@ -27,6 +27,11 @@ TriangleMesh Icosphere(int levels, double radius);
 /// A torus about the z axis (major radius big, minor small), `around` x
 /// `across` vertices on it, every quad split into two triangles (valence 6).
 TriangleMesh Torus(int around, int across, double big, double small);
+/// A closed cylinder about the z axis (radius 1, height 2) with `around`
+/// vertices on each of its `rings` + 1 circles and each cap a fan of
+/// triangles about its centre vertex (valence `around`), as CAD tessellators
+/// make them.
+TriangleMesh Cylinder(int around, int rings);
 /// The boundary of a plate of 5 x 3 unit cubes with two cubes taken out
 /// (genus 2), squares split into triangles, then moved onto a smoother
 /// shape by `smoothing` steps of Laplacian smoothing (valences 3 to 7).

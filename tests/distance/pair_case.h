@@ -1,0 +1,65 @@
+// A pair of random curved cells under random rigid motions, as the pair
+// kernels see them (PairSide with its nets): the fixture of the tests of
+// the pair search's bounds.
+#pragma once
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "kernels/distance_net.h"
+#include "kernels/pair_problem.h"
+#include "tests/support/reference_cell.h"
+
+namespace invmap::kernels {
+
+/// A random rotation (about z in 2D) and a translation within 1.5.
+inline RigidMotion RandomMotion(std::mt19937_64& rng, int ambientDim) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  RigidMotion m;
+  if (ambientDim == 2) {
+    const double angle = 3.0 * u(rng);
+    m.rotation[0][0] = std::cos(angle);
+    m.rotation[0][1] = -std::sin(angle);
+    m.rotation[1][0] = std::sin(angle);
+    m.rotation[1][1] = std::cos(angle);
+    m.translation[0] = u(rng);
+    m.translation[1] = u(rng);
+    return m;
+  }
+  const Eigen::Quaterniond q = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
+  const Eigen::Matrix3d r = q.toRotationMatrix();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) m.rotation[i][j] = r(i, j);
+    m.translation[i] = u(rng);
+  }
+  return m;
+}
+
+/// Two cells and their sides.
+struct PairCase {
+  testing::RefCell cell[2];
+  DistanceNets nets[2];
+  PairSide side[2];
+};
+
+/// The side of `cell` under `motion`, its nets built around its control box's centre.
+inline void BuildSide(const testing::RefCell& cell, const RigidMotion& motion, DistanceNets* nets, PairSide* side) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, center[3] = {0, 0, 0};
+  for (int c = 0; c < cell.numControlPoints(); ++c) {
+    for (int k = 0; k < cell.ambientDim; ++k) {
+      lo[k] = std::min(lo[k], cell.points[c * cell.ambientDim + k]);
+      hi[k] = std::max(hi[k], cell.points[c * cell.ambientDim + k]);
+    }
+  }
+  for (int k = 0; k < cell.ambientDim; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
+  nets->Build(cell.view(), center);
+  side->cell = cell.view();
+  side->motion = motion;
+  side->size = cell.size();
+  side->nets = nets;
+}
+
+}  // namespace invmap::kernels
