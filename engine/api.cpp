@@ -125,14 +125,15 @@ ManifoldInfo Manifold::Info() const {
   info.cells = static_cast<std::size_t>(store.size());
   std::map<std::string, std::size_t> byShape;
   for (std::int64_t c = 0; c < store.size(); ++c) {
-    const kernels::CellShape& shape = store.solver(c).cell().shape;
+    const kernels::CellShape& shape = store.shape(c);
     std::string key = CellTypeName(shape.type());
     key += ' ';
     for (int f = 0; f < shape.numFactors(); ++f) {
       if (f) key += 'x';
       key += std::to_string(shape.factor(f).degree);
     }
-    if (store.solver(c).cell().weights) key += " rational";
+    double triangle[9];
+    if (store.View(c, triangle).weights) key += " rational";
     ++byShape[key];
   }
   info.cellsByShape.assign(byShape.begin(), byShape.end());
@@ -157,8 +158,9 @@ bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], dou
   if (impl_->index.pou().NumCells(patch) >= 0) return impl_->index.pou().PointAt(patch, cell, sample, params, point);
   const engine::CellStore& store = impl_->index.cells();
   const std::int64_t c = store.patchFirstCell(patch) + cell;
-  const kernels::CellSolver& solver = store.solver(c);
-  const kernels::CellShape& shape = solver.cell().shape;
+  double triangle[9];
+  const kernels::CellView view = store.View(c, triangle);
+  const kernels::CellShape& shape = view.shape;
   double ref[3] = {0, 0, 0};
   for (int f = 0; f < shape.numFactors(); ++f) {
     const kernels::SimplexFactor& fac = shape.factor(f);
@@ -176,9 +178,9 @@ bool Manifold::PointAt(int patch, std::int64_t cell, const double sample[3], dou
     }
   }
   kernels::MapJet jet;
-  kernels::EvaluateMap(solver.cell(), ref, kernels::JetOrder::Value, &jet);
+  kernels::EvaluateMap(view, ref, kernels::JetOrder::Value, &jet);
   store.ReportedParameters(c, ref, params);
-  for (int k = 0; k < 3; ++k) point[k] = k < solver.cell().ambientDim ? jet.x[k] : 0.0;
+  for (int k = 0; k < 3; ++k) point[k] = k < view.ambientDim ? jet.x[k] : 0.0;
   return true;
 }
 

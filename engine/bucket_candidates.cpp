@@ -17,9 +17,11 @@ void GatherSearchedCandidates(const CellStore& store, bool lanesSolved, BucketSc
   for (std::vector<double>& axis : scratch.searchedBox) axis.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
     const std::int64_t s = scratch.candidates[scratch.searched[j]].cell;
+    double lo[3], hi[3];
+    store.SubdivisionBox(s, lo, hi);
     for (int k = 0; k < store.dimension(); ++k) {
-      scratch.searchedBox[k][j] = store.subdivisionBoxLo(s)[k];
-      scratch.searchedBox[3 + k][j] = store.subdivisionBoxHi(s)[k];
+      scratch.searchedBox[k][j] = lo[k];
+      scratch.searchedBox[3 + k][j] = hi[k];
     }
   }
 }
@@ -32,7 +34,7 @@ BucketList CullBucket(const CellStore& store, const Bvh& bvh, const QueryPoints&
   BucketList list;
   // Boxes within the gap tolerance and the widest band (PointSearch::Prune2).
   const double reach = maxDistance + PointSearch::GapBand(store.largestSize());
-  list.use = NearestCells(bvh, lo, hi, &scratch.candidates, &scratch.stack, reach, kMaxBucketCandidates) &&
+  list.use = NearestCells(bvh, lo, hi, &scratch.candidates, &scratch.stack, reach, kMaxBucketCandidates, &store) &&
              scratch.candidates.size() <= kMaxBucketCandidates;
   list.lanesSolved = list.use && SolveAffineSimplexLanes(store, points, first, count, maxDistance, scratch);
   if (list.use) GatherSearchedCandidates(store, list.lanesSolved, scratch);

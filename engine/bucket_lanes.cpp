@@ -38,7 +38,7 @@ bool Beats(const BucketLanes& lanes, int j, double distance, double maxDistance,
 /// (the prediction moves at most one span per direction) says the foot is
 /// farther on, and a lane solve there would end on the cell's edge, wasted.
 bool InsideDomain(const CellStore& store, std::int64_t cell, const double* ref) {
-  const int pd = store.solver(cell).cell().shape.paramDim();
+  const int pd = store.shape(cell).paramDim();
   for (int i = 0; i < pd; ++i) {
     if (!(ref[i] >= 0.0 && ref[i] <= 1.0)) return false;
   }
@@ -48,10 +48,10 @@ bool InsideDomain(const CellStore& store, std::int64_t cell, const double* ref) 
 /// A start in `cell` from point j's answer: its patch parameters clamped
 /// into the cell when both cells tile one B-spline patch, else the centre.
 void StartFromAnswer(const CellStore& store, const BucketLanes& lanes, int j, std::int64_t cell, double* start) {
-  kernels::ReferenceCenter(store.solver(cell).cell().shape, start);
+  kernels::ReferenceCenter(store.shape(cell), start);
   if (lanes.cell[j] < 0) return;
-  const CellOrigin& from = store.origin(lanes.cell[j]);
-  const CellOrigin& to = store.origin(cell);
+  const CellOrigin from = store.origin(lanes.cell[j]);
+  const CellOrigin to = store.origin(cell);
   if (from.patch != to.patch || !from.sharedParameters) return;
   const int pd = kernels::CellShape::ParamDimOf(to.type);
   for (int i = 0; i < pd; ++i) {

@@ -62,7 +62,7 @@ inline bool UsesBucketLanes(const CellStore& store, bool pointwise) { return !po
 /// affine simplex is told by `simplices` first: on a large mesh its solver
 /// is a cold read, once per point of every bucket.
 inline bool StartsBucketLanes(const CellStore& store, const SimplexItems& simplices, std::int64_t cell) {
-  return cell >= 0 && simplices.item(cell) < 0 && !store.inRegion(cell) && !store.solver(cell).isAffineSimplex() &&
+  return cell >= 0 && simplices.item(cell) < 0 && !store.inRegion(cell) && !store.isAffineSimplex(cell) &&
          !store.solver(cell).trim();
 }
 

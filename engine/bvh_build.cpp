@@ -304,7 +304,7 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
   const std::int64_t numNodes = 2 * leafCount.load() - 1;
   bvh.nodes_.reserve(static_cast<std::size_t>(numNodes));
   bvh.items_.reserve(static_cast<std::size_t>(count));
-  bvh.itemBoxes_.reserve(static_cast<std::size_t>(count));
+  if (options.keepItemBoxes) bvh.itemBoxes_.reserve(static_cast<std::size_t>(count));
   bvh.nodes_.push_back(BvhNode{});
   std::vector<std::pair<const void*, std::int32_t>> pending = {{buildRoot, 0}};
   while (!pending.empty()) {
@@ -327,7 +327,7 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
       bvh.nodes_[index].count = static_cast<std::int32_t>(tag);
       for (std::uint32_t i = 0; i < tag; ++i) {
         bvh.items_.push_back(static_cast<int>(ids[i]));
-        bvh.itemBoxes_.push_back(boxes[ids[i]]);
+        if (options.keepItemBoxes) bvh.itemBoxes_.push_back(boxes[ids[i]]);
       }
     }
   }
@@ -347,7 +347,7 @@ Bvh BuildBvh(const BvhBox* boxes, int count, const BvhBuildOptions& options) {
     BvhNode& node = bvh.nodes_[n];
     if (node.count > 0) {
       BvhBox bounds = EmptyBox();
-      for (std::int32_t i = 0; i < node.count; ++i) Extend(&bounds, bvh.itemBoxes_[node.first + i]);
+      for (std::int32_t i = 0; i < node.count; ++i) Extend(&bounds, boxes[bvh.items_[node.first + i]]);
       for (int k = 0; k < 3; ++k) {
         node.lo[k] = LowerOffset(bounds.lo[k], bvh.origin_[k]);
         node.hi[k] = UpperOffset(bounds.hi[k], bvh.origin_[k]);

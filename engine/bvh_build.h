@@ -41,6 +41,10 @@ struct BvhBuildOptions {
   int maxLeafSize = 4;
   /// Upper limit on the threads Embree's builder uses; 0 means all cores.
   int maxThreads = 0;
+  /// False: the tree keeps no copy of the item boxes (ItemBoxes() is empty),
+  /// for a caller that has them elsewhere (a mesh's triangles: 48 bytes
+  /// each, ItemBoxOf in engine/nearest_cells.h).
+  bool keepItemBoxes = true;
 };
 
 /// Immutable BVH over N boxes. Node 0 is the root; children come after
@@ -57,7 +61,8 @@ class Bvh {
   /// Input box index of each item, in leaf order.
   const std::vector<int>& Items() const { return items_; }
   /// Copy of the input box of each item, in leaf order (ItemBoxes()[i] is
-  /// the box of Items()[i]), so a leaf's boxes are contiguous in memory.
+  /// the box of Items()[i]), so a leaf's boxes are contiguous in memory;
+  /// empty when built without (BvhBuildOptions::keepItemBoxes).
   const std::vector<BvhBox>& ItemBoxes() const { return itemBoxes_; }
   /// Number of boxes the hierarchy was built over.
   int NumBoxes() const { return static_cast<int>(items_.size()); }

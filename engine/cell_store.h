@@ -1,15 +1,19 @@
 // The cells of a manifold: every patch turned into Bezier cells, with their
 // solvers (bounds, precomputed distance nets), the way back to the patch,
-// the affine regions and the volume cells' face neighbours.
+// the affine regions and the volume cells' face neighbours. A geometry of
+// triangle meshes alone keeps only their vertices and corners
+// (engine/mesh_triangles.h).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/check.h"
 #include "engine/affine_regions.h"
 #include "engine/bezier_nets.h"
 #include "engine/face_adjacency.h"
+#include "engine/mesh_triangles.h"
 #include "invmap/invmap.h"
 #include "kernels/cell_solver.h"
 
@@ -17,6 +21,14 @@ namespace invmap::engine {
 
 /// All cells of a geometry. Immutable; safe to read from many threads.
 /// Movable, not copyable (the solvers point into the nets' arrays).
+///
+/// A geometry made only of linear triangle meshes in 3D (MeshTriangles::
+/// Applies) keeps no per-cell object: its cells are answered in closed form
+/// from their vertices (shape, box, size, vertices and origin below read
+/// them). solver() of such a cell builds its solver on first use and keeps
+/// it: the batch search never asks for one (it solves the triangles from
+/// SimplexItems), the rarer paths that do (local minima, trackers, model
+/// distances) pay for the cells they touch.
 class CellStore {
  public:
   /// Builds the cells of `geometry`, in steps that each take the finished
@@ -28,20 +40,46 @@ class CellStore {
   /// `maxThreads` bounds the threads used (0 = all).
   static CellStore Build(const Geometry& geometry, int maxThreads);
 
-  CellStore(CellStore&&) = default;
-  CellStore& operator=(CellStore&&) = default;
+  CellStore(CellStore&&) noexcept;
+  CellStore& operator=(CellStore&&) noexcept;
   CellStore(const CellStore&) = delete;
   CellStore& operator=(const CellStore&) = delete;
+  ~CellStore();
 
   int dimension() const { return nets_.dimension; }
-  std::int64_t size() const { return static_cast<std::int64_t>(solvers_.size()); }
+  std::int64_t size() const { return size_; }
   const kernels::CellSolver& solver(std::int64_t cell) const {
     INVMAP_ASSERT(cell >= 0 && cell < size(), "cell " << cell << " not in [0, " << size() << ")");
-    return solvers_[cell];
+    return triangles_.empty() ? solvers_[cell] : TriangleSolver(cell);
   }
+  /// Where `cell` came from. Mesh triangles keep no origin: theirs is made
+  /// on the call, in a slot of this thread that the eighth call after it
+  /// reuses (the engine copies it at once).
   const CellOrigin& origin(std::int64_t cell) const {
     INVMAP_ASSERT(cell >= 0 && cell < size(), "cell " << cell << " not in [0, " << size() << ")");
-    return nets_.origins[cell];
+    return triangles_.empty() ? nets_.origins[cell] : TriangleOrigin(cell);
+  }
+  /// The shape of `cell` (its type and degrees), solver(cell).cell().shape.
+  const kernels::CellShape& shape(std::int64_t cell) const {
+    return triangles_.empty() ? nets_.shapes[cell] : triangleShape_;
+  }
+  /// The diagonal of `cell`'s control-point box, solver(cell).size().
+  double cellSize(std::int64_t cell) const;
+  /// True when `cell` is a volume (paramDim == dimension), solver(cell).isFullRank().
+  bool isFullRank(std::int64_t cell) const { return shape(cell).paramDim() == dimension(); }
+  /// True when `cell` is an affine segment, triangle or tetrahedron (solved
+  /// in closed form), solver(cell).isAffineSimplex().
+  bool isAffineSimplex(std::int64_t cell) const {
+    return !triangles_.empty() || solvers_[cell].isAffineSimplex();
+  }
+  /// `cell` as the kernels read it, solver(cell).cell(); a mesh triangle's
+  /// vertices are copied to `triangle` (9 values), which the view points to.
+  kernels::CellView View(std::int64_t cell, double* triangle) const;
+  /// The mesh triangles of a geometry of them alone; empty otherwise.
+  const MeshTriangles& meshTriangles() const { return triangles_; }
+  /// Affine simplices: vertex `v` of `cell`, solver(cell).CornerPoint(v).
+  const double* SimplexVertex(std::int64_t cell, int v) const {
+    return triangles_.empty() ? solvers_[cell].CornerPoint(v) : triangles_.Vertex(cell, v);
   }
   std::size_t numPatches() const { return nets_.numPatches; }
   /// True when some cell is a volume (paramDim == dimension), whose exact
@@ -70,21 +108,24 @@ class CellStore {
   const std::vector<AffineRegion>& regions() const { return regions_; }
   /// Subdivisions (algorithm 6): what the BVH holds and the search visits:
   /// every affine region once, and every cell outside a region.
-  std::int64_t numSubdivisions() const { return static_cast<std::int64_t>(subdivisions_.size()); }
+  /// Without regions the subdivisions are the cells, in order.
+  std::int64_t numSubdivisions() const {
+    return regions_.empty() ? size() : static_cast<std::int64_t>(subdivisions_.size());
+  }
   /// True when subdivision `s` is an affine region.
-  bool isRegion(std::int64_t s) const { return subdivisions_[s] < 0; }
+  bool isRegion(std::int64_t s) const { return !regions_.empty() && subdivisions_[s] < 0; }
   /// The cell of a subdivision that is a cell.
-  std::int64_t subdivisionCell(std::int64_t s) const { return subdivisions_[s]; }
+  std::int64_t subdivisionCell(std::int64_t s) const { return regions_.empty() ? s : subdivisions_[s]; }
   /// The region of a subdivision that is a region.
   const AffineRegion& subdivisionRegion(std::int64_t s) const { return regions_[-1 - subdivisions_[s]]; }
   /// The cell of subdivision `s` when it is an affine segment, triangle or
   /// tetrahedron (solved in closed form), else -1.
   std::int64_t affineSimplexCell(std::int64_t s) const {
-    return !isRegion(s) && solvers_[subdivisions_[s]].isAffineSimplex() ? subdivisions_[s] : -1;
+    return !isRegion(s) && isAffineSimplex(subdivisionCell(s)) ? subdivisionCell(s) : -1;
   }
   /// True when `cell` belongs to an affine region (it is then searched only
   /// as part of its region).
-  bool inRegion(std::int64_t cell) const { return regionOfCell_[cell] >= 0; }
+  bool inRegion(std::int64_t cell) const { return !regions_.empty() && regionOfCell_[cell] >= 0; }
   /// The cell of the same B-spline patch `step[d]` spans (-1, 0 or +1)
   /// away from `cell` along each of its parameter directions d, or -1 when
   /// that leaves the patch, lands on a trimmed surface's span outside its
@@ -92,13 +133,17 @@ class CellStore {
   std::int64_t SplineNeighbor(std::int64_t cell, const int* step) const;
   /// Face neighbours of the volume cells (empty without volume cells).
   const FaceAdjacency& faceAdjacency() const { return faceAdjacency_; }
-  /// Bounds of a subdivision's cells.
+  /// Bounds of a subdivision's cells (from its solver, which a mesh
+  /// triangle builds: SubdivisionBox does not).
   const double* subdivisionBoxLo(std::int64_t s) const {
-    return isRegion(s) ? subdivisionRegion(s).boxLo : solvers_[subdivisions_[s]].boxLo();
+    return isRegion(s) ? subdivisionRegion(s).boxLo : solver(subdivisionCell(s)).boxLo();
   }
   const double* subdivisionBoxHi(std::int64_t s) const {
-    return isRegion(s) ? subdivisionRegion(s).boxHi : solvers_[subdivisions_[s]].boxHi();
+    return isRegion(s) ? subdivisionRegion(s).boxHi : solver(subdivisionCell(s)).boxHi();
   }
+  /// The box of subdivision `s`, subdivisionBoxLo and Hi, in lo[0..2] and
+  /// hi[0..2] (0 past the dimension).
+  void SubdivisionBox(std::int64_t s, double* lo, double* hi) const;
   /// Appends to `xyz` (3 coordinates per point, 0 as the third in 2D) points
   /// whose convex hull holds subdivision `s`: a cell's control points
   /// (weights are positive), a region's parameter-box corners mapped by its
@@ -107,16 +152,32 @@ class CellStore {
   void SubdivisionHullPoints(std::int64_t s, std::vector<double>* xyz) const;
 
  private:
+  /// The solvers of mesh triangles built so far (defined in cell_store.cpp).
+  struct TriangleSolvers;
+
   CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, FaceAdjacency faceAdjacency,
             std::vector<AffineRegion> regions);
+  explicit CellStore(MeshTriangles triangles);
+
+  /// Sets largestSize_ from the cells' boxes.
+  void FindLargestSize();
+  const kernels::CellSolver& TriangleSolver(std::int64_t cell) const;
+  const CellOrigin& TriangleOrigin(std::int64_t cell) const;
 
   BezierNets nets_;
+  std::int64_t size_ = 0;
   std::vector<kernels::CellSolver> solvers_;  // they point into nets_.points and nets_.weights
   std::vector<AffineRegion> regions_;
+  // Both empty without regions (the subdivisions are then the cells).
   std::vector<std::int32_t> regionOfCell_;    // -1 outside every region
   std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
   FaceAdjacency faceAdjacency_;
   double largestSize_ = 0.0;
+  // Geometries of triangle meshes alone: their cells (empty otherwise), and
+  // the solvers solver() built for them.
+  MeshTriangles triangles_;
+  kernels::CellShape triangleShape_;
+  std::unique_ptr<TriangleSolvers> triangleSolvers_;
 };
 
 }  // namespace invmap::engine

@@ -142,8 +142,8 @@ ModelPoint ToModelPoint(const CellPairAnswer& answer, int side, const DistanceMo
   ModelPoint point;
   const CellStore& store = model.cells.store();
   const std::int64_t cell = answer.sourceCell[side];
-  const CellOrigin& origin = store.origin(cell);
-  const kernels::CellShape& shape = store.solver(cell).cell().shape;
+  const CellOrigin origin = store.origin(cell);
+  const kernels::CellShape& shape = store.shape(cell);
   double ref[3] = {answer.sourceRef[side][0], answer.sourceRef[side][1], answer.sourceRef[side][2]};
   kernels::SnapToDomain(shape.type(), ref);
   point.patch = origin.patch;

@@ -186,7 +186,7 @@ void DistanceCells::Build(const CellStore& store) {
   // its cells' faces at span 0 or at that index lie on the patch's boundary.
   std::vector<std::array<int, 3>> lastSpan(store.numPatches(), {0, 0, 0});
   for (std::int64_t c = 0; c < store.size(); ++c) {
-    const CellOrigin& origin = store.origin(c);
+    const CellOrigin origin = store.origin(c);
     if (!origin.sharedParameters) continue;
     for (int d = 0; d < 3; ++d) lastSpan[origin.patch][d] = std::max(lastSpan[origin.patch][d], origin.span[d]);
   }
@@ -216,7 +216,7 @@ void DistanceCells::Build(const CellStore& store) {
     }
     hasVolumes_ = true;
     const kernels::CellView& view = solver.cell();
-    const CellOrigin& origin = store.origin(c);
+    const CellOrigin origin = store.origin(c);
     for (int f = 0; f < view.shape.numFactors(); ++f) {
       const int dim = view.shape.factor(f).dim;
       for (int v = 0; v <= dim; ++v) {
@@ -377,7 +377,7 @@ void DistanceCells::BuildOrientedBounds() {
 
 void DistanceCells::ToSourceRef(std::int64_t i, const double* ref, double* sourceRef) const {
   const DistanceCell& cell = cells_[i];
-  const int sourceDim = store_->solver(cell.sourceCell).cell().shape.paramDim();
+  const int sourceDim = store_->shape(cell.sourceCell).paramDim();
   if (!cell.isFace) {
     std::copy(ref, ref + sourceDim, sourceRef);
     return;

@@ -124,8 +124,8 @@ void WriteRow(const engine::CellStore& store, const Candidate* candidate, Status
     out->distance[row] = kNaN;
     return;
   }
-  const engine::CellOrigin& origin = store.origin(candidate->cell);
-  const kernels::CellShape& shape = store.solver(candidate->cell).cell().shape;
+  const engine::CellOrigin origin = store.origin(candidate->cell);
+  const kernels::CellShape& shape = store.shape(candidate->cell);
   double ref[3] = {candidate->minimum.ref[0], candidate->minimum.ref[1], candidate->minimum.ref[2]};
   kernels::SnapToDomain(shape.type(), ref);
   out->patch[row] = origin.patch;

@@ -369,9 +369,9 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
       kernels::ReferenceCenter(y.cells->cell(c).view.shape, answer.ref[ys]);
       const CellStore& storeX = x.cells->store();
       answer.sourceCell[side] = storeX.patchFirstCell(hit.patch[0]) + hit.cell[0];
-      const CellOrigin& origin = storeX.origin(answer.sourceCell[side]);
+      const CellOrigin origin = storeX.origin(answer.sourceCell[side]);
       for (int i = 0; i < 3; ++i) {
-        answer.sourceRef[side][i] = i < storeX.solver(answer.sourceCell[side]).cell().shape.paramDim()
+        answer.sourceRef[side][i] = i < storeX.shape(answer.sourceCell[side]).paramDim()
                                         ? (hit.params[i] - origin.paramLo[i]) / origin.paramScale[i]
                                         : 0.0;
       }

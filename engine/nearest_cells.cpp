@@ -3,7 +3,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/cell_store.h"
+
 namespace invmap::engine {
+
+BvhBox ItemBoxOf(const Bvh& bvh, const CellStore& store, int i) {
+  if (!bvh.ItemBoxes().empty()) return bvh.ItemBoxes()[i];
+  BvhBox box;
+  store.SubdivisionBox(bvh.Items()[i], box.lo, box.hi);
+  return box;
+}
+
 namespace {
 
 /// The query box, copied so the hot loop reads one local object.
@@ -49,7 +59,7 @@ bool ValidQuery(const double lo[3], const double hi[3]) {
 
 bool NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
                   std::vector<CellCandidate>* out, std::vector<int>* stackScratch,
-                  double maxDistance, std::size_t maxCollected) {
+                  double maxDistance, std::size_t maxCollected, const CellStore* store) {
   out->clear();
   stackScratch->clear();
   const std::vector<BvhNode>& nodes = bvh.Nodes();
@@ -57,7 +67,7 @@ bool NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
 
   const QueryBox query = {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
   const double limit2 = maxDistance * maxDistance;
-  const BvhBox* itemBoxes = bvh.ItemBoxes().data();
+  const BvhBox* itemBoxes = bvh.ItemBoxes().empty() ? nullptr : bvh.ItemBoxes().data();
   const int* items = bvh.Items().data();
   double bestUpper2 = std::numeric_limits<double>::infinity();
 
@@ -73,8 +83,9 @@ bool NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
 
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        bestUpper2 = std::min(bestUpper2, UpperBound2(query, itemBoxes[i]));
-        const double lower2 = LowerBound2(query, itemBoxes[i]);
+        const BvhBox box = itemBoxes ? itemBoxes[i] : ItemBoxOf(bvh, *store, i);
+        bestUpper2 = std::min(bestUpper2, UpperBound2(query, box));
+        const double lower2 = LowerBound2(query, box);
         if (lower2 <= std::min(bestUpper2, limit2)) out->push_back({items[i], lower2});
       }
       if (out->size() > maxCollected) {

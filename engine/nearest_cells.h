@@ -29,6 +29,13 @@
 
 namespace invmap::engine {
 
+class CellStore;
+
+/// The box of item `i` of `bvh`, a tree over the subdivisions of `store`:
+/// the tree's copy, or where it keeps none (BvhBuildOptions::keepItemBoxes)
+/// the store's SubdivisionBox, the box the tree was built from.
+BvhBox ItemBoxOf(const Bvh& bvh, const CellStore& store, int i);
+
 /// One cell that may hold the closest point of a query.
 struct CellCandidate {
   int cell;            ///< Index of the cell's box in the array given to BuildBvh.
@@ -56,11 +63,14 @@ struct CellCandidate {
 /// @param maxCollected stops the search, with *out empty and a false return,
 ///                     once more cells than this have been collected (the
 ///                     caller then searches per point); true otherwise.
+/// @param store        the store the tree was built over, for a tree without
+///                     item boxes (ItemBoxOf); null when it has them.
 /// Thread safety: concurrent calls on one Bvh are safe with distinct out and
 /// stackScratch.
 bool NearestCells(const Bvh& bvh, const double lo[3], const double hi[3],
                   std::vector<CellCandidate>* out, std::vector<int>* stackScratch,
                   double maxDistance = std::numeric_limits<double>::infinity(),
-                  std::size_t maxCollected = std::numeric_limits<std::size_t>::max());
+                  std::size_t maxCollected = std::numeric_limits<std::size_t>::max(),
+                  const CellStore* store = nullptr);
 
 }  // namespace invmap::engine

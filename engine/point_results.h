@@ -44,7 +44,7 @@ inline void WriteFound(const CellStore& store, const PointSearch& search, std::i
     return;
   }
   const int dim = store.dimension();
-  const CellOrigin& origin = store.origin(search.bestCell);
+  const CellOrigin origin = store.origin(search.bestCell);
   const kernels::CellSolveResult& r = search.bestResult;
   const int pd = kernels::CellShape::ParamDimOf(origin.type);
   // Exactly in the reference domain: the solves leave a coordinate or a
@@ -57,7 +57,7 @@ inline void WriteFound(const CellStore& store, const PointSearch& search, std::i
   // would be an ulp or a Newton residual off it).
   const bool holds =
       search.inside ||
-      (pd == dim && r.distance <= kernels::kDistanceTolerance * store.solver(search.bestCell).size());
+      (pd == dim && r.distance <= kernels::kDistanceTolerance * store.cellSize(search.bestCell));
   results->status[index] = Status::Found;
   results->patch[index] = origin.patch;
   results->cell[index] = origin.indexInPatch;

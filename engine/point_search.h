@@ -50,8 +50,7 @@ struct PointSearch {
     best = result.distance;
     bestCell = cell;
     bestResult = result;
-    const kernels::CellSolver& solver = store.solver(cell);
-    inside = solver.isFullRank() && result.distance <= kernels::kDistanceTolerance * solver.size();
+    inside = store.isFullRank(cell) && result.distance <= kernels::kDistanceTolerance * store.cellSize(cell);
   }
 
   /// Before any answer, how far beyond the gap tolerance a cell of `size`
@@ -136,10 +135,10 @@ struct PointSearch {
     const int pd = simplices.paramDim(i);
     const int dim = store.dimension();
     const double* vertices[4];
-    for (int v = 0; v <= pd; ++v) vertices[v] = simplices.vertices(i) + v * dim;
+    for (int v = 0; v <= pd; ++v) vertices[v] = simplices.Vertex(i, v);
     kernels::CellSolveResult r;
     kernels::CellSolver::SolveAffineSimplex(pd, dim, vertices, p, &r);
-    if (!Beats(r.distance, [&] { return store.solver(simplices.cell(i)).size(); })) return;
+    if (!Beats(r.distance, [&] { return store.cellSize(simplices.cell(i)); })) return;
     Consider(simplices.cell(i), r);
   }
 
@@ -243,14 +242,14 @@ inline std::int64_t PointSearch::SolveWarmCell() {
 
 inline bool PointSearch::StartFromBest(std::int64_t cell, double* start) const {
   if (bestCell < 0) return false;
-  const CellOrigin& from = store.origin(bestCell);
-  const CellOrigin& to = store.origin(cell);
+  const CellOrigin from = store.origin(bestCell);
+  const CellOrigin to = store.origin(cell);
   if (from.patch != to.patch || !from.sharedParameters) return false;
   // Surfaces only: on curves, where distinct minima are common (points
   // near the evolute), a start at the cell's end was measured slower than
   // the nearest control point's.
-  const int pd = store.solver(cell).cell().shape.paramDim();
-  if (pd != 2 || store.solver(bestCell).cell().shape.paramDim() != 2) return false;
+  const int pd = store.shape(cell).paramDim();
+  if (pd != 2 || store.shape(bestCell).paramDim() != 2) return false;
   double clampedBy = 0.0;  // how far the clamp moved parameter `across` (patch units)
   int clamped = 0, across = -1;
   for (int i = 0; i < pd; ++i) {

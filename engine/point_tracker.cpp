@@ -11,6 +11,7 @@
 #include "engine/affine_regions.h"
 #include "engine/api_errors.h"
 #include "engine/manifold_access.h"
+#include "engine/nearest_cells.h"
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
 #include "kernels/cell_solver.h"
@@ -99,7 +100,7 @@ void PointTracker::Impl::Search(const double* p, PointAnswer* answer) {
     }
     for (int i = node.first; i < node.first + node.count; ++i) {
       const std::int64_t s = bvh.Items()[i];
-      const engine::BvhBox& box = bvh.ItemBoxes()[i];
+      const engine::BvhBox box = engine::ItemBoxOf(bvh, store, i);
       if (!(BoxDistance2(box.lo, box.hi, p, dim) < best.distance2)) continue;
       if (store.isRegion(s)) {
         const engine::RegionSolution r = engine::SolveAffineRegion(store.subdivisionRegion(s), p);
@@ -124,8 +125,8 @@ void PointTracker::Impl::Search(const double* p, PointAnswer* answer) {
   hasPrevious = true;
   previousCell = best.cell;
   std::copy(best.ref, best.ref + 3, previousRef);
-  const engine::CellOrigin& origin = store.origin(best.cell);
-  const kernels::CellShape& shape = store.solver(best.cell).cell().shape;
+  const engine::CellOrigin origin = store.origin(best.cell);
+  const kernels::CellShape& shape = store.shape(best.cell);
   double ref[3] = {best.ref[0], best.ref[1], best.ref[2]};
   kernels::SnapToDomain(shape.type(), ref);
   answer->status = Status::Found;

@@ -5,19 +5,21 @@
 #include <utility>
 #include <vector>
 
+#include "common/parallel.h"
+
 namespace invmap::engine {
 namespace {
 
 /// The box of every subdivision (affine regions and the cells outside them),
 /// in subdivision order: what the BVH is built over.
-std::vector<BvhBox> SubdivisionBoxes(const CellStore& cells) {
+std::vector<BvhBox> SubdivisionBoxes(const CellStore& cells, int maxThreads) {
   std::vector<BvhBox> boxes(static_cast<std::size_t>(cells.numSubdivisions()));
-  for (std::int64_t s = 0; s < cells.numSubdivisions(); ++s) {
-    for (int k = 0; k < 3; ++k) {
-      boxes[s].lo[k] = cells.subdivisionBoxLo(s)[k];
-      boxes[s].hi[k] = cells.subdivisionBoxHi(s)[k];
-    }
-  }
+  ForEachBlock(
+      ExecutionPolicy::Par, cells.numSubdivisions(), 4096,
+      [&](std::int64_t begin, std::int64_t end) {
+        for (std::int64_t s = begin; s < end; ++s) cells.SubdivisionBox(s, boxes[s].lo, boxes[s].hi);
+      },
+      maxThreads);
   return boxes;
 }
 
@@ -25,14 +27,26 @@ std::vector<BvhBox> SubdivisionBoxes(const CellStore& cells) {
 
 SearchIndex SearchIndex::Build(const Geometry& geometry, int maxThreads) {
   CellStore cells = CellStore::Build(geometry, maxThreads);
-  const std::vector<BvhBox> boxes = SubdivisionBoxes(cells);
-  BvhBuildOptions options;
-  options.maxThreads = maxThreads;
-  Bvh bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
-  WideBvh wideBvh(bvh, cells.dimension(),
-                  [&cells](int s, std::vector<double>* xyz) { cells.SubdivisionHullPoints(s, xyz); });
+  Bvh bvh;
+  {
+    // The boxes go once the tree has its own copy (48 bytes a triangle).
+    const std::vector<BvhBox> boxes = SubdivisionBoxes(cells, maxThreads);
+    BvhBuildOptions options;
+    options.maxThreads = maxThreads;
+    // Mesh triangles: the store gives a triangle's box from its vertices.
+    options.keepItemBoxes = cells.meshTriangles().empty();
+    bvh = BuildBvh(boxes.data(), static_cast<int>(boxes.size()), options);
+  }
   SimplexItems simplices;
-  simplices.Build(cells, bvh);
+  simplices.Build(cells, bvh, maxThreads);
+  // A mesh's triangles give their vertices by index: no copy of them.
+  WideBvh wideBvh =
+      simplices.meshVertices()
+          ? WideBvh(bvh, IndexedHulls{simplices.meshVertices(), simplices.corners(), 3})
+          : WideBvh(
+                bvh, cells.dimension(),
+                [&cells](int s, std::vector<double>* xyz) { cells.SubdivisionHullPoints(s, xyz); },
+                !simplices.coversEveryItem());
   PouPatches pou;
   // The validation checked every pou_manifold patch (its topology included):
   // a failure here is a bug.

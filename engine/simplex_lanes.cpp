@@ -36,7 +36,11 @@ bool SolveAffineSimplexLanes(const CellStore& store, const QueryPoints& points, 
   for (const CellCandidate& candidate : scratch.candidates) {
     if (!SolvedAsLanes(store, candidate.cell)) continue;
     const std::int64_t cell = store.subdivisionCell(candidate.cell);
-    store.solver(cell).SolveLane(query, result, &scratch.workspace);
+    // The vertices from the store: a mesh triangle has no solver to ask.
+    const int pd = store.shape(cell).paramDim();
+    const double* vertices[4];
+    for (int v = 0; v <= pd; ++v) vertices[v] = store.SimplexVertex(cell, v);
+    kernels::CellSolver::SolveAffineSimplexLane(pd, store.dimension(), vertices, query, result);
     for (int l = 0; l < lanes; ++l) {
       if (scratch.laneStatus[l] == kernels::PointStatus::InvalidInput) continue;
       const double d = scratch.laneDistance[l];
@@ -45,7 +49,7 @@ bool SolveAffineSimplexLanes(const CellStore& store, const QueryPoints& points, 
       // ties keep the earlier candidate).
       const bool beats = scratch.laneBestCell[l] >= 0
                              ? d < scratch.laneBest[l].distance
-                             : d <= maxDistance || d <= maxDistance + PointSearch::GapBand(store.solver(cell).size());
+                             : d <= maxDistance || d <= maxDistance + PointSearch::GapBand(store.cellSize(cell));
       if (!beats) continue;
       kernels::CellSolveResult& best = scratch.laneBest[l];
       for (int k = 0; k < 3; ++k) {

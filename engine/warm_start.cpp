@@ -75,7 +75,7 @@ void PredictStart(const CellStore& store, const WarmStart& warm, const double* p
   if (warm.cell < 0 || !warm.model.known) return;
   const int dim = store.dimension();
   if (std::equal(p, p + dim, warm.point)) return;
-  const kernels::CellShape& shape = store.solver(warm.cell).cell().shape;
+  const kernels::CellShape& shape = store.shape(warm.cell);
   const int paramDim = shape.paramDim();
   const bool box = shape.isBox();
   double model[3][3], gaussNewton[3][3], rhs[3] = {0, 0, 0};
@@ -116,8 +116,8 @@ void PredictStart(const CellStore& store, const WarmStart& warm, const double* p
   if (!leaves) return;
   const std::int64_t next = store.SplineNeighbor(warm.cell, across);
   if (next < 0 || store.inRegion(next)) return;
-  const CellOrigin& from = store.origin(warm.cell);
-  const CellOrigin& to = store.origin(next);
+  const CellOrigin from = store.origin(warm.cell);
+  const CellOrigin to = store.origin(next);
   for (int i = 0; i < paramDim; ++i) {
     ref[i] = (from.paramLo[i] + from.paramScale[i] * ref[i] - to.paramLo[i]) / to.paramScale[i];
   }

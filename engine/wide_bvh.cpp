@@ -88,21 +88,58 @@ void ItemRanges(const Bvh& bvh, std::vector<int>* first, std::vector<int>* end) 
   }
 }
 
-/// The hull points of every item, gathered once in Bvh::Items() order: item
-/// i's are the points start[i] .. start[i + 1] of xyz (3 coordinates each),
-/// so the items below a node have theirs side by side. (The tree's levels
-/// each read them all; asking `hull` anew at every level took most of the
-/// fitting's time.)
-struct ItemHulls {
+}  // namespace
+
+/// The hull points of every item: copied once in Bvh::Items() order (item
+/// i's are the points start[i] .. start[i + 1] of xyz, 3 coordinates each, so
+/// the items below a node have theirs side by side; the tree's levels each
+/// read them all, and asking `hull` anew at every level took most of the
+/// fitting's time), or by index (IndexedHulls).
+struct WideBvh::Hulls {
   std::vector<std::size_t> start;
   std::vector<double> xyz;
-  const double* points(int i) const { return xyz.data() + 3 * start[i]; }
-  std::size_t count(int first, int end) const { return start[end] - start[first]; }
+  IndexedHulls indexed;
+
+  /// The moments of item i's points.
+  PointMoments Moments(int i) const {
+    if (!indexed.vertices) return PointMoments::Of(xyz.data() + 3 * start[i], start[i + 1] - start[i]);
+    double points[3 * 4];
+    Gather(i, i + 1, points);
+    return PointMoments::Of(points, static_cast<std::size_t>(indexed.perItem));
+  }
+  /// The points of items [first, end) into `fitter`'s intervals.
+  void AddToInterval(int first, int end, OrientedBoxFitter* fitter) const {
+    if (!indexed.vertices) {
+      fitter->AddToInterval(xyz.data() + 3 * start[first], start[end] - start[first]);
+      return;
+    }
+    // In blocks, so that the fitter sees the points in the order a copy
+    // would hold them.
+    constexpr int kBlock = 64;
+    double points[3 * 4 * kBlock];
+    for (int i = first; i < end; i += kBlock) {
+      const int stop = std::min(end, i + kBlock);
+      Gather(i, stop, points);
+      fitter->AddToInterval(points, static_cast<std::size_t>(stop - i) * indexed.perItem);
+    }
+  }
+  /// The points of items [first, end) (indexed) into `out`.
+  void Gather(int first, int end, double* out) const {
+    const std::int32_t* corner = indexed.corners + static_cast<std::size_t>(indexed.perItem) * first;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(end - first) * indexed.perItem; ++j) {
+      const double* x = indexed.vertices + 3 * static_cast<std::size_t>(corner[j]);
+      out[3 * j] = x[0];
+      out[3 * j + 1] = x[1];
+      out[3 * j + 2] = x[2];
+    }
+  }
 };
 
-ItemHulls GatherHulls(const Bvh& bvh, const HullPoints& hull) {
+namespace {
+
+WideBvh::Hulls GatherHulls(const Bvh& bvh, const HullPoints& hull) {
   const std::int64_t n = static_cast<std::int64_t>(bvh.Items().size());
-  ItemHulls hulls;
+  WideBvh::Hulls hulls;
   hulls.start.assign(n + 1, 0);
   ForEachBlock(ExecutionPolicy::Par, n, 1024, [&](std::int64_t begin, std::int64_t stop) {
     std::vector<double> xyz;
@@ -128,20 +165,32 @@ ItemHulls GatherHulls(const Bvh& bvh, const HullPoints& hull) {
 /// The oriented box along the principal axes of `moments` of the hull
 /// points of items [first, end) (Bvh::Items() order), which it reads once
 /// more for the intervals.
-OrientedBox FitItemsBox(const Bvh& bvh, const ItemHulls& hulls, int first, int end, int dimension,
+OrientedBox FitItemsBox(const Bvh& bvh, const WideBvh::Hulls& hulls, int first, int end, int dimension,
                         const PointMoments& moments) {
   if (!moments.complete) return UnboundedOrientedBox();
   OrientedBoxFitter fitter(dimension, bvh.Origin(), moments);
-  fitter.AddToInterval(hulls.points(first), hulls.count(first, end));
+  hulls.AddToInterval(first, end, &fitter);
   return fitter.Result();
 }
 
 }  // namespace
 
-WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull) {
+WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull, bool itemBoxes) {
+  if (itemBoxes) itemOriented_.assign(bvh.Items().size(), UnboundedOrientedBox());
+  const std::vector<int> slotBinary = Collapse(bvh);
+  if (hull && !nodes_.empty()) FitOrientedBoxes(bvh, dimension, GatherHulls(bvh, hull), slotBinary);
+}
+
+WideBvh::WideBvh(const Bvh& bvh, const IndexedHulls& indexed) {
+  const std::vector<int> slotBinary = Collapse(bvh);
+  Hulls hulls;
+  hulls.indexed = indexed;
+  if (!nodes_.empty()) FitOrientedBoxes(bvh, 3, hulls, slotBinary);
+}
+
+std::vector<int> WideBvh::Collapse(const Bvh& bvh) {
   const std::vector<BvhNode>& nodes = bvh.Nodes();
-  itemOriented_.assign(bvh.Items().size(), UnboundedOrientedBox());
-  if (nodes.empty()) return;
+  if (nodes.empty()) return {};
   std::copy(bvh.Origin(), bvh.Origin() + 3, origin_);
   for (const BvhNode& node : nodes) {
     for (int k = 0; k < 3; ++k) extent_ = std::max({extent_, std::abs(node.lo[k]), std::abs(node.hi[k])});
@@ -155,8 +204,7 @@ WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull) {
   if (nodes[0].count > 0) {
     FillSlot(nodes[0], 0, nodes[0].first, &nodes_[0]);
     slotBinary[0] = 0;
-    if (hull) FitOrientedBoxes(bvh, dimension, hull, slotBinary);
-    return;
+    return slotBinary;
   }
   pending.emplace_back(0, 0);
   while (!pending.empty()) {
@@ -187,43 +235,55 @@ WideBvh::WideBvh(const Bvh& bvh, int dimension, const HullPoints& hull) {
       slotBinary[4 * wideIndex + s] = slots[s];
     }
   }
-  if (hull) FitOrientedBoxes(bvh, dimension, hull, slotBinary);
+  // The array grew by doubling: up to half of it would stay unused.
+  nodes_.shrink_to_fit();
+  return slotBinary;
 }
 
-void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& hull,
+
+void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const Hulls& hulls,
                                const std::vector<int>& slotBinary) {
   std::vector<int> first, end;
   ItemRanges(bvh, &first, &end);
-  const ItemHulls hulls = GatherHulls(bvh, hull);
-  // Each item's moments and box from its own hull points.
+  auto momentsOf = [&hulls](int item) { return hulls.Moments(item); };
+  // With item boxes, each item's moments and box from its own hull points;
+  // without, the moments are made where the leaves merge them (not kept:
+  // about 110 bytes an item).
   std::vector<PointMoments> itemMoments(itemOriented_.size());
-  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(itemOriented_.size()), 1024,
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(itemMoments.size()), 1024,
                [&](std::int64_t begin, std::int64_t stop) {
                  for (std::int64_t i = begin; i < stop; ++i) {
                    const int item = static_cast<int>(i);
                    PointMoments& m = itemMoments[i];
-                   m = PointMoments::Of(hulls.points(item), hulls.count(item, item + 1));
+                   m = momentsOf(item);
                    if (!m.complete) continue;
                    OrientedBoxFitter fitter(dimension, bvh.Origin(), m);
-                   fitter.AddToInterval(hulls.points(item), hulls.count(item, item + 1));
+                   hulls.AddToInterval(item, item + 1, &fitter);
                    itemOriented_[i] = fitter.Result();
                  }
                });
-  // The binary nodes' moments, merged up from their items and children
-  // (children come after their parent: a backward pass sees them first).
+  auto itemMomentsOf = [&](int item) { return itemMoments.empty() ? momentsOf(item) : itemMoments[item]; };
+  // The binary nodes' moments: the leaves' merged from their items (in
+  // parallel), then the inner nodes' from their children (children come
+  // after their parent: a backward pass sees them first).
   const std::vector<BvhNode>& nodes = bvh.Nodes();
   std::vector<PointMoments> nodeMoments(nodes.size());
+  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(nodes.size()), 1024,
+               [&](std::int64_t begin, std::int64_t stop) {
+                 for (std::int64_t i = begin; i < stop; ++i) {
+                   const BvhNode& node = nodes[i];
+                   if (node.count == 0) continue;
+                   PointMoments m = itemMomentsOf(node.first);
+                   for (int item = node.first + 1; item < node.first + node.count; ++item) {
+                     m = PointMoments::Merge(m, itemMomentsOf(item));
+                   }
+                   nodeMoments[i] = m;
+                 }
+               });
+  std::vector<PointMoments>().swap(itemMoments);
   for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
     const BvhNode& node = nodes[i];
-    if (node.count > 0) {
-      PointMoments m = itemMoments[node.first];
-      for (int item = node.first + 1; item < node.first + node.count; ++item) {
-        m = PointMoments::Merge(m, itemMoments[item]);
-      }
-      nodeMoments[i] = m;
-    } else {
-      nodeMoments[i] = PointMoments::Merge(nodeMoments[node.first], nodeMoments[node.first + 1]);
-    }
+    if (node.count == 0) nodeMoments[i] = PointMoments::Merge(nodeMoments[node.first], nodeMoments[node.first + 1]);
   }
   // Every slot's intervals read the hull points of all items below it: one
   // pass over the points per level of the tree.

@@ -48,6 +48,15 @@ struct WidePoint {
 /// child above it then get the unbounded oriented box).
 using HullPoints = std::function<void(int box, std::vector<double>* xyz)>;
 
+/// Hull points by index, for items that share them (a triangle mesh's
+/// vertices): item i (Bvh::Items() order) has the `perItem` (at most 4)
+/// points vertices + 3 * corners[perItem * i + j], 3D. Nothing is copied.
+struct IndexedHulls {
+  const double* vertices = nullptr;
+  const std::int32_t* corners = nullptr;
+  int perItem = 0;
+};
+
 /// Immutable 4-ary tree; node 0 is the root. Safe to read from many threads.
 class WideBvh {
  public:
@@ -56,8 +65,15 @@ class WideBvh {
   /// or a child itself where that is a leaf). Without `hull`, every oriented
   /// box is unbounded; with it, each child's is fitted to the hull points of
   /// all items below it, and each item's to its own. `dimension` (2 or 3)
-  /// keeps a planar geometry's axes in its plane.
-  explicit WideBvh(const Bvh& bvh, int dimension = 3, const HullPoints& hull = nullptr);
+  /// keeps a planar geometry's axes in its plane. Without `itemBoxes` the
+  /// items get none (ItemOrientedBox is then unbounded): for a tree whose
+  /// items the search solves outright, never testing their boxes (a
+  /// triangle mesh's, SimplexItems), they would cost 60 bytes an item.
+  explicit WideBvh(const Bvh& bvh, int dimension = 3, const HullPoints& hull = nullptr, bool itemBoxes = true);
+  /// The same tree in 3D with hull points by index, and no item boxes: the
+  /// same boxes as the constructor above given those points, without the
+  /// copy of them it makes (72 bytes a triangle while it builds).
+  WideBvh(const Bvh& bvh, const IndexedHulls& hulls);
 
   /// The nodes; empty when the Bvh is.
   const std::vector<WideNode>& Nodes() const { return nodes_; }
@@ -71,7 +87,9 @@ class WideBvh {
   /// hull of the points of the items below it either.
   static void ChildDistances2(const WideNode& node, const WidePoint& point, double* box2, double* bound2);
   /// Oriented box of item `i` (Bvh::Items() order).
-  const OrientedBox& ItemOrientedBox(int i) const { return itemOriented_[i]; }
+  const OrientedBox& ItemOrientedBox(int i) const {
+    return itemOriented_.empty() ? unbounded_ : itemOriented_[i];
+  }
   /// Lower bound of the squared distance from the point to the hull of the
   /// points of the item with this oriented box.
   static double OrientedDistance2(const OrientedBox& box, const WidePoint& point);
@@ -80,13 +98,20 @@ class WideBvh {
     return nodes_.capacity() * sizeof(WideNode) + itemOriented_.capacity() * sizeof(OrientedBox);
   }
 
+  /// The hull points of every item while the tree is built (wide_bvh.cpp).
+  struct Hulls;
+
  private:
+  /// Copies `bvh`'s nodes into 4-wide ones; returns the binary node of each
+  /// slot (4 per wide node), -1 for an unused one.
+  std::vector<int> Collapse(const Bvh& bvh);
   /// Fits the oriented boxes of every child and item to the hull points
   /// (see the constructor).
-  void FitOrientedBoxes(const Bvh& bvh, int dimension, const HullPoints& hull, const std::vector<int>& slotBinary);
+  void FitOrientedBoxes(const Bvh& bvh, int dimension, const Hulls& hulls, const std::vector<int>& slotBinary);
 
   std::vector<WideNode> nodes_;
-  std::vector<OrientedBox> itemOriented_;
+  std::vector<OrientedBox> itemOriented_;  ///< empty without item boxes
+  OrientedBox unbounded_ = UnboundedOrientedBox();
   double origin_[3] = {0, 0, 0};
   /// Largest |offset| of any bound: the scale of their rounding (+infinity
   /// for coordinates beyond the float range, where every bound becomes 0).

@@ -169,17 +169,24 @@ constexpr int kUnbalancedBudget = 8;
 
 }  // namespace
 
-CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
-  ComputeControlBox(cell, boxLo_, boxHi_);
+double CellSolver::SizeOfBox(const double* lo, const double* hi, int dim) {
   double diag2 = 0.0;
   double center[3] = {0, 0, 0};
-  for (int k = 0; k < cell.ambientDim; ++k) {
-    diag2 += (boxHi_[k] - boxLo_[k]) * (boxHi_[k] - boxLo_[k]);
-    center[k] = 0.5 * (boxLo_[k] + boxHi_[k]);
+  for (int k = 0; k < dim; ++k) {
+    diag2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    center[k] = 0.5 * (lo[k] + hi[k]);
   }
-  size_ = std::sqrt(diag2);
+  const double size = std::sqrt(diag2);
   // A cell of a single point still needs a positive length scale.
-  if (!(size_ > 0.0)) size_ = std::max(1.0, std::abs(center[0]) + std::abs(center[1]) + std::abs(center[2])) * 1e-300;
+  if (!(size > 0.0)) return std::max(1.0, std::abs(center[0]) + std::abs(center[1]) + std::abs(center[2])) * 1e-300;
+  return size;
+}
+
+CellSolver::CellSolver(const CellView& cell) : cell_(cell) {
+  ComputeControlBox(cell, boxLo_, boxHi_);
+  double center[3] = {0, 0, 0};
+  for (int k = 0; k < cell.ambientDim; ++k) center[k] = 0.5 * (boxLo_[k] + boxHi_[k]);
+  size_ = SizeOfBox(boxLo_, boxHi_, cell.ambientDim);
   affine_ = IsAffineCell(cell, size_);
   if (cell.shape.numFactors() == 1) {
     // A simplex's corner control points are its vertices.
@@ -573,11 +580,8 @@ double CellSolver::InsideScore(const double* point) const {
   return -kInsideScoreUnknown;
 }
 
-void CellSolver::SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const {
-  const int pd = cell_.shape.paramDim();
-  const int ad = cell_.ambientDim;
-  const double* vertices[4];
-  for (int v = 0; v <= pd; ++v) vertices[v] = cell_.points + static_cast<size_t>(vertexControl_[v]) * ad;
+void CellSolver::SolveAffineSimplexLane(int pd, int ad, const double* const* vertices, const QueryLane& queries,
+                                        const ResultLane& results) {
   double ref[3][kSimplexLaneChunk], dist2[kSimplexLaneChunk];
   bool onBoundary[kSimplexLaneChunk];
   for (int first = 0; first < queries.count; first += kSimplexLaneChunk) {
@@ -1001,7 +1005,10 @@ bool CellSolver::MayHoldTrimmedMinimum(double* slot, const double* q, const doub
 
 void CellSolver::SolveLane(const QueryLane& queries, const ResultLane& results, SolveWorkspace* ws) const {
   if (vertexControl_[0] >= 0) {
-    SolveAffineSimplexLane(queries, results);
+    const int pd = cell_.shape.paramDim();
+    const double* vertices[4];
+    for (int v = 0; v <= pd; ++v) vertices[v] = cell_.points + static_cast<size_t>(vertexControl_[v]) * cell_.ambientDim;
+    SolveAffineSimplexLane(pd, cell_.ambientDim, vertices, queries, results);
     return;
   }
   SolveCurvedLanes(queries, results, ws);

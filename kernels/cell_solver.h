@@ -169,12 +169,20 @@ class CellSolver {
   static void SolveAffineSimplex(int paramDim, int ambientDim, const double* const* v, const double* point,
                                  CellSolveResult* result);
 
+  /// SolveLane's answers on the affine segment, triangle or tetrahedron
+  /// with vertices v[0..paramDim], as SolveAffineSimplex's lane by lane.
+  static void SolveAffineSimplexLane(int paramDim, int ambientDim, const double* const* v, const QueryLane& queries,
+                                     const ResultLane& results);
+
   const CellView& cell() const { return cell_; }
   /// Axis-aligned box of the control points: lo[k], hi[k].
   const double* boxLo() const { return boxLo_; }
   const double* boxHi() const { return boxHi_; }
   /// Diagonal of the control-point box, the length scale of the tolerances.
   double size() const { return size_; }
+  /// size() of a cell whose control-point box is lo[0..dim), hi[0..dim): its
+  /// diagonal, or a tiny positive length for a cell of a single point.
+  static double SizeOfBox(const double* lo, const double* hi, int dim);
   /// True when the map is affine (then the squared distance is convex and
   /// one local solve is the global answer).
   bool isAffine() const { return affine_; }
@@ -198,8 +206,6 @@ class CellSolver {
   /// the local answer `best` global; returns false when the budget ran out.
   /// Closed-form answer for affine line, tri and tet cells (7.3.2.2).
   void SolveAffineSimplex(const double* point, CellSolveResult* result) const;
-  /// SolveLane for affine simplices.
-  void SolveAffineSimplexLane(const QueryLane& queries, const ResultLane& results) const;
   /// SolveLane for curved cells: the local solves in SIMD lanes
   /// (kernels/newton_lanes.h) where they cover the cell, then each lane's
   /// certificate as Solve's; lanes that leave the lanes, and cells they do
