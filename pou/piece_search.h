@@ -25,7 +25,7 @@
 //    point lies across a piece's edge).
 // Other boxes are split (across the side whose image is longest) until they
 // are pruned or closed. A box narrower than 1e-10 of the chart, or a query
-// that examines more than 4096 boxes, leaves the answer uncertified: the
+// that examines more than 65,536 boxes, leaves the answer uncertified: the
 // best point found is kept.
 #pragma once
 
