@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/path_checks.h"
 #include "cli/run_summary.h"
 #include "invmap/distance.h"
@@ -242,16 +243,10 @@ CLI::App* AddDistanceCommand(CLI::App* app) {
   auto* posesB = command->add_option("--poses-b", options.posesB, "file of poses of B, one per line, in time order");
   poseB->excludes(posesB);
   command->add_option("--max-distance", options.maxDistance, "models farther apart than this: distance null")
-      ->check(CLI::Validator(
-          [](const std::string& text) {
-            double value = 0.0;
-            if (!CLI::detail::lexical_cast(text, value) || !(value >= 0.0)) return "'" + text + "' is not a number >= 0";
-            return std::string();
-          },
-          "NUMBER >= 0"));
+      ->check(NonNegativeNumber());
   command->add_flag("--all-minima", options.allMinima, "also list every local minimum of the distance");
   command->add_option("--output,-o", options.output, "output JSON file (default: stdout)");
-  command->add_option("--threads", options.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  command->add_option("--threads", options.threads, "worker threads (default: all cores)")->check(NonNegativeNumber());
   command->add_flag("--quiet,-q", options.quiet, "no progress bar and no summary");
   return command;
 }

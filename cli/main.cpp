@@ -12,20 +12,11 @@
 #include "cli/path_checks.h"
 #include "fem/register_readers.h"
 #include "invmap/invmap.h"
+#include "cli/option_checks.h"
 #include "io/file_io.h"
 #include "io/input_error.h"
 
 namespace {
-
-/// A number >= 0 (CLI::NonNegativeNumber would print its range up to
-/// DBL_MAX in full, 300 digits).
-const CLI::Validator kNonNegative(
-    [](const std::string& text) {
-      double value = 0.0;
-      if (!CLI::detail::lexical_cast(text, value) || !(value >= 0.0)) return "'" + text + "' is not a number >= 0";
-      return std::string();
-    },
-    "NUMBER >= 0");
 
 void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bool distanceRequired) {
   command->add_option("--geometry,-g", options->geometry,
@@ -35,9 +26,9 @@ void AddInvertOptions(CLI::App* command, invmap::cli::InvertOptions* options, bo
   command->add_option("--output,-o", options->output, "output file; the format follows its extension")->required();
   auto* distance = command->add_option("--max-distance", options->maxDistance,
                                        "gap tolerance: points farther than this from every cell are not found");
-  distance->check(kNonNegative);
+  distance->check(invmap::cli::NonNegativeNumber());
   if (distanceRequired) distance->required();
-  command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(kNonNegative);
+  command->add_option("--threads", options->threads, "worker threads (default: all cores)")->check(invmap::cli::NonNegativeNumber());
   command->add_flag("--quiet,-q", options->quiet, "no progress bar and no summary");
   command->add_flag("--signed", options->signedDistance,
                     "CAD solids: signed distance, negative inside (invert: extra column; trim: near keeps the inside)");
@@ -63,7 +54,7 @@ int main(int argc, char** argv) {
       "--color", invert.color,
       ".ply output: colour the points by distance (viridis; --signed: cool-warm, blue inside to red outside, centred on 0)");
   invertCommand->add_option("--tolerance", invert.tolerance, "--signed: report the share of points within +-T")
-      ->check(kNonNegative)
+      ->check(invmap::cli::NonNegativeNumber())
       ->needs("--signed");
   invertCommand->add_flag("--all-minima", invert.allMinima, "every local minimum of each point's distance (.csv, .npy)")
       ->excludes("--signed")
@@ -96,10 +87,10 @@ int main(int argc, char** argv) {
   generateCommand->add_option("--kind", generate.kind, "points: near, far, inside or box")
       ->check(CLI::IsMember({"near", "far", "inside", "box"}));
   generateCommand->add_option("--spread", generate.spread, "points, near: largest offset relative to the size")
-      ->check(kNonNegative);
+      ->check(invmap::cli::NonNegativeNumber());
   generateCommand->add_option("--seed", generate.seed, "random seed");
   generateCommand->add_option("--noise", generate.noise, "scan: measurement noise, relative to the size (default 1e-4)")
-      ->check(kNonNegative);
+      ->check(invmap::cli::NonNegativeNumber());
   generateCommand->add_option("--warp", generate.warp,
                               "scan: the part's growth at its top, relative to the size (default 5e-4)");
 
@@ -119,7 +110,7 @@ int main(int argc, char** argv) {
   gridFile->excludes(resolution);
   gridCommand->add_option("--max-cells", grid.maxCells, "stop refining at this many cells")
       ->check(CLI::Range(std::int64_t{1}, std::numeric_limits<std::int64_t>::max()));
-  gridCommand->add_option("--threads", grid.threads, "worker threads (default: all cores)")->check(kNonNegative);
+  gridCommand->add_option("--threads", grid.threads, "worker threads (default: all cores)")->check(invmap::cli::NonNegativeNumber());
   gridCommand->add_option("--output,-o", grid.output, "output directory")->required();
   gridCommand->add_flag("--quiet,-q", grid.quiet, "no summary");
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/option_checks.h"
 #include "cli/path_checks.h"
 #include "cli/run_summary.h"
 #include "invmap/fields.h"
@@ -60,12 +61,12 @@ CLI::App* AddProbeCommand(CLI::App* app, ProbeOptions* options) {
   command->add_option("--fields", options->fields, "comma-separated field names (default: every field)")
       ->delimiter(',');
   command->add_option("--max-distance", options->maxDistance, "points farther than this are not found")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber());
   command->add_option("--threads", options->threads, "worker threads (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber());
   command->add_option("--time-step", options->timeStep, "Exodus: the time step of the nodal variables, from 1 "
                                                          "(default: the last)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveInteger());
   command->add_flag("--quiet,-q", options->quiet, "no progress bar and no summary");
   return command;
 }

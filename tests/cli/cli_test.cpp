@@ -338,6 +338,13 @@ TEST_F(CliTest, OptionsThatWouldBeIgnoredAreUsageErrors) {
   // Parse errors read like every other message of the command.
   EXPECT_EQ(Run(run + " -o " + Path("r.csv") + " --threads 99999999999999999999", &log), 2) << log;
   EXPECT_EQ(log.rfind("invmap: ", 0), 0u) << log;
+  // A bad number is named as given with its range in words (CLI11's own
+  // checks printed the largest double in full).
+  for (const std::string value : {"-1", "abc"}) {
+    EXPECT_EQ(Run(run + " -o " + Path("r.csv") + " --max-distance " + value, &log), 2) << log;
+    EXPECT_NE(log.find("--max-distance: '" + value + "' is not a number >= 0"), std::string::npos) << log;
+    EXPECT_LT(log.size(), 200u) << log;
+  }
 }
 
 TEST_F(CliTest, GenerateWritesOnlyFilesNamedForTheirFormat) {

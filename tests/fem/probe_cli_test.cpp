@@ -229,6 +229,11 @@ TEST(ProbeCli, ExodusTimeSteps) {
                 &out),
             3);
   EXPECT_NE(out.find("time step 4 requested, the file has 3 time steps"), std::string::npos) << out;
+  EXPECT_EQ(RunInvmap(dir, "probe -g " + dir.Path("t.exo") + " -p " + dir.Path("p.xyz") + " -o " + dir.Path("r.csv") +
+                         " --time-step 0",
+                &out),
+            2);
+  EXPECT_NE(out.find("--time-step: '0' is not a whole number >= 1"), std::string::npos) << out;
 }
 
 // The new formats are geometry files for every command.
