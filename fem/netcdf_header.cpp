@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <string>
 #include <fstream>
 #include <vector>
 
@@ -71,6 +73,52 @@ bool ListHeader(HeaderReader& r, std::uint64_t expectedTag, std::uint64_t* count
   return tag == expectedTag || (tag == 0 && *count == 0);
 }
 
+/// Where a variable's values lie: from `begin`, `bytes` of them (a record
+/// variable: `bytes` per record, the records `recordSize` apart).
+struct VariableExtent {
+  std::uint64_t begin = 0;
+  std::uint64_t bytes = 1;
+  bool perRecord = false;
+};
+
+/// What is wrong when the values of a variable reach past the file's end (a
+/// file cut short: the netCDF library reads what is missing as zeros), else
+/// an empty string. Records are as the format lays them out: one after the
+/// other, each holding every record variable padded to 4 bytes, unpadded
+/// when there is a single record variable.
+std::string CheckDataExtents(const std::vector<VariableExtent>& extents, std::uint64_t records,
+                             std::uint64_t fileSize) {
+  const auto padded = [](std::uint64_t n) { return n + (4 - n % 4) % 4; };
+  std::uint64_t recordSize = 0, recordVariables = 0;
+  for (const VariableExtent& extent : extents) {
+    if (!extent.perRecord) continue;
+    recordSize += padded(extent.bytes);
+    ++recordVariables;
+  }
+  if (recordVariables == 1) {
+    for (const VariableExtent& extent : extents) {
+      if (extent.perRecord) recordSize = extent.bytes;
+    }
+  }
+  // A streamed file's record count is left indeterminate (all ones).
+  const bool recordsKnown = records != 0xFFFFFFFFu && records != ~std::uint64_t{0};
+  for (std::size_t v = 0; v < extents.size(); ++v) {
+    const VariableExtent& extent = extents[v];
+    // 128 bits: a hostile header's counts must not wrap around.
+    unsigned __int128 end = static_cast<unsigned __int128>(extent.begin) + extent.bytes;
+    if (extent.perRecord) {
+      if (!recordsKnown || records == 0) continue;
+      end += static_cast<unsigned __int128>(records - 1) * recordSize;
+    }
+    if (end > fileSize) {
+      const std::string at = end >> 64 ? std::string("beyond 2^64") : "at byte " + std::to_string(static_cast<std::uint64_t>(end));
+      return "the file is cut short: netCDF variable " + std::to_string(v) + " ends " + at + ", the file has " +
+             std::to_string(fileSize) + " bytes";
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 std::string CheckNetcdfHeader(const std::string& path) {
@@ -97,28 +145,47 @@ std::string CheckNetcdfHeader(const std::string& path) {
   std::uint64_t records = 0, count = 0;
   if (!r.Count(&records)) return "the netCDF header is truncated";
   if (!ListHeader(r, 0x0A, &count)) return "the netCDF dimension list is malformed";
+  std::vector<std::uint64_t> dimensionLengths;  // 0: the record dimension
   for (std::uint64_t d = 0; d < count; ++d) {
     std::uint64_t length = 0;
     if (!r.Name() || !r.Count(&length)) return "netCDF dimension " + std::to_string(d) + " does not fit in the file";
+    dimensionLengths.push_back(length);
   }
   std::string problem;
   if (!ListHeader(r, 0x0C, &count)) return "the netCDF global attribute list is malformed";
   if (!Attributes(r, count, &problem)) return "netCDF global " + problem;
   if (!ListHeader(r, 0x0B, &count)) return "the netCDF variable list is malformed";
+  std::vector<VariableExtent> extents;
   for (std::uint64_t v = 0; v < count; ++v) {
     std::uint64_t dims = 0, attributes = 0, type = 0, size = 0, begin = 0;
     if (!r.Name() || !r.Count(&dims) || dims > bytes.size()) return "netCDF variable " + std::to_string(v) + " does not fit in the file";
+    VariableExtent extent;
     for (std::uint64_t k = 0; k < dims; ++k) {
       std::uint64_t id = 0;
       if (!r.Count(&id)) return "netCDF variable " + std::to_string(v) + " does not fit in the file";
+      if (id >= dimensionLengths.size()) return "netCDF variable " + std::to_string(v) + ": no dimension " + std::to_string(id);
+      const std::uint64_t length = dimensionLengths[id];
+      if (k == 0 && length == 0) {
+        extent.perRecord = true;
+      } else if (length != 0 && extent.bytes > (std::uint64_t{1} << 62) / length) {
+        return "netCDF variable " + std::to_string(v) + " is larger than any file";
+      } else {
+        extent.bytes *= length;
+      }
     }
     if (!ListHeader(r, 0x0C, &attributes)) return "netCDF variable " + std::to_string(v) + ": malformed attribute list";
     if (!Attributes(r, attributes, &problem)) return "netCDF variable " + std::to_string(v) + ": " + problem;
     if (!r.Unsigned(4, &type) || !r.Count(&size) || !r.Unsigned(version == 1 ? 4 : 8, &begin)) {
       return "netCDF variable " + std::to_string(v) + " does not fit in the file";
     }
+    extent.bytes *= TypeSize(type);
+    extent.begin = begin;
+    extents.push_back(extent);
   }
-  return {};
+  std::error_code error;
+  const std::uint64_t fileSize = std::filesystem::file_size(path, error);
+  if (error) return {};
+  return CheckDataExtents(extents, records, fileSize);
 }
 
 }  // namespace invmap::fem

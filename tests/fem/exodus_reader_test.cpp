@@ -250,6 +250,13 @@ TEST(ExodusReader, BadFilesAreInputErrorsNamingBlockAndElement) {
   const FieldGeometry last = fem::ReadExodus(dir.Path("steps.exo"), {});
   EXPECT_EQ(first.fields[0].patchValues[0][0], 1.0);
   EXPECT_EQ(last.fields[0].patchValues[0][0], 2.0);
+  // A file cut short, by a byte or in its node variables: the netCDF
+  // library would read the missing values as zeros and succeed.
+  const std::string whole = io::scratch::ReadAll(dir.Path("steps.exo"));
+  for (const std::size_t cut : {std::size_t{1}, std::size_t{8}, whole.size() / 8}) {
+    SCOPED_TRACE(cut);
+    ExpectExodusError(dir.Write("cut.exo", whole.substr(0, whole.size() - cut)), {}, "the file is cut short");
+  }
 }
 
 }  // namespace
