@@ -15,6 +15,16 @@ int FactorValues(int degree, const double* s, double* out) {
 }
 
 int FactorValues(int dim, int degree, const double* s, double* out) {
+  // Degree 1 (every factor of a linear cell) is the barycentric coordinates
+  // (1 - s1 - .. - sd, s1, .., sd) in net order; no basis tables needed.
+  if (degree == 1) {
+    out[0] = 1.0;
+    for (int i = 0; i < dim; ++i) {
+      out[0] -= s[i];
+      out[i + 1] = s[i];
+    }
+    return dim + 1;
+  }
   switch (dim) {
     case 1:
       return FactorValues<1>(degree, s, out);

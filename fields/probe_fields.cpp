@@ -34,12 +34,49 @@ CellShape ShapeOf(const Patch& patch, std::int64_t c) {
   return CellShape(static_cast<kernels::CellType>(patch.cell), degrees);
 }
 
+/// A BezierCells patch whose cells all have one shape and lie back to back
+/// (cell c's control points start at c * shape.numControlPoints()), as a
+/// mesh of one element type becomes: a point's cell then needs no reads of
+/// its type, degrees and offset, which in random point order cost a cache
+/// miss each.
+struct UniformCells {
+  bool uniform = false;
+  CellShape shape;
+};
+
+/// Finds whether `patch` is uniform. Costs one pass over its cells, so it
+/// is asked only when the points are not much fewer than the cells.
+UniformCells FindUniformCells(const Patch& patch) {
+  UniformCells cells;
+  const std::size_t count = patch.cellTypes.size();
+  if (patch.kind != Patch::Kind::BezierCells || count == 0 || patch.cellDegrees.size() != 3 * count ||
+      patch.cellOffsets.size() != count + 1) {
+    return cells;
+  }
+  for (std::size_t c = 1; c < count; ++c) {
+    if (patch.cellTypes[c] != patch.cellTypes[0]) return cells;
+  }
+  for (std::size_t k = 3; k < patch.cellDegrees.size(); ++k) {
+    if (patch.cellDegrees[k] != patch.cellDegrees[k % 3]) return cells;
+  }
+  const CellShape shape = ShapeOf(patch, 0);
+  const std::int64_t stride = shape.numControlPoints();
+  for (std::size_t c = 0; c <= count; ++c) {
+    if (patch.cellOffsets[c] != static_cast<std::int64_t>(c) * stride) return cells;
+  }
+  cells.uniform = true;
+  cells.shape = shape;
+  return cells;
+}
+
 /// Evaluates the fields at one found point. Returns false when the point's
 /// patch or cell does not exist in the geometry.
 class PointProbe {
  public:
-  PointProbe(const Geometry& geometry, const std::vector<const NodeField*>& fields)
-      : geometry_(geometry), fields_(fields) {}
+  /// `uniformCells`: per patch, as FindUniformCells found it (or all not uniform).
+  PointProbe(const Geometry& geometry, const std::vector<const NodeField*>& fields,
+             const std::vector<UniformCells>& uniformCells)
+      : geometry_(geometry), fields_(fields), uniformCells_(uniformCells) {}
 
   bool Evaluate(std::int32_t patchIndex, std::int64_t cell, const double* params, double* out) {
     if (patchIndex < 0 || static_cast<std::size_t>(patchIndex) >= geometry_.patches.size()) return false;
@@ -52,8 +89,14 @@ class PointProbe {
     CellShape shape;
     if (patch.kind == Patch::Kind::BezierCells) {
       if (cell < 0 || static_cast<std::size_t>(cell) >= patch.cellTypes.size()) return false;
-      shape = ShapeOf(patch, cell);
-      first = patch.cellOffsets[static_cast<std::size_t>(cell)];
+      const UniformCells& uniform = uniformCells_[static_cast<std::size_t>(patchIndex)];
+      if (uniform.uniform) {
+        shape = uniform.shape;
+        first = cell * shape.numControlPoints();
+      } else {
+        shape = ShapeOf(patch, cell);
+        first = patch.cellOffsets[static_cast<std::size_t>(cell)];
+      }
     } else if (patch.kind == Patch::Kind::Bezier) {
       if (cell != 0) return false;
       shape = ShapeOf(patch, 0);
@@ -93,6 +136,7 @@ class PointProbe {
  private:
   const Geometry& geometry_;
   const std::vector<const NodeField*>& fields_;
+  const std::vector<UniformCells>& uniformCells_;
   double basis_[fields::kMaxCellBasis];
   std::int64_t meshPoints_[8];
 };
@@ -155,13 +199,17 @@ Error ProbeFields(const Geometry& geometry, const std::vector<const NodeField*>&
       }
     }
     values->assign(n * width, std::numeric_limits<double>::quiet_NaN());
+    std::vector<UniformCells> uniformCells(geometry.patches.size());
+    for (std::size_t p = 0; p < geometry.patches.size(); ++p) {
+      if (8 * n >= geometry.patches[p].cellTypes.size()) uniformCells[p] = FindUniformCells(geometry.patches[p]);
+    }
     // Points are independent: blocks in parallel, each with its own scratch;
     // the first point (in input order) the geometry lacks a cell for is reported.
     std::atomic<std::int64_t> firstBad{static_cast<std::int64_t>(n)};
     ForEachBlock(
         ExecutionPolicy::Par, static_cast<std::int64_t>(n), 4096,
         [&](std::int64_t begin, std::int64_t end) {
-          auto probe = std::make_unique<PointProbe>(geometry, fields);
+          auto probe = std::make_unique<PointProbe>(geometry, fields, uniformCells);
           for (std::int64_t i = begin; i < end; ++i) {
             if (results.status[i] != Status::Found) continue;
             if (!probe->Evaluate(results.patch[i], results.cell[i], &results.params[3 * i],
