@@ -49,6 +49,9 @@ const char* DegreeForm(CellType type) {
   }
 }
 
+/// Knots whose differences overflow: the basis functions divide by them.
+constexpr const char* kKnotWidthProblem = "is wider than a double can hold (its differences overflow)";
+
 /// Why the knots of an angular direction or curve (degree `degree`) are not
 /// arcs of less than a half turn (kernels/own_parameter.h), or "".
 std::string AngularSpansProblem(const std::vector<double>& knots, int degree) {
@@ -87,6 +90,9 @@ std::string SplineCurveProblem(const SplineCurve& curve, int dim) {
     if (i > 0 && curve.knots[i] < curve.knots[i - 1]) return "knots: decreasing at index " + std::to_string(i);
   }
   if (!(curve.knots[p] < curve.knots[n])) return "knots: empty parameter domain";
+  if (!std::isfinite(curve.knots.back() - curve.knots.front())) {
+    return "knots: [" + Number(curve.knots.front()) + ", " + Number(curve.knots.back()) + "] " + kKnotWidthProblem;
+  }
   for (std::size_t i = 0; i < curve.points.size(); ++i) {
     if (!std::isfinite(curve.points[i]) || std::abs(curve.points[i]) > kMaxCoordinate) {
       return "points" + Index(static_cast<std::int64_t>(i / dim)) +
@@ -298,6 +304,10 @@ GeometryError PatchCheck::BSpline() const {
       return Fail(GeometryField::Knots, dir, -1,
                   "empty parameter domain [knots" + i + Index(p) + ", knots" + i + Index(n) + "] = [" +
                       Number(knots[p]) + ", " + Number(knots[n]) + "]");
+    }
+    if (!std::isfinite(knots.back() - knots.front())) {
+      return Fail(GeometryField::Knots, dir, -1,
+                  "[" + Number(knots.front()) + ", " + Number(knots.back()) + "] " + kKnotWidthProblem);
     }
     expectedPoints *= static_cast<double>(n);
     product += (d > 0 ? " x " : "") + std::to_string(n);
