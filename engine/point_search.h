@@ -217,6 +217,16 @@ struct PointSearch {
 
 inline void PointSearch::SolveCell(std::int64_t cell) {
   const kernels::CellSolver& solver = store.solver(cell);
+  // A cell on a face's elementary surface: its minimum in closed form
+  // (global over the cell; no start, no certificate), unless the point is
+  // one the closed form leaves to the search (kernels/analytic_surface.h).
+  if (const kernels::AnalyticCell* analytic = store.analytic(cell)) {
+    kernels::CellSolveResult r;
+    if (kernels::SolveAnalyticCell(*analytic, p, Bound2(solver), &r)) {
+      if (r.status != kernels::PointStatus::Farther) Consider(cell, r);
+      return;
+    }
+  }
   double start[3];
   const double* initial = cell == warmCell ? warmRef : (StartFromBest(cell, start) ? start : nullptr);
   const int slot = bestModel == 0 ? 1 : 0;
