@@ -129,18 +129,10 @@ double PatchSize(const Patch& patch) {
 
 /// True when cell `cell` of `nets` (whose box of own parameters `analytic`
 /// holds) is `surface` there: the two within `tolerance` at the corners,
-/// the middle and a few points between, and a sphere's latitudes within
-/// +-pi/2 (where its closed form holds).
+/// the middle and a few points between.
 bool AgreesWithCell(const BezierNets& nets, std::int64_t cell, const kernels::AnalyticCell& analytic,
                     double tolerance) {
   const kernels::AnalyticSurface& surface = *analytic.surface;
-  if (surface.kind == kernels::AnalyticSurface::Kind::Sphere) {
-    const double slack = 1e-12 * (1.0 + std::abs(analytic.paramLo[1]));
-    if (!(analytic.paramLo[1] >= -0.5 * M_PI - slack &&
-          analytic.paramLo[1] + analytic.paramScale[1] <= 0.5 * M_PI + slack)) {
-      return false;
-    }
-  }
   const kernels::CellView view = nets.View(cell);
   constexpr double kSamples[][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}, {0.5, 0.5}, {0.25, 0.7}, {0.8, 0.3}};
   for (const auto& ref : kSamples) {
@@ -332,7 +324,7 @@ void AddTrimmedSurfaceCells(const Patch& patch, std::size_t p, BezierNets* nets)
       trim->near = std::move(near);
       faces.crossingCells.emplace_back(cell, std::move(trim));
     }
-    if (analytic) analyticCells.emplace_back(cell, onSurface);
+    if (analytic && kernels::ClosedFormCovers(onSurface)) analyticCells.emplace_back(cell, onSurface);
   }
   faces.regions.push_back(std::move(region));
   if (analytic) {

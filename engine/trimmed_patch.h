@@ -77,7 +77,8 @@ std::unique_ptr<kernels::AnalyticSurface> AnalyticSurfaceOf(const Patch& patch);
 /// outside the region, then every edge's curve spans. When the patch's
 /// analytic surface (AnalyticSurfaceOf) agrees with the surface at sample
 /// points of every cell, within 1e-9 of the patch's size, its cells are
-/// listed in nets->trimmed.analyticCells. Precondition:
+/// listed in nets->trimmed.analyticCells (but those the closed form does
+/// not cover: kernels::ClosedFormCovers). Precondition:
 /// ValidateGeometry found no problem.
 void AddTrimmedSurfaceCells(const Patch& patch, std::size_t p, BezierNets* nets);
 

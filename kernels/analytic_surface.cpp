@@ -231,6 +231,17 @@ void AnalyticSurface::Evaluate(double u, double v, double* xyz) const {
   for (int k = 0; k < 3; ++k) xyz[k] = origin[k] + a * x[k] + b * y[k] + c * z[k];
 }
 
+bool ClosedFormCovers(const AnalyticCell& cell) {
+  const AnalyticSurface& s = *cell.surface;
+  const Box box = BoxOf(cell);
+  if (s.kind == AnalyticSurface::Kind::Cone) return !ApexInBox(s, box);
+  if (s.kind == AnalyticSurface::Kind::Sphere) {
+    const double slack = Slack(box.v0, box.v1);
+    return box.v0 >= -0.5 * M_PI - slack && box.v1 <= 0.5 * M_PI + slack;
+  }
+  return true;
+}
+
 bool SolveAnalyticCell(const AnalyticCell& cell, const double* point, double bound2, CellSolveResult* result) {
   if (!(std::isfinite(point[0]) && std::isfinite(point[1]) && std::isfinite(point[2]))) return false;
   const AnalyticSurface& s = *cell.surface;

@@ -71,6 +71,12 @@ struct AnalyticCell {
   const TrimmedCell* trim = nullptr;
 };
 
+/// True when the closed form holds over the whole of `cell`'s box: not a
+/// cone's box that holds its apex (or comes within a rounding of it), nor a
+/// sphere's reaching past the latitudes +-pi/2. Such cells keep the NURBS
+/// search.
+bool ClosedFormCovers(const AnalyticCell& cell);
+
 /// The closest point of `cell` to `point` (3 coordinates), as
 /// CellSolver::Solve answers it for the NURBS cell: ref (the cell's
 /// reference coordinates), closest (the surface at its own parameters),
