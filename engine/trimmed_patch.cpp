@@ -189,11 +189,12 @@ std::unique_ptr<kernels::AnalyticSurface> AnalyticSurfaceOf(const Patch& patch) 
       out->kind = kernels::AnalyticSurface::Kind::Sphere;
       return in.radius > 0.0 && std::isfinite(in.radius) ? std::move(out) : nullptr;
     case Kind::Torus:
-      // A spindle or horn torus reaches its axis, where its closed form's
-      // separation of u and v fails: its NURBS cells are searched.
+      // A spindle or horn torus too: its cells that reach the axis keep
+      // their NURBS search (kernels::ClosedFormCovers).
       out->kind = kernels::AnalyticSurface::Kind::Torus;
-      return in.minorRadius > 0.0 && in.radius > in.minorRadius && std::isfinite(in.radius) ? std::move(out)
-                                                                                              : nullptr;
+      return in.minorRadius > 0.0 && in.radius >= 0.0 && std::isfinite(in.radius) && std::isfinite(in.minorRadius)
+                 ? std::move(out)
+                 : nullptr;
   }
   return nullptr;
 }

@@ -89,6 +89,21 @@ bool ApexInBox(const AnalyticSurface& s, const Box& box) {
   return r0 * r1 <= 0.0 || std::min(std::abs(r0), std::abs(r1)) <= 1e-9 * scale;
 }
 
+/// The sign of a torus's parallels' radius R + r cos v over [v0, v1]: +1
+/// or -1 when it keeps it, away from 0 by more than a rounding (always +1
+/// on a ring torus; on a spindle torus, r > R, -1 on the inner part of its
+/// tube), 0 when the box reaches the axis.
+int ParallelsSign(const AnalyticSurface& s, const Box& box) {
+  const double toPi = box.v0 + TurnRemainder(M_PI - box.v0);  // the first odd multiple of pi from v0 on
+  const double toZero = box.v0 + TurnRemainder(-box.v0);      // the first even one
+  const double leastCos = toPi <= box.v1 ? -1.0 : std::min(std::cos(box.v0), std::cos(box.v1));
+  const double mostCos = toZero <= box.v1 ? 1.0 : std::max(std::cos(box.v0), std::cos(box.v1));
+  const double rounding = 1e-9 * (s.radius + s.minorRadius);
+  if (s.radius + s.minorRadius * leastCos > rounding) return 1;
+  if (s.radius + s.minorRadius * mostCos < -rounding) return -1;
+  return 0;
+}
+
 /// The minimum of the squared distance over the closed box (see the
 /// header's comment). False on a cone's box that holds its apex.
 bool BoxMinimum(const AnalyticSurface& s, const Box& box, const Local& l, double* own) {
@@ -118,7 +133,10 @@ bool BoxMinimum(const AnalyticSurface& s, const Box& box, const Local& l, double
       return true;
     }
     case AnalyticSurface::Kind::Torus: {
-      own[0] = NearestAngle(l.phi, box.u0, box.u1);
+      const int sign = ParallelsSign(s, box);
+      if (sign == 0) return false;
+      // On a spindle torus's inner part the nearest azimuth is the opposite one.
+      own[0] = NearestAngle(sign > 0 ? l.phi : l.phi + M_PI, box.u0, box.u1);
       const double along = l.rho * std::cos(own[0] - l.phi);
       own[1] = NearestAngle(std::atan2(l.z, along - s.radius), box.v0, box.v1);
       return true;
@@ -231,10 +249,45 @@ void AnalyticSurface::Evaluate(double u, double v, double* xyz) const {
   for (int k = 0; k < 3; ++k) xyz[k] = origin[k] + a * x[k] + b * y[k] + c * z[k];
 }
 
+void SurfaceFoot(const AnalyticCell& cell, const double* point, double* own) {
+  const AnalyticSurface& s = *cell.surface;
+  const Box box = BoxOf(cell);
+  const Local l = ToLocal(s, point);
+  const double uc = 0.5 * (box.u0 + box.u1), vc = 0.5 * (box.v0 + box.v1);
+  const auto nearBox = [](double theta, double centre) { return NearestAngle(theta, centre - M_PI, centre + M_PI); };
+  switch (s.kind) {
+    case AnalyticSurface::Kind::Plane:
+      own[0] = l.x;
+      own[1] = l.y;
+      return;
+    case AnalyticSurface::Kind::Cylinder:
+      own[0] = nearBox(l.phi, uc);
+      own[1] = l.z;
+      return;
+    case AnalyticSurface::Kind::Cone: {
+      const bool beyondApex = s.radius + vc * s.sinAngle < 0.0;
+      own[0] = nearBox(beyondApex ? l.phi + M_PI : l.phi, uc);
+      own[1] = (l.rho * std::cos(own[0] - l.phi) - s.radius) * s.sinAngle + l.z * s.cosAngle;
+      return;
+    }
+    case AnalyticSurface::Kind::Sphere:
+      own[0] = nearBox(l.phi, uc);
+      own[1] = std::atan2(l.z, l.rho);
+      return;
+    case AnalyticSurface::Kind::Torus: {
+      const bool inner = s.radius + s.minorRadius * std::cos(vc) < 0.0;
+      own[0] = nearBox(inner ? l.phi + M_PI : l.phi, uc);
+      own[1] = nearBox(std::atan2(l.z, l.rho * std::cos(own[0] - l.phi) - s.radius), vc);
+      return;
+    }
+  }
+}
+
 bool ClosedFormCovers(const AnalyticCell& cell) {
   const AnalyticSurface& s = *cell.surface;
   const Box box = BoxOf(cell);
   if (s.kind == AnalyticSurface::Kind::Cone) return !ApexInBox(s, box);
+  if (s.kind == AnalyticSurface::Kind::Torus) return ParallelsSign(s, box) != 0;
   if (s.kind == AnalyticSurface::Kind::Sphere) {
     const double slack = Slack(box.v0, box.v1);
     return box.v0 >= -0.5 * M_PI - slack && box.v1 <= 0.5 * M_PI + slack;

@@ -6,12 +6,14 @@
 //
 // Why the closed forms are global over a box. Write the query point in the
 // surface's frame: azimuth phi, distance rho from the axis, height h. On a
-// cylinder, a cone (away from its apex), a sphere and a ring torus the
-// squared distance is g(v) - 2 rho r(v) cos(u - phi), with r(v) >= 0 the
-// radius of the parallel at v (of one sign on a cone's box that does not
-// hold the apex). So for every v the best u is the angle of [u0, u1]
-// nearest phi (circularly), whatever v is, and the box's minimum is that u
-// and the best v in its meridian half-plane: a clamp onto the generator
+// cylinder, a cone, a sphere and a torus the squared distance is
+// g(v) - 2 rho r(v) cos(u - phi), with r(v) the radius of the parallel at
+// v: >= 0 on a cylinder, a sphere and a ring torus; of one sign on a
+// cone's box that does not hold the apex and on a spindle torus's box that
+// does not reach the axis (the boxes that do keep the NURBS search). So
+// for every v the best u is the angle of [u0, u1] nearest phi (the
+// opposite azimuth where r(v) < 0), circularly, whatever v is, and the
+// box's minimum is that u and the best v in its meridian half-plane: a clamp onto the generator
 // (cylinder, cone), the angle of [v0, v1] nearest the point's direction
 // from the tube's centre (torus) or from the centre (sphere, where the
 // latitude's range keeps cos v >= 0). A plane is a projection and a clamp
@@ -25,8 +27,9 @@
 // all: plane 1, cylinder 2, cone 2, sphere 2, torus 4), else it has none of
 // its own. Where the stationary points are not isolated (a point on the
 // axis, at a sphere's centre, on a torus's centre circle) or the surface is
-// singular in the box (a cone's apex), the closed form declines and the
-// NURBS cell's certified search answers.
+// singular in the box (a cone's apex, a spindle torus's points on its
+// axis), the closed form declines and the NURBS cell's certified search
+// answers.
 #pragma once
 
 #include <cstdint>
@@ -41,8 +44,8 @@ namespace invmap::kernels {
 ///  - Cylinder: origin + radius e(u) + v z, e(u) = cos u x + sin u y;
 ///  - Cone:     origin + (radius + v sinAngle) e(u) + v cosAngle z;
 ///  - Sphere:   origin + radius (cos v e(u) + sin v z), v in [-pi/2, pi/2];
-///  - Torus:    origin + (radius + minorRadius cos v) e(u) + minorRadius sin v z,
-///              radius > minorRadius (a ring torus).
+///  - Torus:    origin + (radius + minorRadius cos v) e(u) + minorRadius sin v z
+///              (a ring torus, or a spindle one: minorRadius > radius).
 /// x, y, z orthonormal (y need not be z cross x: a left-handed frame is fine).
 struct AnalyticSurface {
   enum class Kind : std::uint8_t { Plane, Cylinder, Cone, Sphere, Torus };
@@ -72,10 +75,16 @@ struct AnalyticCell {
 };
 
 /// True when the closed form holds over the whole of `cell`'s box: not a
-/// cone's box that holds its apex (or comes within a rounding of it), nor a
-/// sphere's reaching past the latitudes +-pi/2. Such cells keep the NURBS
-/// search.
+/// cone's box that holds its apex (or comes within a rounding of it), nor
+/// a spindle torus's that reaches its axis, nor a sphere's reaching past
+/// the latitudes +-pi/2. Such cells keep the NURBS search.
 bool ClosedFormCovers(const AnalyticCell& cell);
+
+/// The own parameters of the foot of `point` on the whole surface (its
+/// nearest point, or one of them; the turn of an angle nearest the
+/// cell's box, a cone's nappe the box's), which may lie beyond the cell's
+/// box: where the point's answer on the face probably is.
+void SurfaceFoot(const AnalyticCell& cell, const double* point, double* own);
 
 /// The closest point of `cell` to `point` (3 coordinates), as
 /// CellSolver::Solve answers it for the NURBS cell: ref (the cell's

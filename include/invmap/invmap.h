@@ -71,8 +71,10 @@ struct PatchEdge {
 /// the B-spline surface stays the geometry for everything else. It is
 /// ignored unless it agrees with the B-spline surface (the frame
 /// orthonormal, and the two within 1e-9 of the surface's size at sample
-/// points of every cell); a torus whose minorRadius is not below radius,
-/// and a sphere's cell beyond the latitudes +-pi/2, keep the NURBS search.
+/// points of every cell). Cells where the closed form does not hold keep
+/// the NURBS search: those at a cone's apex, those of a spindle torus
+/// (minorRadius > radius) that reach its axis, a sphere's beyond the
+/// latitudes +-pi/2.
 struct AnalyticSurface {
   enum class Kind : std::uint8_t { None, Plane, Cylinder, Cone, Sphere, Torus };
   Kind kind = Kind::None;
