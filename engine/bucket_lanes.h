@@ -58,11 +58,9 @@ inline bool UsesBucketLanes(const CellStore& store, bool pointwise) { return !po
 /// True when the bucket's points after one answered in `cell` go through
 /// SolveBucketInLanes: the predictions start from a curved cell (an affine
 /// simplex, a region's cell or a trimmed cell leaves them to the per-point
-/// search, which has closed forms and the face's region for those), or
-/// from a cell on a face's elementary surface, trimmed or not (its closed
-/// form answers within the face's region, lane by lane). An affine simplex
-/// is told by `simplices` first: on a large mesh its solver is a cold
-/// read, once per point of every bucket.
+/// search, which has closed forms and the face's region for those). An
+/// affine simplex is told by `simplices` first: on a large mesh its solver
+/// is a cold read, once per point of every bucket.
 inline bool StartsBucketLanes(const CellStore& store, const SimplexItems& simplices, std::int64_t cell) {
   return cell >= 0 && simplices.item(cell) < 0 && !store.inRegion(cell) && !store.isAffineSimplex(cell) &&
          !store.solver(cell).trim();
