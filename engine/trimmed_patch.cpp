@@ -170,31 +170,28 @@ std::unique_ptr<kernels::AnalyticSurface> AnalyticSurfaceOf(const Patch& patch) 
   }
   out->radius = in.radius;
   out->minorRadius = in.minorRadius;
+  const bool finite = std::isfinite(in.radius) && std::isfinite(in.minorRadius);
+  using Out = kernels::AnalyticSurface::Kind;
   switch (in.kind) {
     case Kind::None:
       return nullptr;
     case Kind::Plane:
-      out->kind = kernels::AnalyticSurface::Kind::Plane;
+      out->kind = Out::Plane;
       return out;
     case Kind::Cylinder:
-      out->kind = kernels::AnalyticSurface::Kind::Cylinder;
-      return in.radius > 0.0 && std::isfinite(in.radius) ? std::move(out) : nullptr;
+    case Kind::Sphere:
+      out->kind = in.kind == Kind::Cylinder ? Out::Cylinder : Out::Sphere;
+      return finite && in.radius > 0.0 ? std::move(out) : nullptr;
     case Kind::Cone:
-      out->kind = kernels::AnalyticSurface::Kind::Cone;
-      if (!(in.radius >= 0.0 && std::isfinite(in.radius) && std::abs(in.semiAngle) < 0.5 * M_PI)) return nullptr;
+      out->kind = Out::Cone;
       out->sinAngle = std::sin(in.semiAngle);
       out->cosAngle = std::cos(in.semiAngle);
-      return out;
-    case Kind::Sphere:
-      out->kind = kernels::AnalyticSurface::Kind::Sphere;
-      return in.radius > 0.0 && std::isfinite(in.radius) ? std::move(out) : nullptr;
+      return finite && in.radius >= 0.0 && std::abs(in.semiAngle) < 0.5 * M_PI ? std::move(out) : nullptr;
     case Kind::Torus:
       // A spindle or horn torus too: its cells that reach the axis keep
       // their NURBS search (kernels::ClosedFormCovers).
-      out->kind = kernels::AnalyticSurface::Kind::Torus;
-      return in.minorRadius > 0.0 && in.radius >= 0.0 && std::isfinite(in.radius) && std::isfinite(in.minorRadius)
-                 ? std::move(out)
-                 : nullptr;
+      out->kind = Out::Torus;
+      return finite && in.minorRadius > 0.0 && in.radius >= 0.0 ? std::move(out) : nullptr;
   }
   return nullptr;
 }

@@ -12,7 +12,6 @@
 // the axes, at the poles, the apex, the centres and behind the surfaces.
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRep_Builder.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
@@ -60,18 +59,6 @@ AnalyticCount CountAnalyticCells(const Manifold& manifold) {
     }
   }
   return count;
-}
-
-Results Invert(const Geometry& geometry, const std::vector<double>& points, Manifold* kept = nullptr) {
-  BuildResult built = Manifold::Build(geometry);
-  EXPECT_EQ(built.error, "");
-  Results results;
-  InversionOptions options;
-  options.threads = 1;
-  EXPECT_EQ(built.manifold.Invert(PointsView::Interleaved(points.data(), points.size() / 3, 3), options, &results),
-            Error::Ok);
-  if (kept) *kept = std::move(built.manifold);
-  return results;
 }
 
 /// Points around `shape`: near its faces (from 1e-7 to 3 % of its size
@@ -133,8 +120,8 @@ void CheckAnalyticFaces(const TopoDS_Shape& shape, const std::string& name, cons
 
   const std::vector<double> points = QueryPoints(shape, special, seed);
   Manifold withAnalytic, withoutAnalytic;
-  const Results fast = Invert(geometry, points, &withAnalytic);
-  const Results reference = Invert(nurbs, points, &withoutAnalytic);
+  const Results fast = InvertOnGeometry(geometry, points, &withAnalytic);
+  const Results reference = InvertOnGeometry(nurbs, points, &withoutAnalytic);
 
   const AnalyticCount on = CountAnalyticCells(withAnalytic), off = CountAnalyticCells(withoutAnalytic);
   ASSERT_EQ(on.cells.size(), geometry.patches.size());
@@ -199,11 +186,7 @@ TEST(AnalyticFaces, PointedAndTruncatedCones) {
   const TopoDS_Shape pointed = BRepPrimAPI_MakeCone(frame, 5.0, 0.0, 8.0).Shape();
   const gp_Ax2 other(gp_Pnt(20, 0, 0), gp_Dir(0, 1, 0), gp_Dir(1, 0, 0));
   const TopoDS_Shape truncated = BRepPrimAPI_MakeCone(other, 6.0, 2.0, 5.0, 4.0).Shape();
-  TopoDS_Compound both;
-  BRep_Builder builder;
-  builder.MakeCompound(both);
-  builder.Add(both, pointed);
-  builder.Add(both, truncated);
+  const TopoDS_Compound both = CompoundOf({pointed, truncated});
   std::vector<double> special;
   AddOnAxis(frame, {-2.0, 0.0, 3.0, 8.0, 8.5, 12.0}, &special);  // through the base, to the apex and past it
   AddOnAxis(other, {-1.0, 2.5, 5.0, 9.0}, &special);
@@ -220,11 +203,7 @@ TEST(AnalyticFaces, SpheresPartialAndDrilled) {
   const TopoDS_Shape drill =
       BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(22, -10, 1), gp_Dir(0, 1, 0.2)), 2.0, 20.0).Shape();
   const TopoDS_Shape drilled = BRepAlgoAPI_Cut(ball, drill).Shape();
-  TopoDS_Compound both;
-  BRep_Builder builder;
-  builder.MakeCompound(both);
-  builder.Add(both, zone);
-  builder.Add(both, drilled);
+  const TopoDS_Compound both = CompoundOf({zone, drilled});
   std::vector<double> special = {0, 0, 0, 20, 0, 0, 20, 0, 6, 20, 0, -6, 20, 0, 6.5, 20, 0, -9, 20, 0, 3, 22, 0, 1};
   AddOnAxis(frame, {-7.0, -5.0, -2.0, 0.5, 5.0, 9.0}, &special);
   CheckAnalyticFaces(both, "analytic_spheres", special, 14);
@@ -237,11 +216,7 @@ TEST(AnalyticFaces, TorusPartialAndCutByABox) {
   const TopoDS_Shape whole = BRepPrimAPI_MakeTorus(flat, 7.0, 2.5).Shape();
   const TopoDS_Shape cutter = BRepPrimAPI_MakeBox(gp_Pnt(31, -3, -5), gp_Pnt(45, 4, 1)).Shape();
   const TopoDS_Shape cut = BRepAlgoAPI_Cut(whole, cutter).Shape();
-  TopoDS_Compound both;
-  BRep_Builder builder;
-  builder.MakeCompound(both);
-  builder.Add(both, ring);
-  builder.Add(both, cut);
+  const TopoDS_Compound both = CompoundOf({ring, cut});
   // Centres, axes, the tubes' centre circles, inside the tubes.
   std::vector<double> special = {30, 0, 0, 30, 0, 5, 37, 0, 0, 23, 0, 0, 30, 7, 0, 30, -7, 0.1, 38, 0, 0.5, 30, 0, -4};
   AddOnAxis(frame, {-4.0, 0.0, 3.0}, &special);
@@ -268,7 +243,7 @@ TEST(AnalyticFaces, LoneFacesInOddFramesAcrossAnApexAndOnASpindleTorus) {
   gp_Ax3 sphereFrame(gp_Pnt(0, -12, 0), gp_Dir(0, 0, 1), gp_Dir(0, 1, 0));
   sphereFrame.YReverse();
   Handle(Geom_Surface) sphere = new Geom_SphericalSurface(sphereFrame, 2.5);
-  const TopoDS_Face faces[] = {
+  const TopoDS_Compound all = CompoundOf({
       BRepBuilderAPI_MakeFace(cylinder, 0.3, 4.0, -2.0, 5.0, 1e-7).Face(),
       BRepBuilderAPI_MakeFace(cone, 0.0, 5.0, -4.0, 2.0, 1e-7).Face(),
       BRepBuilderAPI_MakeFace(plane, -3.0, 4.0, -2.0, 5.0, 1e-7).Face(),
@@ -276,11 +251,7 @@ TEST(AnalyticFaces, LoneFacesInOddFramesAcrossAnApexAndOnASpindleTorus) {
       BRepBuilderAPI_MakeFace(spindle, 3.5, 5.0, -1.5, 1.5, 1e-7).Face(),
       BRepBuilderAPI_MakeFace(spindle, 5.2, 6.2, 2.5, 3.9, 1e-7).Face(),  // the inner part: parallels' radius < 0
       BRepBuilderAPI_MakeFace(sphere, 1.0, 5.5, -0.5 * M_PI, 0.5 * M_PI, 1e-7).Face(),
-  };
-  TopoDS_Compound all;
-  BRep_Builder builder;
-  builder.MakeCompound(all);
-  for (const TopoDS_Face& face : faces) builder.Add(all, face);
+  });
   std::vector<double> special = {0, 0, 0, 0, 1.2, 1.6, 0, -12, 0, 0, -12, 2.5, 0, -12, -3, -14, 0, 0, -14, 0, 3};
   const double apexV = -1.0 / std::sin(0.5);
   const gp_Pnt apex = cone->Value(0.0, apexV);
