@@ -23,6 +23,7 @@
 
 #include <cmath>
 #include <memory>
+#include <random>
 #include <string>
 
 #include "invmap/distance.h"
@@ -188,6 +189,49 @@ TEST(CadModelDistance, CutSphereAndPlateWithHoleBothPosed) {
   CheckPair(*plate, poseA, *cutSphere, Pose::FromAxisAngle(flip, M_PI, t2), "cap down above the hole");
   const double tilt[3] = {1, 1, 0};
   CheckPair(*plate, poseA, *cutSphere, Pose::FromAxisAngle(tilt, 2.5, t3), "tilted over the rim");
+}
+
+TEST(CadModelDistance, RandomPosesOfACutSphereAroundAFilletedPlateWithHole) {
+  // Random rotations, B's centre on a sphere about A's centre at a random
+  // radius from inside A's box to a little outside it: gaps, contacts,
+  // intersections, faces, edges and vertices facing each other.
+  const TopoDS_Shape plate = PlateWithHole();
+  BRepFilletAPI_MakeFillet fillet(plate);
+  for (TopExp_Explorer it(plate, TopAbs_EDGE); it.More(); it.Next()) {
+    // The box's four vertical corner edges.
+    double first, last;
+    const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(it.Current()), first, last);
+    if (curve.IsNull()) continue;
+    const gp_Pnt p0 = curve->Value(first), p1 = curve->Value(last);
+    const bool corner = (p0.X() < 1e-9 || p0.X() > 40 - 1e-9) && (p0.Y() < 1e-9 || p0.Y() > 30 - 1e-9);
+    if (corner && std::abs(p0.X() - p1.X()) < 1e-9 && std::abs(p0.Y() - p1.Y()) < 1e-9) {
+      fillet.Add(3.0, TopoDS::Edge(it.Current()));
+    }
+  }
+  const auto a = Prepare(fillet.Shape(), "filleted_plate");
+  const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 5.0).Shape();
+  const TopoDS_Shape above = BRepPrimAPI_MakeBox(gp_Pnt(-10, -10, 2.5), gp_Pnt(10, 10, 10)).Shape();
+  const auto b = Prepare(BRepAlgoAPI_Cut(sphere, above).Shape(), "cut_sphere_random");
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), across(-5.0, 45.0), gap(-0.5, 2.0);
+  int apart = 0;
+  for (int n = 0; n < 16; ++n) {
+    const double axis[3] = {unit(random), unit(random), unit(random)};
+    // Over or under the plate (the hole, the fillets), or beside one of its ends.
+    double t[3];
+    if (n % 2 == 0) {
+      t[0] = across(random);
+      t[1] = 0.75 * across(random);
+      t[2] = (n % 4 == 0 ? 7.0 : -5.0) + gap(random);
+    } else {
+      t[0] = n % 4 == 1 ? -5.0 - gap(random) : 45.0 + gap(random);
+      t[1] = 0.75 * across(random);
+      t[2] = 3.0 * unit(random);
+    }
+    const double d = CheckPair(*a, Pose(), *b, Pose::FromAxisAngle(axis, 3.0 * unit(random), t), "random pose " + std::to_string(n));
+    apart += d > 0.0 ? 1 : 0;
+  }
+  EXPECT_GE(apart, 10);  // mostly apart: the trimmed faces decide
 }
 
 TEST(CadModelDistance, TrackerFollowsABallAcrossTheHole) {
