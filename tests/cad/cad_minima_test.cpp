@@ -13,10 +13,7 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
-#include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
-#include <TopExp_Explorer.hxx>
-#include <TopoDS.hxx>
 #include <gp_Ax2.hxx>
 #include <gtest/gtest.h>
 
@@ -42,44 +39,19 @@ TopoDS_Shape SmallPlateWithHole() {
 /// them by cubes of side `radius` for the neighbourhood queries.
 class Samples {
  public:
-  Samples(const TopoDS_Shape& shape, int grid, double radius) : radius_(radius) {
-    for (const TopoDS_Face& face : Faces(shape)) {
-      double u0, u1, v0, v1;
-      BRepTools::UVBounds(face, u0, u1, v0, v1);
-      const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
-      for (int j = 0; j <= grid; ++j) {
-        for (int i = 0; i <= grid; ++i) {
-          const double u = u0 + (u1 - u0) * i / grid, v = v0 + (v1 - v0) * j / grid;
-          const gp_Pnt p = surface->Value(u, v);
-          spacing_ = std::max({spacing_, p.Distance(surface->Value(u + (u1 - u0) / grid, v)),
-                               p.Distance(surface->Value(u, v + (v1 - v0) / grid))});
-          BRepClass_FaceClassifier classifier(face, gp_Pnt2d(u, v), 1e-9);
-          if (classifier.State() != TopAbs_OUT) points_.push_back(p);
-        }
-      }
-      for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
-        double first, last;
-        const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(it.Current()), first, last);
-        if (curve.IsNull()) continue;
-        for (int k = 0; k <= 4 * grid; ++k) {
-          points_.push_back(curve->Value(first + (last - first) * k / (4 * grid)));
-          onEdge_.push_back(points_.size() - 1);
-          if (k > 0) edgeSpacing_ = std::max(edgeSpacing_, points_.back().Distance(points_[points_.size() - 2]));
-        }
-      }
-    }
-    for (std::size_t i = 0; i < points_.size(); ++i) cubes_[Key(points_[i])].push_back(i);
+  Samples(const TopoDS_Shape& shape, int grid, double radius) : radius_(radius), samples_(SampleFaces(Faces(shape), grid)) {
+    for (std::size_t i = 0; i < samples_.points.size(); ++i) cubes_[Key(samples_.points[i])].push_back(i);
   }
 
-  double spacing() const { return spacing_; }
-  double edgeSpacing() const { return edgeSpacing_; }
+  double spacing() const { return samples_.spacing; }
+  double edgeSpacing() const { return samples_.edgeSpacing; }
   /// The distance from x to the nearest sample of an edge.
   double EdgeDistance(const gp_Pnt& x) const {
     double least = std::numeric_limits<double>::infinity();
-    for (const std::size_t i : onEdge_) least = std::min(least, points_[i].Distance(x));
+    for (const std::size_t i : samples_.onEdge) least = std::min(least, samples_.points[i].Distance(x));
     return least;
   }
-  const std::vector<gp_Pnt>& points() const { return points_; }
+  const std::vector<gp_Pnt>& points() const { return samples_.points; }
 
   /// Calls visit(i) for every sample within `radius` of x.
   template <typename Visit>
@@ -93,7 +65,7 @@ class Samples {
           const auto it = cubes_.find(Pack(cx + dx, cy + dy, cz + dz));
           if (it == cubes_.end()) continue;
           for (const std::size_t i : it->second) {
-            if (points_[i].Distance(x) <= radius) visit(i);
+            if (samples_.points[i].Distance(x) <= radius) visit(i);
           }
         }
       }
@@ -104,10 +76,10 @@ class Samples {
   /// a distance (from `distances`, one per sample) below `limit`.
   std::vector<std::size_t> DiscreteMinima(const std::vector<double>& distances, double limit) const {
     std::vector<std::size_t> minima;
-    for (std::size_t i = 0; i < points_.size(); ++i) {
+    for (std::size_t i = 0; i < samples_.points.size(); ++i) {
       if (!(distances[i] < limit)) continue;
       bool least = true;
-      Around(points_[i], [&](std::size_t j) { least = least && distances[j] >= distances[i]; });
+      Around(samples_.points[i], [&](std::size_t j) { least = least && distances[j] >= distances[i]; });
       if (least) minima.push_back(i);
     }
     return minima;
@@ -119,9 +91,7 @@ class Samples {
   long long Key(const gp_Pnt& p) const { return Pack(Cell(p.X()), Cell(p.Y()), Cell(p.Z())); }
 
   double radius_;
-  double spacing_ = 0.0, edgeSpacing_ = 0.0;
-  std::vector<gp_Pnt> points_;
-  std::vector<std::size_t> onEdge_;
+  FaceSamples samples_;
   std::unordered_map<long long, std::vector<std::size_t>> cubes_;
 };
 
