@@ -208,6 +208,9 @@ bool PairSearch::MayHoldAdmittedKkt(double* slot, const PairNets& nets, double l
   double lo1[kMaxPairParams], hi1[kMaxPairParams], lo2[kMaxPairParams], hi2[kMaxPairParams];
   nets.GradientRanges(sideA, sideB, levelLo, lo1, hi1, &ws_->scratch);
   nets.GradientRanges(sideA, sideB, levelHi, lo2, hi2, &ws_->scratch);
+  // Each coefficient of Q is off by up to the slack times WW's: a
+  // derivative's, a difference times the degree, by twice that.
+  const double noise = 2.0 * slack_ * nets.LargestWeight(sideA, sideB);
   // The part of each side's subdomain where KKT points may lie.
   double boxLo[2][3], boxHi[2][3];
   bool pinned[2] = {false, false};
@@ -220,7 +223,8 @@ bool PairSearch::MayHoldAdmittedKkt(double* slot, const PairNets& nets, double l
       // f = Q / WW has the sign of Q - f WW's derivative, affine in f:
       // one strict sign at both levels holds for every value between.
       const double lo = std::min(lo1[p], lo2[p]), hi = std::max(hi1[p], hi2[p]);
-      const double margin = 1e-12 * std::max(std::abs(lo), std::abs(hi));
+      const double margin =
+          1e-12 * std::max(std::abs(lo), std::abs(hi)) + noise * nets.shape(side).factor(f).degree;
       if (!(lo > margin) && !(hi < -margin)) continue;
       // Rising: a KKT point needs the cell's lower face; falling: its upper.
       const double face = lo > margin ? 0.0 : 1.0;
