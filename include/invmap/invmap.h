@@ -251,10 +251,10 @@ class Manifold {
   /// while the geometry's 64-bit ones are freed before the search tree is
   /// built: on a large mesh that takes the geometry as read, about 37 bytes
   /// a triangle, off the build's peak (docs/limitations.md, "Memory").
-  /// Afterwards `geometry` is valid
-  /// but its patches' `points` and `cells` may be empty; a geometry that
-  /// fails validation (BuildResult::problem) is left as it was. Answers are
-  /// those of Build(const Geometry&).
+  /// Afterwards `geometry` is valid, its patches and their kinds are there,
+  /// but their `points` and `cells` may be empty; a geometry that fails
+  /// validation (BuildResult::problem) is left as it was. Answers are those
+  /// of Build(const Geometry&).
   static BuildResult Build(Geometry&& geometry);
 
   Manifold();
