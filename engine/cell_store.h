@@ -40,6 +40,9 @@ class CellStore {
   /// ValidateGeometry(geometry) found no problem (engine/geometry_validation.h).
   /// `maxThreads` bounds the threads used (0 = all).
   static CellStore Build(const Geometry& geometry, int maxThreads);
+  /// The cells of a geometry of triangle meshes alone (what Build makes
+  /// of one), from its triangles already taken (MeshTriangles::Take).
+  explicit CellStore(MeshTriangles triangles);
 
   CellStore(CellStore&&) noexcept;
   CellStore& operator=(CellStore&&) noexcept;
@@ -167,7 +170,6 @@ class CellStore {
 
   CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, FaceAdjacency faceAdjacency,
             std::vector<AffineRegion> regions);
-  explicit CellStore(MeshTriangles triangles);
 
   /// Sets largestSize_ from the cells' boxes.
   void FindLargestSize();

@@ -278,6 +278,18 @@ class Manifold {
   /// index 4 (0.5 > 0.25)"). Every geometry is checked here, whatever
   /// produced it.
   static BuildResult Build(const Geometry& geometry);
+  /// The same manifold, from a geometry the caller no longer needs: the
+  /// build may take its arrays instead of copying them. A geometry of
+  /// triangle meshes alone (Mesh patches of Tri cells in 3D) gives up its
+  /// vertices and indices, which the manifold keeps (as 32-bit indices)
+  /// while the geometry's 64-bit ones are freed before the search tree is
+  /// built: on a large mesh that takes the geometry as read, about 37 bytes
+  /// a triangle, off the build's peak (docs/limitations.md, "Memory").
+  /// Afterwards `geometry` is valid, its patches and their kinds are there,
+  /// but their `points` and `cells` may be empty; a geometry that fails
+  /// validation (BuildResult::problem) is left as it was. Answers are those
+  /// of Build(const Geometry&).
+  static BuildResult Build(Geometry&& geometry);
 
   Manifold();
   ~Manifold();
