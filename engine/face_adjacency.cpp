@@ -116,6 +116,7 @@ struct FaceEntry {
 
 void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int maxThreads) {
   neighbors_.clear();
+  startGrid_ = WalkStartGrid();
   stride_ = 0;
   const std::int64_t count = static_cast<std::int64_t>(solvers.size());
   std::vector<std::int16_t> tableOf;
@@ -168,6 +169,9 @@ void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int m
     }
     first = last;
   }
+  std::vector<bool> walkable(solvers.size());
+  for (std::size_t c = 0; c < solvers.size(); ++c) walkable[c] = tableOf[c] >= 0;
+  startGrid_.Build(solvers, walkable);
 }
 
 }  // namespace invmap::engine

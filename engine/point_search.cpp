@@ -63,12 +63,19 @@ void PointSearch::TryInside(std::int64_t subdivision) {
   TryInsideCell(store.subdivisionCell(subdivision));
 }
 
-void PointSearch::TryInsideByWalk(const Bvh& bvh) {
+void PointSearch::TryInsideByWalk(const Bvh& bvh, std::int64_t from) {
   tried.clear();
-  const std::int64_t start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
-  if (start < 0 || store.inRegion(start)) return;
-  if (!store.solver(start).isFullRank()) return;
   const FaceAdjacency& adjacency = store.faceAdjacency();
+  std::int64_t start = from;
+  if (start < 0) start = adjacency.startGrid().StartCell(p);
+  if (start < 0) start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
+  if (start < 0) return;
+  // An affine tetrahedron's item says it is a full-rank cell of no region:
+  // its solver, a cold read, is not needed.
+  const int startItem = simplices.item(start);
+  if (startItem < 0 || simplices.paramDim(startItem) != 3) {
+    if (store.inRegion(start) || !store.solver(start).isFullRank()) return;
+  }
   std::int64_t cell = start;
   for (int step = 0;; ++step) {
     // The faces to leave by, likeliest first.

@@ -170,18 +170,22 @@ struct PointSearch {
   /// holds the point exactly; only the local solve runs, no global search.
   void TryInside(std::int64_t subdivision);
 
-  /// The previous point's cell first (7.3.2.1 with a warm start): in Morton
-  /// order a volume's points come in runs inside the same cell. Then a walk
-  /// across the faces of the volume mesh (engine/face_adjacency.h) to the
-  /// neighbour beyond the face the point lies past, which usually holds it:
-  /// for a tetrahedron the face of its straight corner tetrahedron, for a
-  /// hexahedron or wedge the face its inside solve names (an affine cell's
-  /// preimage, a curved cell's stop on the boundary: CellSolver::SolveInside).
-  /// The walk only proposes cells: each answer is an inside solve's exact
-  /// one, and a point the walk does not place goes to the full search. The
-  /// first point of a bucket starts from the cell DescendToVolumeCell picks.
-  /// The cells tried are kept (the searches skip them).
-  void TryInsideByWalk(const Bvh& bvh);
+  /// A walk across the faces of the volume mesh (engine/face_adjacency.h)
+  /// to the neighbour beyond the face the point lies past, which usually
+  /// holds it: for a tetrahedron the face of its straight corner
+  /// tetrahedron, for a hexahedron or wedge the face its inside solve names
+  /// (an affine cell's preimage, a curved cell's stop on the boundary:
+  /// CellSolver::SolveInside). It starts from `from` when given, else from
+  /// the start grid's cell for the point (engine/walk_start_grid.h: about
+  /// one face from it; 2.0 cells tried a point on random points in
+  /// tetrahedra where a start from the previous point's cell tried 3.2, and
+  /// starting from that cell when it holds the point measured slower), else
+  /// from the previous point's cell or, for the first point of a bucket, the
+  /// cell DescendToVolumeCell picks. The walk only proposes
+  /// cells: each answer is an inside solve's exact one, and a point the walk
+  /// does not place goes to the full search. The cells tried are kept (the
+  /// searches skip them).
+  void TryInsideByWalk(const Bvh& bvh, std::int64_t from = -1);
 
   bool IsTriedCell(std::int64_t cell) const { return std::find(tried.begin(), tried.end(), cell) != tried.end(); }
 

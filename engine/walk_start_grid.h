@@ -1,0 +1,62 @@
+// Where a point's walk through a volume mesh starts: a uniform grid over the
+// volume cells' box holding, per grid cell, a volume cell at (or nearest to)
+// the grid cell's centre, as VTK's cell locators keep cells per bin. A walk
+// from there crosses about one cell to reach the point, where one from the
+// previous point's cell crossed three on random points (their Morton order
+// jumps between far regions now and then). The grid only proposes the
+// start: the walk's answers are inside solves' exact ones, and a point it
+// does not place goes to the full search, so a poor start costs time, never
+// an answer.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/cell_solver.h"
+
+namespace invmap::engine {
+
+class WalkStartGrid {
+ public:
+  /// Builds the grid over the cells for which `walkable` is true (volume
+  /// cells with face neighbours), about two grid cells per such cell, at
+  /// most 2^24. Each grid cell holds the cell that contains its centre
+  /// (tetrahedra: by their corner tetrahedron, deepest first) or else whose
+  /// control-point box is the most centred on it; the lowest index on a tie,
+  /// so the grid depends on the geometry alone. A grid cell whose centre no
+  /// cell's box holds (along the mesh's slanted or curved boundary, where
+  /// part of it may still lie in the mesh) takes a face neighbour's entry,
+  /// twice over.
+  void Build(const std::vector<kernels::CellSolver>& solvers, const std::vector<bool>& walkable);
+
+  /// The start cell for point `p` (3 coordinates): the entry of the grid
+  /// cell holding p, or of the nearest one for a point outside the grid's
+  /// box; -1 when that grid cell has no cell or there is no grid.
+  std::int64_t StartCell(const double* p) const {
+    if (cells_.empty()) return -1;
+    std::int64_t index = 0;
+    for (int k = 2; k >= 0; --k) {
+      const double t = (p[k] - lo_[k]) * inverseStep_[k];
+      // NaN and points beyond the box clamp to the boundary's grid cells.
+      const std::int64_t i = t >= 1.0 ? (t < count_[k] ? static_cast<std::int64_t>(t) : count_[k] - 1) : 0;
+      index = index * count_[k] + i;
+    }
+    return cells_[static_cast<std::size_t>(index)];
+  }
+
+  bool empty() const { return cells_.empty(); }
+  std::size_t MemoryBytes() const { return cells_.capacity() * sizeof(std::int32_t); }
+
+ private:
+  /// Gives each empty grid cell the entry of a face neighbour that has one
+  /// (the first of -x, +x, -y, +y, -z, +z), from the grid as it was before
+  /// the pass, kFillPasses times.
+  void FillEmptyFromNeighbors();
+
+  double lo_[3] = {0, 0, 0};
+  double inverseStep_[3] = {0, 0, 0};
+  std::int64_t count_[3] = {0, 0, 0};
+  std::vector<std::int32_t> cells_;  ///< x fastest; -1 where no cell is near
+};
+
+}  // namespace invmap::engine
