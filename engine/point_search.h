@@ -202,9 +202,9 @@ struct PointSearch {
   void TryInsideRegion(const AffineRegion& region);
 
   /// TryInsideCell for the affine tetrahedron of BVH item `item` (its
-  /// vertices, as the item keeps them), once its corner barycentrics put
-  /// the point within its hull.
-  void TryInsideSimplexItem(int item, const double* const* vertices);
+  /// vertices, as the item keeps them), once its barycentric coordinates
+  /// `lambda` (4) put the point within its hull.
+  void TryInsideSimplexItem(int item, const double* const* vertices, const double* lambda);
 
   /// `cornerLambda`: the cell's CornerBarycentric of the point, when known.
   /// `stopRef` (3 values, optional) receives where a failed inside solve

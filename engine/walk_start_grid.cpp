@@ -77,7 +77,8 @@ void WalkStartGrid::Build(const std::vector<kernels::CellSolver>& solvers, const
     stepOf[k] = extent[k] > 0.0 ? extent[k] / static_cast<double>(count_[k]) : 1.0;
     inverseStep_[k] = 1.0 / stepOf[k];
   }
-  cells_.assign(static_cast<std::size_t>(count_[0] * count_[1] * count_[2]), -1);
+  for (int k = 0; k < 3; ++k) tiles_[k] = (count_[k] + 3) / 4;
+  cells_.assign(static_cast<std::size_t>(tiles_[0] * tiles_[1] * tiles_[2] * 64), -1);
   std::vector<double> score(cells_.size(), -std::numeric_limits<double>::infinity());
   // Every grid centre within a cell's box scores that cell; cells in index
   // order and a strict improvement keep the lowest index on a tie.
@@ -99,7 +100,7 @@ void WalkStartGrid::Build(const std::vector<kernels::CellSolver>& solvers, const
           const std::int64_t at[3] = {x, y, z};
           double centre[3];
           for (int k = 0; k < 3; ++k) centre[k] = lo_[k] + (static_cast<double>(at[k]) + 0.5) * stepOf[k];
-          const std::size_t index = static_cast<std::size_t>((z * count_[1] + y) * count_[0] + x);
+          const std::size_t index = Slot(x, y, z);
           const double s = StartScore(solver, centre);
           if (s > score[index]) {
             score[index] = s;
@@ -118,16 +119,16 @@ void WalkStartGrid::FillEmptyFromNeighbors() {
     for (std::int64_t z = 0; z < count_[2]; ++z) {
       for (std::int64_t y = 0; y < count_[1]; ++y) {
         for (std::int64_t x = 0; x < count_[0]; ++x) {
-          const std::int64_t index = (z * count_[1] + y) * count_[0] + x;
-          if (before[static_cast<std::size_t>(index)] >= 0) continue;
-          const std::int64_t at[3] = {x, y, z};
-          const std::int64_t stride[3] = {1, count_[0], count_[0] * count_[1]};
-          for (int k = 0; k < 3 && cells_[static_cast<std::size_t>(index)] < 0; ++k) {
+          const std::size_t index = Slot(x, y, z);
+          if (before[index] >= 0) continue;
+          for (int k = 0; k < 3 && cells_[index] < 0; ++k) {
             for (int side : {-1, 1}) {
-              if (at[k] + side < 0 || at[k] + side >= count_[k]) continue;
-              const std::int32_t next = before[static_cast<std::size_t>(index + side * stride[k])];
-              if (next >= 0) {
-                cells_[static_cast<std::size_t>(index)] = next;
+              std::int64_t next[3] = {x, y, z};
+              next[k] += side;
+              if (next[k] < 0 || next[k] >= count_[k]) continue;
+              const std::int32_t cell = before[Slot(next[0], next[1], next[2])];
+              if (cell >= 0) {
+                cells_[index] = cell;
                 break;
               }
             }

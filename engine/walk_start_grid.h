@@ -34,20 +34,29 @@ class WalkStartGrid {
   /// box; -1 when that grid cell has no cell or there is no grid.
   std::int64_t StartCell(const double* p) const {
     if (cells_.empty()) return -1;
-    std::int64_t index = 0;
-    for (int k = 2; k >= 0; --k) {
+    std::int64_t at[3];
+    for (int k = 0; k < 3; ++k) {
       const double t = (p[k] - lo_[k]) * inverseStep_[k];
       // NaN and points beyond the box clamp to the boundary's grid cells.
-      const std::int64_t i = t >= 1.0 ? (t < count_[k] ? static_cast<std::int64_t>(t) : count_[k] - 1) : 0;
-      index = index * count_[k] + i;
+      at[k] = t >= 1.0 ? (t < count_[k] ? static_cast<std::int64_t>(t) : count_[k] - 1) : 0;
     }
-    return cells_[static_cast<std::size_t>(index)];
+    return cells_[Slot(at[0], at[1], at[2])];
   }
 
   bool empty() const { return cells_.empty(); }
   std::size_t MemoryBytes() const { return cells_.capacity() * sizeof(std::int32_t); }
 
  private:
+  /// Where grid cell (x, y, z) is kept: in tiles of 4 x 4 x 4 grid cells
+  /// (256 bytes), so that the grid cells of nearby points, which come one
+  /// after the other in the batch's Morton order, share cache lines (a
+  /// plain x-fastest layout put each in a line of its own and made the
+  /// grid's read half the walk's time on random points in tetrahedra).
+  std::size_t Slot(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    const std::int64_t tile = ((z >> 2) * tiles_[1] + (y >> 2)) * tiles_[0] + (x >> 2);
+    return static_cast<std::size_t>(tile * 64 + (z & 3) * 16 + (y & 3) * 4 + (x & 3));
+  }
+
   /// Gives each empty grid cell the entry of a face neighbour that has one
   /// (the first of -x, +x, -y, +y, -z, +z), from the grid as it was before
   /// the pass, kFillPasses times.
@@ -56,7 +65,8 @@ class WalkStartGrid {
   double lo_[3] = {0, 0, 0};
   double inverseStep_[3] = {0, 0, 0};
   std::int64_t count_[3] = {0, 0, 0};
-  std::vector<std::int32_t> cells_;  ///< x fastest; -1 where no cell is near
+  std::int64_t tiles_[3] = {0, 0, 0};  ///< Tiles along each axis.
+  std::vector<std::int32_t> cells_;  ///< by Slot; -1 where no cell is near
 };
 
 }  // namespace invmap::engine
