@@ -213,6 +213,36 @@ struct PointSearch {
 
 };
 
+/// Requests from memory what the walk (PointSearch::TryInsideByWalk) of a
+/// point reads first, a point or two before its search: the start grid's
+/// entry of point `later` (two points ahead) and, for point `next` (one
+/// ahead, whose entry the previous call requested), its start cell's
+/// vertices (an affine tetrahedron's copy) or solver and control points,
+/// and its origin. Each is a cache miss of its own a point on a mesh larger
+/// than the cache; requested ahead, they arrive while the point before is
+/// searched. Either point may be null.
+inline void PrefetchWalk(const CellStore& store, const SimplexItems& simplices, const double* next,
+                         const double* later) {
+  const WalkStartGrid& grid = store.faceAdjacency().startGrid();
+  if (later) grid.Prefetch(later);
+  if (!next) return;
+  const std::int64_t start = grid.StartCell(next);
+  if (start < 0) return;
+  const int item = simplices.item(start);
+  const auto lines = [](const void* from, std::size_t bytes) {
+    const char* first = static_cast<const char*>(from);
+    for (std::size_t at = 0; at < bytes; at += 64) __builtin_prefetch(first + at);
+    __builtin_prefetch(first + bytes - 1);
+  };
+  if (item >= 0) {
+    lines(simplices.vertices(item), 4 * 3 * sizeof(double));
+  } else {
+    const kernels::CellSolver& solver = store.solver(start);
+    lines(&solver, sizeof(kernels::CellSolver));
+  }
+  lines(&store.origin(start), sizeof(CellOrigin));
+}
+
 // The solves every candidate goes through, defined here so that the searches
 // (engine/search_candidates.cpp, engine/search_bvh.cpp) inline them as they
 // did when all of this was one file: out of line, these and WriteFound cost

@@ -43,6 +43,17 @@ class WalkStartGrid {
     return cells_[Slot(at[0], at[1], at[2])];
   }
 
+  /// Requests from memory the entry StartCell(p) will read.
+  void Prefetch(const double* p) const {
+    if (cells_.empty()) return;
+    std::int64_t at[3];
+    for (int k = 0; k < 3; ++k) {
+      const double t = (p[k] - lo_[k]) * inverseStep_[k];
+      at[k] = t >= 1.0 ? (t < count_[k] ? static_cast<std::int64_t>(t) : count_[k] - 1) : 0;
+    }
+    __builtin_prefetch(&cells_[Slot(at[0], at[1], at[2])]);
+  }
+
   bool empty() const { return cells_.empty(); }
   std::size_t MemoryBytes() const { return cells_.capacity() * sizeof(std::int32_t); }
 
