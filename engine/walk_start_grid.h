@@ -20,10 +20,10 @@ class WalkStartGrid {
  public:
   /// Builds the grid over the cells for which `walkable` is true (volume
   /// cells with face neighbours), about two grid cells per such cell, at
-  /// most 2^24. Each grid cell holds the cell that contains its centre
-  /// (tetrahedra: by their corner tetrahedron, deepest first) or else whose
-  /// control-point box is the most centred on it; the lowest index on a tie,
-  /// so the grid depends on the geometry alone. A grid cell whose centre no
+  /// most 2^24. Each grid cell holds the tetrahedron that contains its
+  /// centre (by its corner tetrahedron, deepest first) or else the other
+  /// volume cell whose control-point box is the most centred on it; the
+  /// lowest index on a tie, so the grid depends on the geometry alone. A grid cell whose centre no
   /// cell's box holds (along the mesh's slanted or curved boundary, where
   /// part of it may still lie in the mesh) takes a face neighbour's entry,
   /// twice over.
