@@ -30,7 +30,9 @@ void CheckModels(const DistanceModel& a, const DistanceModel& b, const DistanceO
                                 std::to_string(db) + ")");
   }
   if (std::isnan(options.maxDistance) || options.maxDistance < 0.0) {
-    throw std::invalid_argument("options: maxDistance " + std::to_string(options.maxDistance) + ", expected >= 0");
+    std::ostringstream why;  // -1, not to_string's -1.000000
+    why << "options: maxDistance " << options.maxDistance << ", expected >= 0";
+    throw std::invalid_argument(why.str());
   }
   if (options.threads < 0) throw std::invalid_argument("options: threads must be >= 0 (0 = all cores)");
 }
@@ -260,6 +262,7 @@ DistanceTracker& DistanceTracker::operator=(DistanceTracker&&) noexcept = defaul
 
 Error DistanceTracker::SetPoseA(const Pose& poseA, std::string* message) {
   return engine::Guarded(message, [&] {
+    if (!impl_) throw std::invalid_argument("the tracker was moved from");
     if (!impl_->setupError.empty() && impl_->setupError.rfind("pose of A", 0) != 0) {
       throw std::invalid_argument(impl_->setupError);
     }
@@ -271,6 +274,7 @@ Error DistanceTracker::SetPoseA(const Pose& poseA, std::string* message) {
 
 Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::string* message) {
   return engine::Guarded(message, [&] {
+    if (!impl_) throw std::invalid_argument("the tracker was moved from");
     if (!impl_->setupError.empty()) throw std::invalid_argument(impl_->setupError);
     if (!result) throw std::invalid_argument("result: null");
     const DistanceModel::Impl& ia = *DistanceAccess::Get(impl_->a);
