@@ -23,35 +23,22 @@ class WalkStartGrid {
   /// most 2^24. Each grid cell holds the tetrahedron that contains its
   /// centre (by its corner tetrahedron, deepest first) or else the other
   /// volume cell whose control-point box is the most centred on it; the
-  /// lowest index on a tie, so the grid depends on the geometry alone. A grid cell whose centre no
-  /// cell's box holds (along the mesh's slanted or curved boundary, where
-  /// part of it may still lie in the mesh) takes a face neighbour's entry,
-  /// twice over.
+  /// lowest index on a tie, so the grid depends on the geometry alone. A
+  /// grid cell left empty (along the mesh's slanted or curved boundary,
+  /// where part of it may still lie in the mesh) takes a face neighbour's
+  /// entry, twice over.
   void Build(const std::vector<kernels::CellSolver>& solvers, const std::vector<bool>& walkable);
 
   /// The start cell for point `p` (3 coordinates): the entry of the grid
   /// cell holding p, or of the nearest one for a point outside the grid's
   /// box; -1 when that grid cell has no cell or there is no grid.
   std::int64_t StartCell(const double* p) const {
-    if (cells_.empty()) return -1;
-    std::int64_t at[3];
-    for (int k = 0; k < 3; ++k) {
-      const double t = (p[k] - lo_[k]) * inverseStep_[k];
-      // NaN and points beyond the box clamp to the boundary's grid cells.
-      at[k] = t >= 1.0 ? (t < count_[k] ? static_cast<std::int64_t>(t) : count_[k] - 1) : 0;
-    }
-    return cells_[Slot(at[0], at[1], at[2])];
+    return cells_.empty() ? -1 : cells_[SlotOf(p)];
   }
 
   /// Requests from memory the entry StartCell(p) will read.
   void Prefetch(const double* p) const {
-    if (cells_.empty()) return;
-    std::int64_t at[3];
-    for (int k = 0; k < 3; ++k) {
-      const double t = (p[k] - lo_[k]) * inverseStep_[k];
-      at[k] = t >= 1.0 ? (t < count_[k] ? static_cast<std::int64_t>(t) : count_[k] - 1) : 0;
-    }
-    __builtin_prefetch(&cells_[Slot(at[0], at[1], at[2])]);
+    if (!cells_.empty()) __builtin_prefetch(&cells_[SlotOf(p)]);
   }
 
   bool empty() const { return cells_.empty(); }
@@ -66,6 +53,17 @@ class WalkStartGrid {
   std::size_t Slot(std::int64_t x, std::int64_t y, std::int64_t z) const {
     const std::int64_t tile = ((z >> 2) * tiles_[1] + (y >> 2)) * tiles_[0] + (x >> 2);
     return static_cast<std::size_t>(tile * 64 + (z & 3) * 16 + (y & 3) * 4 + (x & 3));
+  }
+
+  /// The slot of the grid cell holding point `p`; NaN and points beyond
+  /// the box clamp to the boundary's grid cells.
+  std::size_t SlotOf(const double* p) const {
+    std::int64_t at[3];
+    for (int k = 0; k < 3; ++k) {
+      const double t = (p[k] - lo_[k]) * inverseStep_[k];
+      at[k] = t >= 1.0 ? (t < count_[k] ? static_cast<std::int64_t>(t) : count_[k] - 1) : 0;
+    }
+    return Slot(at[0], at[1], at[2]);
   }
 
   /// Gives each empty grid cell the entry of a face neighbour that has one
