@@ -150,7 +150,11 @@ ModelPoint ToModelPoint(const CellPairAnswer& answer, int side, const DistanceMo
   kernels::SnapToDomain(shape.type(), ref);
   point.patch = origin.patch;
   point.cell = origin.indexInPatch;
-  for (int i = 0; i < shape.paramDim(); ++i) point.params[i] = origin.paramLo[i] + origin.paramScale[i] * ref[i];
+  // As point queries report them: knot values, angles where a direction is
+  // angular, and on a trimmed face's edge the pcurve's (u, v).
+  double params[3];
+  store.ReportedParameters(cell, ref, params);
+  for (int i = 0; i < 3; ++i) point.params[i] = params[i];
   const int dim = store.dimension();
   for (int k = 0; k < 3; ++k) point.point[k] = k < dim ? answer.point[side][k] : 0.0;
   return point;
@@ -185,11 +189,6 @@ DistanceModelBuild DistanceModel::Build(const Manifold& manifold) {
   try {
     if (!manifold.valid()) {
       result.error = "the manifold is empty (not built)";
-      return result;
-    }
-    if (ManifoldAccess::Store(manifold).hasTrimmedSurfaces()) {
-      // The pair search knows nothing of a trimmed face's region.
-      result.error = "distance between models: not available for trimmed surfaces (CAD faces) yet";
       return result;
     }
     if (ManifoldAccess::HasPouSurfaces(manifold)) {
