@@ -233,7 +233,20 @@ void Enumerator::SolveIn(const Problem& problem, double* slot) {
   layout.Center(start);
   PairLocalOptions options;
   options.size = size_;
+  // The subdomain's parameters stretch the original cells' (a hundredth of
+  // a cell becomes a unit): its final Newton step is the cells' own.
+  double widest = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    const RefMap map = SubdomainMap(problem, slot, side);
+    for (const auto& row : map.matrix) {
+      for (const double entry : row) widest = std::max(widest, std::abs(entry));
+    }
+  }
+  if (widest > 0.0) options.finalStep = kFinalStep / widest;
   const PairLocalResult local = PairLocalSolve(sides[0], sides[1], layout, start, options);
+  // The subdomain holds at most one minimum, and only a KKT point of the
+  // subdomain tells where: a solve that ends anywhere else leaves it open.
+  if (!local.kkt.kkt) out_->certified = false;
   RecordLocal(problem, slot, local.w);
 }
 
