@@ -205,6 +205,12 @@ bool PairSearch::CertifiedAround(double* slot, double pruneLevel) {
 }
 
 bool PairSearch::CertifyWith(double* slot, const double* w, double value, const PairKkt& kkt, double pruneLevel) {
+  // The certificate bounds f itself, with the rounding of its own Taylor
+  // models: the nets' rounding slack, which the pruning level adds for the
+  // nets' lower bounds, is not its to pay. Paid here it left nothing of the
+  // tolerance (2 tau d) once d fell below slack / tau, and no minimum that
+  // near the other cell could ever be closed.
+  pruneLevel -= slack_;
   if (value < pruneLevel) {
     // Only the best point lies below the level, and then within rounding of it.
     value = std::max(value, 0.0);
@@ -435,7 +441,12 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
             plus[layout_.offset(s) + fac.offset + i] += quarter;
             minus[layout_.offset(s) + fac.offset + i] -= quarter;
           }
-          const double variation = (unit.asDiagonal() * (hessianAt(plus) - hessianAt(minus)) * unit.asDiagonal()).norm();
+          // Both halves' changes from the centre: their difference alone
+          // misses a Hessian that changes alike either way (the vertex of
+          // a parabola at the centre), and would split the other side for
+          // ever.
+          const double variation = (unit.asDiagonal() * (hessianAt(plus) - atCenter) * unit.asDiagonal()).norm() +
+                                   (unit.asDiagonal() * (hessianAt(minus) - atCenter) * unit.asDiagonal()).norm();
           if (variation > most) {
             most = variation;
             *side = s;
