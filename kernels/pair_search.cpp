@@ -128,6 +128,10 @@ class PairSearch {
   /// splits where its net bends most (kernels/bernstein_net.h); by length
   /// where the net is linear there.
   void ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi, int* vj) const;
+  /// The longest edge instead of the chosen one when that is shorter by
+  /// more than kBendSplitRatio2 (squared): a split that narrows one
+  /// direction for ever leaves the certificate the others' whole length.
+  void KeepSplitsLong(double* slot, int* side, int* factor, int* vi, int* vj) const;
   PairLocalResult Local(const double* start) {
     PairLocalResult local = PairLocalSolve(a_, b_, layout_, start, options_);
     iterations_ += local.iterations;
@@ -458,6 +462,11 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
       }
     }
   }
+  // Where the Hessian changes along one direction only (a segment against
+  // a parabola: it depends on the parabola's parameter alone), the other
+  // direction's length still enters the certificate through the residual
+  // of the KKT conditions.
+  KeepSplitsLong(slot, side, factor, vi, vj);
 }
 
 void PairSearch::ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi,
@@ -475,6 +484,10 @@ void PairSearch::ChooseSplitByBend(double* slot, const PairNets& nets, int* side
   // along it bend little, but their least stays far below the distance).
   // A direction far shorter than the longest is not split again: the
   // longest is.
+  KeepSplitsLong(slot, side, factor, vi, vj);
+}
+
+void PairSearch::KeepSplitsLong(double* slot, int* side, int* factor, int* vi, int* vj) const {
   auto length2 = [&](int s, int f, int p, int q) {
     const SimplexFactor& fac = layout_.shape(s).factor(f);
     double l2 = 0.0;
