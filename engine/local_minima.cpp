@@ -21,6 +21,7 @@
 #include "kernels/cell_minima.h"
 #include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
+#include "kernels/tolerances.h"
 
 namespace invmap {
 namespace {
@@ -194,7 +195,15 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
               const kernels::CellMinimaResult found =
                   kernels::CellLocalMinima(store.solver(c), p, options.maxDistance, &scratch.minima);
               if (!found.certified) certified[i] = 0;
-              for (const kernels::CellMinimum& m : found.minima) scratch.candidates.push_back({c, m});
+              for (kernels::CellMinimum m : found.minima) {
+                // Inside a volume the point is its own closest point: at
+                // distance exactly 0, as invert reports it, not the rounding
+                // of the solve that found it there.
+                if (store.shape(c).paramDim() == dim && m.distance <= kernels::kDistanceTolerance * store.solver(c).size()) {
+                  m.distance = 0.0;
+                }
+                scratch.candidates.push_back({c, m});
+              }
             }
             std::sort(scratch.candidates.begin(), scratch.candidates.end(), [](const Candidate& a, const Candidate& b) {
               return a.minimum.distance != b.minimum.distance ? a.minimum.distance < b.minimum.distance : a.cell < b.cell;
