@@ -298,6 +298,26 @@ TEST(PairMinimaRandom, TrialCurveAndSurface) {
       -0.35266077147623415, 0.5, 1.0, -0.07099899661843653, 0.75, 1.0, 0.5917421561789374, 1.0, 1.0,
       0.032621215043435604});
   CheckAllMinima(a, b, IdentityRows(), 1e300, "trial curve and surface");
+  // That minimum is too shallow for the lattice (the distance grows by
+  // about 4e-9 over 1e-4 of the parameters): the ring test confirms it is
+  // one, at the parameters the trial's own polished solve gave.
+  DistanceAnswer trial;
+  trial.a.params[0] = 0.227458029;
+  trial.b.params[0] = 0.141782948;
+  trial.b.params[1] = 0.551748222;
+  ASSERT_TRUE(RingSaysMinimum(a, IdentityRows(), b, IdentityRows(), trial, 1e-13));
+  const auto ma = BuildModel(a);
+  const auto mb = BuildModel(b);
+  DistanceOptions options;
+  options.allMinima = true;
+  const DistanceResult r = DistanceQuery(*ma, IdentityRows(), *mb, IdentityRows(), options);
+  bool listed = false;
+  for (const DistanceAnswer& m : r.minima) {
+    listed = listed || (std::abs(m.a.params[0] - trial.a.params[0]) < 1e-5 &&
+                        std::abs(m.b.params[0] - trial.b.params[0]) < 1e-5 &&
+                        std::abs(m.b.params[1] - trial.b.params[1]) < 1e-5 && std::abs(m.distance - 0.0943629422) < 1e-9);
+  }
+  EXPECT_TRUE(listed);
 }
 
 }  // namespace
