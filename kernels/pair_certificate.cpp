@@ -174,10 +174,13 @@ bool ProvesPairBound(const PairCertificateInput& in) {
   // Scale the coordinates so the Hessian's diagonal is about one: a cell
   // 1e3 times the other's size must not lend the other its scale.
   double largestDiagonal = 0.0;
-  for (int a = 0; a < n; ++a) largestDiagonal = std::max(largestDiagonal, mid(a, a));
+  for (int a = 0; a < n; ++a) largestDiagonal = std::max(largestDiagonal, std::abs(mid(a, a)));
   if (!(largestDiagonal > 0.0)) largestDiagonal = 1.0;
   Vector scale(n);  // D^(-1/2): local = scale * scaled
-  for (int a = 0; a < n; ++a) scale[a] = 1.0 / std::sqrt(std::max(mid(a, a), 1e-12 * largestDiagonal));
+  // By the diagonal's magnitude: where g bends down (a minimum on a face,
+  // held by its multiplier) the floor made that direction 1e6 times longer
+  // than the others, and its bend swamped what the multiplier proves.
+  for (int a = 0; a < n; ++a) scale[a] = 1.0 / std::sqrt(std::max(std::abs(mid(a, a)), 1e-12 * largestDiagonal));
   mid = scale.asDiagonal() * mid * scale.asDiagonal();
   rad = scale.asDiagonal() * rad * scale.asDiagonal();
 

@@ -66,7 +66,10 @@ bool ScaledEigenBasis(const Matrix& h, double* basis) {
   for (int r = 0; r < n; ++r) largest = std::max(largest, h(r, r));
   if (!(largest > 0.0) || !h.allFinite()) return false;
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> scale(n);
-  for (int r = 0; r < n; ++r) scale[r] = 1.0 / std::sqrt(std::max(h(r, r), 1e-12 * largest));
+  // By the diagonal's magnitude: a direction in which f bends down (a
+  // minimum on a face, held by its multiplier) scaled by the floor instead
+  // grew by 1e6 against the others and its bound swamped the certificate.
+  for (int r = 0; r < n; ++r) scale[r] = 1.0 / std::sqrt(std::max(std::abs(h(r, r)), 1e-12 * largest));
   const Matrix scaled = scale.asDiagonal() * h * scale.asDiagonal();
   Eigen::SelfAdjointEigenSolver<Matrix> eigen(scaled);
   const Matrix directions = scale.asDiagonal() * eigen.eigenvectors();

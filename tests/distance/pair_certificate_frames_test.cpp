@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "samples/sample_geometries.h"
 #include "tests/distance/distance_test_util.h"
 #include "tests/support/distance_geometries.h"
 #include "tests/support/test_geometries.h"
@@ -70,6 +71,38 @@ TEST(PairCertificateFrames, ModelsFarApart) {
     EXPECT_LE(r.nearest.distance, reference.distance + 1e-9 * separation);
     EXPECT_GE(r.nearest.distance, reference.distance - 1e-12 * separation);
     ExpectConsistent(*a, IdentityRows(), *b, pose, r.nearest, 1e-14 * separation);
+  }
+}
+
+TEST(PairCertificateFrames, SurfaceInATorusHoleTurnedSlightly) {
+  // The wavy surface over [0, 1]^2 in the hole of a torus (major radius 2,
+  // tube 0.7) around the vertical through (0.5, 0.5), the torus turned by
+  // 1e-3 rad or less: one corner of the surface is nearest, held there by
+  // both of its edges' multipliers while the distance bends down along
+  // them. The certificate once scaled those directions by the floor of the
+  // Hessian's diagonal and lost them.
+  const auto surface = BuildModel(samples::WavySurface(8));
+  const auto torus = BuildModel(samples::NurbsTorus(2.0, 0.7));
+  for (const double angle : {0.0, 2e-4, 1e-3}) {
+    for (const double z : {0.6, 0.65}) {
+      SCOPED_TRACE("angle " + std::to_string(angle) + ", z " + std::to_string(z));
+      const PoseRows pose = RotationRows({0.2, 0.1, 1.0}, angle, {0.5, 0.5, z});
+      const DistanceResult r = DistanceQuery(*surface, IdentityRows(), *torus, pose);
+      ASSERT_TRUE(r.nearest.found);
+      EXPECT_TRUE(r.nearest.certified);
+      // The corners, in the torus's frame (R^T (x - t)), in closed form.
+      double nearestCorner = 1e300;
+      for (const double cx : {0.0, 1.0}) {
+        for (const double cy : {0.0, 1.0}) {
+          const double corner[3] = {cx - pose[3], cy - pose[7], 0.125 - pose[11]};
+          double local[3];
+          for (int k = 0; k < 3; ++k) local[k] = pose[k] * corner[0] + pose[4 + k] * corner[1] + pose[8 + k] * corner[2];
+          nearestCorner = std::min(nearestCorner, TorusDistance({0, 0, 0}, 2.0, 0.7, local));
+        }
+      }
+      EXPECT_NEAR(r.nearest.distance, nearestCorner, 1e-12);
+      ExpectConsistent(*surface, IdentityRows(), *torus, pose, r.nearest, 1e-9);
+    }
   }
 }
 
