@@ -53,6 +53,11 @@ bool ParsePose(std::string_view text, Pose* pose, std::string* why) {
       token.remove_suffix(1);
     }
     double value = 0.0;
+    if (token.empty()) {
+      *why = "an empty number at position " + std::to_string(values.size() + 1) +
+             " (expected 12 comma-separated numbers)";
+      return false;
+    }
     if (!io::ParseDouble(token, &value) || !std::isfinite(value)) {
       *why = "'" + std::string(token) + "' is not a finite number";
       return false;

@@ -8,7 +8,6 @@
 #include <memory>
 #include <string>
 
-#include "cad/model.h"
 #include "cli/commands.h"
 #include "cli/path_checks.h"
 #include "cli/run_summary.h"
@@ -120,12 +119,6 @@ int RunInvertAllMinima(const InvertOptions& options) {
   }
   io::PointFormatOf(options.points);  // an unknown point format before the geometry is read
   const auto start = std::chrono::steady_clock::now();
-  // Only CAD files hold trimmed surfaces (the geometry file format has none).
-  if (cad::IsCadFile(options.geometry)) {
-    std::fprintf(stderr, "invmap invert: --all-minima is not available for CAD models (trimmed faces) yet: %s\n",
-                 options.geometry.c_str());
-    return 2;
-  }
   const Manifold manifold = LoadManifold(options.geometry, RefusePouSurfaces);
   const int dim = manifold.Info().dimension;
   io::PointReadOptions readOptions;

@@ -30,7 +30,9 @@ void CheckModels(const DistanceModel& a, const DistanceModel& b, const DistanceO
                                 std::to_string(db) + ")");
   }
   if (std::isnan(options.maxDistance) || options.maxDistance < 0.0) {
-    throw std::invalid_argument("options: maxDistance " + std::to_string(options.maxDistance) + ", expected >= 0");
+    std::ostringstream why;  // -1, not to_string's -1.000000
+    why << "options: maxDistance " << options.maxDistance << ", expected >= 0";
+    throw std::invalid_argument(why.str());
   }
   if (options.threads < 0) throw std::invalid_argument("options: threads must be >= 0 (0 = all cores)");
 }
@@ -160,7 +162,11 @@ ModelPoint ToModelPoint(const CellPairAnswer& answer, int side, const DistanceMo
   kernels::SnapToDomain(shape.type(), ref);
   point.patch = origin.patch;
   point.cell = origin.indexInPatch;
-  for (int i = 0; i < shape.paramDim(); ++i) point.params[i] = origin.paramLo[i] + origin.paramScale[i] * ref[i];
+  // As point queries report them: knot values, angles where a direction is
+  // angular, and on a trimmed face's edge the pcurve's (u, v).
+  double params[3];
+  store.ReportedParameters(cell, ref, params);
+  for (int i = 0; i < 3; ++i) point.params[i] = params[i];
   const int dim = store.dimension();
   for (int k = 0; k < 3; ++k) point.point[k] = k < dim ? answer.point[side][k] : 0.0;
   return point;
@@ -195,11 +201,6 @@ DistanceModelBuild DistanceModel::Build(const Manifold& manifold) {
   try {
     if (!manifold.valid()) {
       result.error = "the manifold is empty (not built)";
-      return result;
-    }
-    if (ManifoldAccess::Store(manifold).hasTrimmedSurfaces()) {
-      // The pair search knows nothing of a trimmed face's region.
-      result.error = "distance between models: not available for trimmed surfaces (CAD faces) yet";
       return result;
     }
     if (ManifoldAccess::HasPouSurfaces(manifold)) {
@@ -272,6 +273,7 @@ DistanceTracker& DistanceTracker::operator=(DistanceTracker&&) noexcept = defaul
 
 Error DistanceTracker::SetPoseA(const Pose& poseA, std::string* message) {
   return engine::Guarded(message, [&] {
+    if (!impl_) throw std::invalid_argument("the tracker was moved from");
     if (!impl_->setupError.empty() && impl_->setupError.rfind("pose of A", 0) != 0) {
       throw std::invalid_argument(impl_->setupError);
     }
@@ -283,6 +285,7 @@ Error DistanceTracker::SetPoseA(const Pose& poseA, std::string* message) {
 
 Error DistanceTracker::Update(const Pose& poseB, DistanceResult* result, std::string* message) {
   return engine::Guarded(message, [&] {
+    if (!impl_) throw std::invalid_argument("the tracker was moved from");
     if (!impl_->setupError.empty()) throw std::invalid_argument(impl_->setupError);
     if (!result) throw std::invalid_argument("result: null");
     const DistanceModel::Impl& ia = *DistanceAccess::Get(impl_->a);

@@ -3,7 +3,11 @@
 // enumerates its own minima (kernels/cell_minima.h); a minimum on a cell's
 // edge counts only where every other cell that meets it there has it as a
 // KKT point too (the distance grows into that cell as well), and minima
-// that are one point of the model are reported once.
+// that are one point of the model are reported once. On a trimmed face
+// (CAD) a cell's minima outside the face's region are no answers; those on
+// its boundary are its edges' (curve cells), where the distance must also
+// grow into the face or fall only toward the part trimmed away
+// (engine/trimmed_minima.h).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,11 +19,11 @@
 #include "engine/bvh_build.h"
 #include "common/check.h"
 #include "engine/manifold_access.h"
+#include "engine/trimmed_minima.h"
 #include "common/parallel.h"
 #include "invmap/distance.h"
 #include "kernels/active_set.h"
 #include "kernels/cell_minima.h"
-#include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 #include "kernels/tolerances.h"
 
@@ -100,16 +104,18 @@ struct MinimaScratch {
 /// True when the model point `x` of a cell's minimum is a KKT point of the
 /// distance to p in every other cell that holds it (within `onTolerance`).
 bool MinimumOfEveryCellThere(const engine::CellStore& store, const engine::Bvh& bvh, const double* p,
-                             const Candidate& candidate, double onTolerance, MinimaScratch* scratch) {
-  CellsNear(store, bvh, candidate.minimum.closest, onTolerance, &scratch->neighbours, &scratch->stack);
+                             const Candidate& candidate, double onTolerance, double edgeTolerance,
+                             MinimaScratch* scratch) {
+  // An edge of a trimmed face: the distance must grow into its face too.
+  if (!engine::MinimumOnCell(store, candidate.cell, candidate.minimum.ref, p)) return false;
+  CellsNear(store, bvh, candidate.minimum.closest, edgeTolerance, &scratch->neighbours, &scratch->stack);
   for (const std::int64_t n : scratch->neighbours) {
     if (n == candidate.cell) continue;
-    const kernels::CellSolver& solver = store.solver(n);
-    const kernels::CellSolveResult on = solver.Solve(candidate.minimum.closest, nullptr, &scratch->solve);
-    if (!(on.distance <= onTolerance)) continue;  // the point is not on this cell
-    kernels::MapJet jet;
-    kernels::EvaluateMap(solver.cell(), on.ref, kernels::JetOrder::First, &jet);
-    if (!kernels::IsKktPoint(solver.cell(), jet, p, on.ref, solver.size())) return false;
+    double ref[3];
+    if (!engine::HoldsPoint(store, n, candidate.minimum.closest, onTolerance, edgeTolerance, &scratch->solve, ref)) {
+      continue;  // the point is not on this cell
+    }
+    if (!engine::MinimumOnCell(store, n, ref, p)) return false;
   }
   return true;
 }
@@ -131,10 +137,9 @@ void WriteRow(const engine::CellStore& store, const Candidate* candidate, Status
   kernels::SnapToDomain(shape.type(), ref);
   out->patch[row] = origin.patch;
   out->cell[row] = origin.indexInPatch;
-  for (int k = 0; k < 3; ++k) {
-    out->params[3 * row + k] = k < shape.paramDim() ? origin.paramLo[k] + origin.paramScale[k] * ref[k] : kNaN;
-    out->closest[3 * row + k] = k < store.dimension() ? candidate->minimum.closest[k] : 0.0;
-  }
+  // As invert reports them (a trimmed face's own (u, v), an edge's pcurve's).
+  store.ReportedParameters(candidate->cell, ref, &out->params[3 * row]);
+  for (int k = 0; k < 3; ++k) out->closest[3 * row + k] = k < store.dimension() ? candidate->minimum.closest[k] : 0.0;
   out->distance[row] = candidate->minimum.distance;
 }
 
@@ -148,10 +153,6 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
     INVMAP_VERIFY(!ManifoldAccess::HasPouSurfaces(manifold),
                   "partition-of-unity surfaces (pou_manifold patches) have no search for every local minimum yet");
     const engine::CellStore& store = ManifoldAccess::Store(manifold);
-    // The per-cell enumeration knows nothing of a trimmed face's region: it
-    // would give minima outside the face and miss those on its edges.
-    INVMAP_VERIFY(!store.hasTrimmedSurfaces(),
-                  "every local minimum: not available for trimmed surfaces (CAD faces) yet");
     const engine::Bvh& bvh = ManifoldAccess::Tree(manifold);
     const int dim = store.dimension();
     INVMAP_VERIFY(points.dim == dim, "points: dimension " << points.dim << ", the geometry's is " << dim);
@@ -168,6 +169,8 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
     // A point is on a cell within this; two minima closer than this are one.
     const double onTolerance = 1e-9 * std::max(size, 1e-300);
     const double mergeTolerance = 1e-7 * std::max(size, 1e-300);
+    // A CAD model's edges lie within its tolerance of the faces they bound.
+    const double edgeTolerance = store.hasTrimmedSurfaces() ? mergeTolerance : onTolerance;
 
     const std::int64_t n = static_cast<std::int64_t>(points.count);
     std::vector<std::vector<Candidate>> perPoint(n);
@@ -195,7 +198,10 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
               const kernels::CellMinimaResult found =
                   kernels::CellLocalMinima(store.solver(c), p, options.maxDistance, &scratch.minima);
               if (!found.certified) certified[i] = 0;
+              const kernels::TrimmedCell* trim = store.solver(c).trim();
               for (kernels::CellMinimum m : found.minima) {
+                // A minimum of the cell's box outside its face's region is none of the face's.
+                if (trim && !trim->Admits(m.ref)) continue;
                 // Inside a volume the point is its own closest point: at
                 // distance exactly 0, as invert reports it, not the rounding
                 // of the solve that found it there.
@@ -219,7 +225,7 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
                 }
                 known = known || std::sqrt(gap2) <= mergeTolerance;
               }
-              if (known || !MinimumOfEveryCellThere(store, bvh, p, candidate, onTolerance, &scratch)) continue;
+              if (known || !MinimumOfEveryCellThere(store, bvh, p, candidate, onTolerance, edgeTolerance, &scratch)) continue;
               scratch.kept.push_back(candidate);
             }
             perPoint[i] = scratch.kept;

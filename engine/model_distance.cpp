@@ -90,6 +90,8 @@ kernels::PairSide PlacedSide(const PlacedModel& m, std::int64_t cell, int slot, 
   side.size = c.size;
   side.affine = c.affine;
   side.nets = m.cells->nets(cell);
+  // A cell of a trimmed face that its loops cross (a volume's face never is).
+  if (!c.isFace) side.trim = m.cells->store().solver(c.sourceCell).trim();
   if (!side.nets && needNets) {
     if (ws->scratchNetsModel[slot] != m.cells || ws->scratchNetsCell[slot] != cell) {
       BuildCellNets(c.view, c.boxLo, c.boxHi, &ws->scratchNets[slot]);
@@ -108,10 +110,25 @@ void ToModelFrame(const kernels::RigidMotion& motion, const double* world, doubl
   for (int k = 0; k < 3; ++k) local[k] = motion.rotation[0][k] * d[0] + motion.rotation[1][k] * d[1] + motion.rotation[2][k] * d[2];
 }
 
+namespace {
+
+/// Two affine cells, neither of a trimmed face: their squared distance is a
+/// convex quadratic, solved without nets (a trimmed face's pair needs them
+/// to tell its region's parts apart).
+bool ConvexPair(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b, std::int64_t cellB) {
+  auto plainAffine = [](const PlacedModel& m, std::int64_t cell) {
+    const DistanceCell& c = m.cells->cell(cell);
+    return c.affine && (c.isFace || !m.cells->store().solver(c.sourceCell).trim());
+  };
+  return plainAffine(a, cellA) && plainAffine(b, cellB);
+}
+
+}  // namespace
+
 kernels::PairSolveResult SolvePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,
                                           std::int64_t cellB, const double* startA, const double* startB,
                                           double bound2, ModelDistanceWorkspace* ws) {
-  const bool convex = a.cells->cell(cellA).affine && b.cells->cell(cellB).affine;
+  const bool convex = ConvexPair(a, cellA, b, cellB);
   const kernels::PairSide sideA = PlacedSide(a, cellA, 0, !convex, ws);
   const kernels::PairSide sideB = PlacedSide(b, cellB, 1, !convex, ws);
   return kernels::SolveCellPair(sideA, sideB, startA, startB, &ws->pair, bound2);
@@ -122,7 +139,7 @@ namespace {
 /// ProbeCellPair (kernels/pair_search.h) of one cell pair.
 kernels::PairSolveResult ProbePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,
                                           std::int64_t cellB, double bound2, ModelDistanceWorkspace* ws) {
-  const bool convex = a.cells->cell(cellA).affine && b.cells->cell(cellB).affine;
+  const bool convex = ConvexPair(a, cellA, b, cellB);
   const kernels::PairSide sideA = PlacedSide(a, cellA, 0, !convex, ws);
   const kernels::PairSide sideB = PlacedSide(b, cellB, 1, !convex, ws);
   return kernels::ProbeCellPair(sideA, sideB, &ws->pair, bound2);

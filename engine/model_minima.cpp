@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "engine/pair_bounds.h"
+#include "engine/trimmed_minima.h"
 #include "kernels/kkt_point.h"
 #include "kernels/local_solver.h"
 #include "kernels/pair_local_solve.h"
@@ -55,9 +56,10 @@ std::vector<std::pair<std::int64_t, std::int64_t>> CellPairsWithin(const PlacedM
 }
 
 /// The distance cells of `m` that hold the world point x, with x's
-/// reference coordinates on each (a point solve onto the cell lands on x).
+/// reference coordinates on each (a point solve onto the cell lands on x;
+/// a trimmed face's cells as engine/trimmed_minima.h's HoldsPoint says).
 std::vector<std::pair<std::int64_t, std::array<double, 3>>> CellsHolding(const PlacedModel& m, const double* world,
-                                                                        double tolerance) {
+                                                                        double tolerance, double edgeTolerance) {
   std::vector<std::pair<std::int64_t, std::array<double, 3>>> out;
   double local[3];
   ToModelFrame(m.motion, world, local);
@@ -67,18 +69,20 @@ std::vector<std::pair<std::int64_t, std::array<double, 3>>> CellsHolding(const P
   for (std::int64_t c = 0; c < cells.size(); ++c) {
     const DistanceCell& cell = cells.cell(c);
     bool inBox = true;
-    for (int k = 0; k < dim; ++k) inBox = inBox && local[k] >= cell.boxLo[k] - tolerance && local[k] <= cell.boxHi[k] + tolerance;
-    if (!inBox) continue;
-    // Store cells have their solver; a volume's face gets one of its own.
-    std::unique_ptr<kernels::CellSolver> own;
-    const kernels::CellSolver* solver;
-    if (cell.isFace) {
-      own = std::make_unique<kernels::CellSolver>(cell.view);
-      solver = own.get();
-    } else {
-      solver = &cells.store().solver(cell.sourceCell);
+    for (int k = 0; k < dim; ++k) {
+      inBox = inBox && local[k] >= cell.boxLo[k] - edgeTolerance && local[k] <= cell.boxHi[k] + edgeTolerance;
     }
-    const kernels::CellSolveResult r = solver->Solve(local, nullptr, &workspace);
+    if (!inBox) continue;
+    std::array<double, 3> ref{0, 0, 0};
+    if (!cell.isFace) {
+      if (HoldsPoint(cells.store(), cell.sourceCell, local, tolerance, edgeTolerance, &workspace, ref.data())) {
+        out.push_back({c, ref});
+      }
+      continue;
+    }
+    // A volume's face gets a solver of its own.
+    const kernels::CellSolver solver(cell.view);
+    const kernels::CellSolveResult r = solver.Solve(local, nullptr, &workspace);
     if (!(r.distance <= tolerance)) continue;
     out.push_back({c, {r.ref[0], r.ref[1], r.ref[2]}});
   }
@@ -100,11 +104,31 @@ bool GrowsIntoVolume(const PlacedModel& m, std::int64_t c, const double* ref, co
   return kernels::IsKktPoint(solver.cell(), jet, local, sourceRef, solver.size());
 }
 
+/// True when the world point `x` of distance cell `c` of `m` (at `ref` on
+/// it) may be a local minimum of the distance to the world point `other`
+/// as far as that cell says: its KKT test, on a volume's face also the
+/// distance growing into the volume, on a trimmed face's cells and edges
+/// the face's own test (engine/trimmed_minima.h).
+bool MinimumOnSide(const PlacedModel& m, std::int64_t c, const double* ref, const double* other) {
+  const DistanceCell& cell = m.cells->cell(c);
+  double local[3];
+  ToModelFrame(m.motion, other, local);
+  if (!cell.isFace) {
+    double sourceRef[3] = {0, 0, 0};
+    m.cells->ToSourceRef(c, ref, sourceRef);
+    return MinimumOnCell(m.cells->store(), cell.sourceCell, sourceRef, local);
+  }
+  kernels::MapJet jet;
+  kernels::EvaluateMap(cell.view, ref, kernels::JetOrder::First, &jet);
+  return kernels::IsKktPoint(cell.view, jet, local, ref, cell.size) && GrowsIntoVolume(m, c, ref, other);
+}
+
 }  // namespace
 
 std::vector<CellPairAnswer> AllPairMinima(const PlacedModel& a, const PlacedModel& b, double maxDistance,
                                           bool* certified, ModelDistanceWorkspace* ws) {
   *certified = true;
+  const bool trimmed = a.cells->store().hasTrimmedSurfaces() || b.cells->store().hasTrimmedSurfaces();
   std::vector<CellPairAnswer> candidates;
   for (const auto& [ia, ib] : CellPairsWithin(a, b, maxDistance)) {
     const kernels::PairSide sa = PlacedSide(a, ia, 0, true, ws);
@@ -131,6 +155,8 @@ std::vector<CellPairAnswer> AllPairMinima(const PlacedModel& a, const PlacedMode
   const double size = std::max(a.cells->modelSize(), b.cells->modelSize());
   const double onTolerance = 1e-9 * std::max(size, 1e-300);
   const double mergeTolerance = 1e-7 * std::max(size, 1e-300);
+  // A CAD model's edges lie within its tolerance of the faces they bound.
+  const double edgeTolerance = trimmed ? mergeTolerance : onTolerance;
   auto gap = [](const double* x, const double* y) {
     return std::sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]));
   };
@@ -143,25 +169,37 @@ std::vector<CellPairAnswer> AllPairMinima(const PlacedModel& a, const PlacedMode
     }
     if (known) continue;
     // Every pair of cells holding the two points must have them as a KKT point.
-    const auto holdersA = CellsHolding(a, candidate.point[0], onTolerance);
-    const auto holdersB = CellsHolding(b, candidate.point[1], onTolerance);
+    const auto holdersA = CellsHolding(a, candidate.point[0], onTolerance, edgeTolerance);
+    const auto holdersB = CellsHolding(b, candidate.point[1], onTolerance, edgeTolerance);
     bool minimum = true;
-    for (const auto& [ca, refA] : holdersA) {
-      minimum = minimum && GrowsIntoVolume(a, ca, refA.data(), candidate.point[1]);
-      for (const auto& [cb, refB] : holdersB) {
-        if (!minimum) break;
-        const kernels::PairSide sa = PlacedSide(a, ca, 0, false, ws);
-        const kernels::PairSide sb = PlacedSide(b, cb, 1, false, ws);
-        const kernels::PairLayout layout(sa.cell.shape, sb.cell.shape);
-        double w[kernels::kMaxPairParams];
-        std::copy(refA.begin(), refA.begin() + layout.paramDim(0), w);
-        std::copy(refB.begin(), refB.begin() + layout.paramDim(1), w + layout.paramDim(0));
-        kernels::PairJet jet;
-        kernels::EvaluatePair(sa, sb, layout, w, kernels::JetOrder::Second, &jet);
-        minimum = kernels::CheckPairKkt(layout, jet, w, sa.cell.ambientDim, sa.size + sb.size).kkt;
+    if (trimmed) {
+      // The joint KKT conditions split into each side's with the other
+      // point held (their domains are a product), which a trimmed face's
+      // cells and edges judge with its region (engine/trimmed_minima.h). A
+      // trimmed face's cell answers only points of its region: one of its
+      // boundary it does not land on is its edges' to judge.
+      minimum = MinimumOnSide(a, candidate.cell[0], candidate.ref[0], candidate.point[1]) &&
+                MinimumOnSide(b, candidate.cell[1], candidate.ref[1], candidate.point[0]);
+      for (const auto& [ca, refA] : holdersA) minimum = minimum && MinimumOnSide(a, ca, refA.data(), candidate.point[1]);
+      for (const auto& [cb, refB] : holdersB) minimum = minimum && MinimumOnSide(b, cb, refB.data(), candidate.point[0]);
+    } else {
+      for (const auto& [ca, refA] : holdersA) {
+        minimum = minimum && GrowsIntoVolume(a, ca, refA.data(), candidate.point[1]);
+        for (const auto& [cb, refB] : holdersB) {
+          if (!minimum) break;
+          const kernels::PairSide sa = PlacedSide(a, ca, 0, false, ws);
+          const kernels::PairSide sb = PlacedSide(b, cb, 1, false, ws);
+          const kernels::PairLayout layout(sa.cell.shape, sb.cell.shape);
+          double w[kernels::kMaxPairParams];
+          std::copy(refA.begin(), refA.begin() + layout.paramDim(0), w);
+          std::copy(refB.begin(), refB.begin() + layout.paramDim(1), w + layout.paramDim(0));
+          kernels::PairJet jet;
+          kernels::EvaluatePair(sa, sb, layout, w, kernels::JetOrder::Second, &jet);
+          minimum = kernels::CheckPairKkt(layout, jet, w, sa.cell.ambientDim, sa.size + sb.size).kkt;
+        }
       }
+      for (const auto& [cb, refB] : holdersB) minimum = minimum && GrowsIntoVolume(b, cb, refB.data(), candidate.point[0]);
     }
-    for (const auto& [cb, refB] : holdersB) minimum = minimum && GrowsIntoVolume(b, cb, refB.data(), candidate.point[0]);
     if (!minimum) continue;
     CellPairAnswer answer = candidate;
     for (int side = 0; side < 2; ++side) {

@@ -150,6 +150,7 @@ PointTracker& PointTracker::operator=(PointTracker&&) noexcept = default;
 
 Error PointTracker::Update(const double* point, PointAnswer* answer, std::string* message) {
   return engine::Guarded(message, [&] {
+    if (!impl_) throw std::invalid_argument("the tracker was moved from");
     if (!impl_->manifold->valid()) throw std::invalid_argument("the manifold is empty (not built)");
     if (!answer || !point) throw std::invalid_argument("point or answer: null");
     if (ManifoldAccess::HasPouSurfaces(*impl_->manifold)) {

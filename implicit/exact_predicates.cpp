@@ -32,6 +32,31 @@ constexpr double kOrient2dOriginErrBound = 2.0 * kEpsilon;
 
 inline int SignOf(double x) { return (x > 0.0) - (x < 0.0); }
 
+/// What FilteredDifferenceSign returns when the rounded products cannot
+/// decide the sign.
+constexpr int kUndecided = 2;
+
+/// The sign of left - right, two rounded products, when rounding cannot have
+/// changed it: products of opposite signs (or a zero product) cannot cancel,
+/// since rounding keeps signs; otherwise the difference is decided when it
+/// exceeds `errBound` times the products' magnitudes.
+int FilteredDifferenceSign(double left, double right, double errBound) {
+  const double det = left - right;
+  double sum;
+  if (left > 0.0) {
+    if (right <= 0.0) return SignOf(det);
+    sum = left + right;
+  } else if (left < 0.0) {
+    if (right >= 0.0) return SignOf(det);
+    sum = -left - right;
+  } else {
+    return SignOf(det);
+  }
+  const double bound = errBound * sum;
+  if (det > bound || -det > bound) return SignOf(det);
+  return kUndecided;
+}
+
 /// x + y = a + b exactly, x = fl(a + b).
 inline void TwoSum(double a, double b, double& x, double& y) {
   x = a + b;
@@ -183,24 +208,8 @@ int Orient3dExact(const double* a, const double* b, const double* c, const doubl
 int Orient1d(double a) { return SignOf(a); }
 
 int Orient2dOrigin(const double* a, const double* b) {
-  const double left = a[0] * b[1];
-  const double right = a[1] * b[0];
-  const double det = left - right;
-  double sum;
-  // Products of opposite signs (or a zero product) cannot cancel: rounding
-  // keeps signs, so det has the exact sign.
-  if (left > 0.0) {
-    if (right <= 0.0) return SignOf(det);
-    sum = left + right;
-  } else if (left < 0.0) {
-    if (right >= 0.0) return SignOf(det);
-    sum = -left - right;
-  } else {
-    return SignOf(det);
-  }
-  const double bound = kOrient2dOriginErrBound * sum;
-  if (det > bound || -det > bound) return SignOf(det);
-  return detail::Orient2dOriginExact(a, b);
+  const int sign = FilteredDifferenceSign(a[0] * b[1], a[1] * b[0], kOrient2dOriginErrBound);
+  return sign != kUndecided ? sign : detail::Orient2dOriginExact(a, b);
 }
 
 int Dot2dSign(const double* a, const double* b) {
@@ -222,22 +231,8 @@ int Orient3dOrigin(const double* a, const double* b, const double* c) {
 }
 
 int Orient2d(const double* a, const double* b, const double* c) {
-  const double left = (a[0] - c[0]) * (b[1] - c[1]);
-  const double right = (a[1] - c[1]) * (b[0] - c[0]);
-  const double det = left - right;
-  double sum;
-  if (left > 0.0) {
-    if (right <= 0.0) return SignOf(det);
-    sum = left + right;
-  } else if (left < 0.0) {
-    if (right >= 0.0) return SignOf(det);
-    sum = -left - right;
-  } else {
-    return SignOf(det);
-  }
-  const double bound = kCcwErrBoundA * sum;
-  if (det > bound || -det > bound) return SignOf(det);
-  return detail::Orient2dExact(a, b, c);
+  const int sign = FilteredDifferenceSign((a[0] - c[0]) * (b[1] - c[1]), (a[1] - c[1]) * (b[0] - c[0]), kCcwErrBoundA);
+  return sign != kUndecided ? sign : detail::Orient2dExact(a, b, c);
 }
 
 int Orient3d(const double* a, const double* b, const double* c, const double* d) {

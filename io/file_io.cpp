@@ -293,6 +293,18 @@ AtomicOutput::AtomicOutput(std::string path) : path_(std::move(path)) {
   }
   const std::filesystem::path target = FollowLinks(path_);
   filePath_ = target.string();
+  // Replacing an existing output by a rename would bypass what it says of
+  // itself: a pipe or device would become a plain file (its reader left
+  // waiting), a read-only file would be replaced, a private one turn
+  // readable by all. So those are refused, and a replacement keeps the
+  // old file's permissions.
+  struct stat existing {};
+  const bool replaces = ::stat(filePath_.c_str(), &existing) == 0;
+  if (replaces && !S_ISREG(existing.st_mode)) {
+    throw InputError(path_, 0, "cannot write: not a regular file (results are written whole, then renamed into place)",
+                     InputError::Kind::Output);
+  }
+  if (replaces && ::access(filePath_.c_str(), W_OK) != 0) Fail("cannot write");
   const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
   // A hidden name in the target's directory: the rename stays on one file
   // system, and a crash leaves a dot file, not a plausible output. The name
@@ -316,6 +328,7 @@ AtomicOutput::AtomicOutput(std::string path) : path_(std::move(path)) {
     errno = error;
     Fail("cannot create a file in '" + dir.string() + "'");
   }
+  if (replaces && ::fchmod(fd_, existing.st_mode & 07777) != 0) Fail("cannot keep the permissions of the file replaced");
   buffer_.resize(kWriteBlock);
 }
 

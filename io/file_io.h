@@ -158,7 +158,9 @@ class InputBuffer {
 /// file atomically. Destroying the object without Commit() deletes the
 /// temporary file and leaves the target as it was. A symbolic link at the
 /// target is followed: the file it points to is written (created when the
-/// link dangles) and the link stays. Commit syncs the file before the
+/// link dangles) and the link stays. A target that exists must be a regular
+/// file the process may write (a pipe, a device or a read-only file is
+/// refused); the new file takes its permissions. Commit syncs the file before the
 /// rename so that the guarantee holds through a system crash too; Flush
 /// starts the writeback early so that the sync waits for the tail only.
 /// Every failure (directory missing or not writable, disk full) throws

@@ -24,7 +24,26 @@ class InputError : public std::runtime_error {
 
  private:
   static std::string Format(const std::string& file, std::int64_t line, const std::string& what) {
-    return line > 0 ? file + ":" + std::to_string(line) + ": " + what : file + ": " + what;
+    return Printable(line > 0 ? file + ":" + std::to_string(line) + ": " + what : file + ": " + what);
+  }
+
+  /// `text` with control bytes written as \xNN: messages quote the file's
+  /// own bytes, and a NUL would end what() where it stands.
+  static std::string Printable(const std::string& text) {
+    static constexpr char kHex[] = "0123456789abcdef";
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+      const auto byte = static_cast<unsigned char>(c);
+      if (byte >= 0x20 && byte != 0x7f) {
+        out += c;
+      } else {
+        out += "\\x";
+        out += kHex[byte >> 4];
+        out += kHex[byte & 15];
+      }
+    }
+    return out;
   }
 
   std::string file_;

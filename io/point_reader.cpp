@@ -60,6 +60,11 @@ class TextPointReader : public PointReader {
     std::string_view raw;
     if (!NextNonBlankLine(&line, &raw)) throw InputError(path_, 0, "empty file");
     line = StripBom(line);
+    if (line.find('\r') != std::string_view::npos) {
+      // Old Mac files end lines in a lone CR: the whole file reads as one line.
+      throw InputError(path_, input_.lineNumber(),
+                       "a carriage return inside the line: lines must end in \\n or \\r\\n, not in \\r alone");
+    }
     if (LeadingNumbers(line, 1) == 0) {
       layout_.textHeader = std::string(raw);
       if (layout_.textHeader.back() != '\n') layout_.textHeader.push_back('\n');

@@ -28,6 +28,11 @@ constexpr int kVertices = 1;
 constexpr int kHeaderSize = kVertices + 2 * kMaxFactors * 4 * 3;
 /// Faces of faces: a hex's edge is two reductions away from it.
 constexpr int kMaxRecursion = 6;
+/// A polished minimum is the same one when its points moved by at most
+/// this share of the cells' sizes.
+constexpr double kSamePointShare = 1e-6;
+/// Newton steps of that polish: it starts next to the minimum.
+constexpr int kPolishIterations = 10;
 
 double* Vertex(double* slot, int side, int factor, int vertex) {
   return slot + kVertices + ((side * kMaxFactors + factor) * 4 + vertex) * 3;
@@ -140,6 +145,9 @@ class Enumerator {
   std::vector<double> Homogeneous(const Problem& problem, double* slot, int side) const;
   /// The local-to-problem map of side `side` of the subdomain.
   RefMap SubdomainMap(const Problem& problem, double* slot, int side) const;
+  /// True when a trimmed side's part of the subdomain lies wholly outside
+  /// its face's region (it holds no minimum of the face).
+  bool OutsideRegion(const Problem& problem, double* slot) const;
 
   PairSide original_[2];
   PairLayout layout_;
@@ -175,19 +183,67 @@ RefMap Enumerator::SubdomainMap(const Problem& problem, double* slot, int side) 
   return problem.map[side].Compose(local);
 }
 
+bool Enumerator::OutsideRegion(const Problem& problem, double* slot) const {
+  for (int side = 0; side < 2; ++side) {
+    const TrimmedCell* trim = original_[side].trim;
+    if (!trim) continue;
+    // The subdomain's box in the original cell's reference coordinates:
+    // the map is affine, so its corners' images bound it.
+    const RefMap map = SubdomainMap(problem, slot, side);
+    const int pd = problem.side[side].cell.shape.paramDim();
+    double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+    for (int corner = 0; corner < (1 << pd); ++corner) {
+      double t[3] = {0, 0, 0}, ref[3];
+      for (int i = 0; i < pd; ++i) t[i] = (corner >> i) & 1;
+      map.Apply(t, ref);
+      for (int d = 0; d < 2; ++d) {
+        lo[d] = std::min(lo[d], ref[d]);
+        hi[d] = std::max(hi[d], ref[d]);
+      }
+    }
+    if (trim->ClassifySubdomain(lo, hi) == TrimRegion::Side::Outside) return true;
+  }
+  return false;
+}
+
 void Enumerator::Record(const double* refA, const double* refB, const std::vector<Strict>& strict) {
   double w[kMaxPairParams];
   const int pa = layout_.paramDim(0), pb = layout_.paramDim(1);
   std::copy(refA, refA + pa, w);
   std::copy(refB, refB + pb, w + pa);
   layout_.Project(w);
+  // A trimmed face's minima are those its region admits (its boundary's
+  // are its edges', curve cells of their own).
+  for (int side = 0; side < 2; ++side) {
+    const TrimmedCell* trim = original_[side].trim;
+    if (trim && !trim->Admits(w + layout_.offset(side))) return;
+  }
   PairJet jet;
   EvaluatePair(original_[0], original_[1], layout_, w, JetOrder::Second, &jet);
   const int ad = original_[0].cell.ambientDim;
-  const double d = std::sqrt(PairSquaredDistance(jet, ad));
+  double d = std::sqrt(PairSquaredDistance(jet, ad));
   if (!(d <= maxDistance_)) return;
-  const PairKkt kkt = CheckPairKkt(layout_, jet, w, ad, size_);
-  if (!kkt.kkt) return;
+  PairKkt kkt = CheckPairKkt(layout_, jet, w, ad, size_);
+  if (!kkt.kkt) {
+    // A solve on a subdomain's own nets (a cell of its own) stops within
+    // its tolerance of that cell, which the original pair's test may find
+    // short of stationary (a rational cell's heavy weights): polished on
+    // the original pair, it counts when it stays at the same points.
+    PairLocalOptions options;
+    options.size = size_;
+    options.maxIterations = kPolishIterations;
+    const PairLocalResult polished = PairLocalSolve(original_[0], original_[1], layout_, w, options);
+    double moved2 = 0.0;
+    for (int k = 0; k < ad; ++k) {
+      moved2 += (polished.x[k] - jet.x[k]) * (polished.x[k] - jet.x[k]) + (polished.y[k] - jet.y[k]) * (polished.y[k] - jet.y[k]);
+    }
+    if (!polished.kkt.kkt || !(std::sqrt(moved2) <= kSamePointShare * size_)) return;
+    std::copy(polished.w, polished.w + layout_.n(), w);
+    EvaluatePair(original_[0], original_[1], layout_, w, JetOrder::Second, &jet);
+    d = std::sqrt(PairSquaredDistance(jet, ad));
+    if (!(d <= maxDistance_)) return;
+    kkt = polished.kkt;
+  }
   for (const Strict& s : strict) {
     // The slope into the cell, as the KKT test judges slopes: positive
     // beyond rounding.
@@ -471,7 +527,7 @@ void Enumerator::Run(const Problem& problem) {
     const double* sideA = slot + kHeaderSize;
     const double* sideB = sideA + netLength_[0];
     const double low = nets.LowerBound(sideA, sideB, &scratch) - slack;
-    if (low > limit2) {
+    if (low > limit2 || OutsideRegion(problem, slot)) {
       freeSlots.push_back(s);
       continue;
     }

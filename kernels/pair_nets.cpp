@@ -412,6 +412,14 @@ double PairNets::LeastWeight(const double* sideA, const double* sideB) const {
   return *std::min_element(wa, wa + size_[0]) * *std::min_element(wb, wb + size_[1]);
 }
 
+double PairNets::LargestWeight(const double* sideA, const double* sideB) const {
+  if (!rational_) return 1.0;
+  const int d = ambientDim_;
+  const double* wa = sideA + (d + 1) * size_[0];
+  const double* wb = sideB + (d + 1) * size_[1];
+  return *std::max_element(wa, wa + size_[0]) * *std::max_element(wb, wb + size_[1]);
+}
+
 void PairNets::HessianRanges(const double* sideA, const double* sideB, double level, bool boxed, double* lo,
                              double* hi, std::vector<double>* scratch) const {
   const int d = ambientDim_;

@@ -56,6 +56,8 @@ class PairNets {
   double UpperBound(const double* sideA, const double* sideB) const;
   /// A lower bound of WW over the subdomains.
   double LeastWeight(const double* sideA, const double* sideB) const;
+  /// An upper bound of WW over the subdomains (its largest coefficient).
+  double LargestWeight(const double* sideA, const double* sideB) const;
   /// The rounding of the quotients Q_ij / WW_ij (squared distance units).
   double RoundingSlack() const { return slack_; }
   /// A's net centre minus B's, in the common frame (3 values): side A's map

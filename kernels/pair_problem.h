@@ -9,6 +9,7 @@
 #include "kernels/bernstein.h"
 #include "kernels/cell_map.h"
 #include "kernels/distance_net.h"
+#include "kernels/trimmed_cell.h"
 
 namespace invmap::kernels {
 
@@ -42,6 +43,10 @@ struct PairSide {
   /// search unless both cells are affine.
   const DistanceNets* nets = nullptr;
   bool affine = false;  ///< The map is affine (CellSolver::isAffine).
+  /// A cell of a trimmed face that the face's loops cross (CellSolver::trim),
+  /// or null: the pair kernels then answer only points its region admits
+  /// (the face's edges, curve cells of their own, answer its boundary).
+  const TrimmedCell* trim = nullptr;
 };
 
 /// The joint parameters of a pair: w = (u_0 .. u_{pdA-1}, v_0 .. v_{pdB-1}),

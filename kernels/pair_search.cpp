@@ -33,7 +33,10 @@ constexpr int kSeedValue = 3;  ///< Its squared distance.
 /// is small enough; trying at every depth costs more than the splits).
 constexpr int kRetryDepth = 4;
 constexpr int kSeedPoint = 5;  ///< Its joint parameters.
-constexpr int kVertices = kSeedPoint + kMaxPairParams;
+/// Per side, where its part of the subdomain lies in its trimmed face's
+/// region (TrimRegion::Side; Inside for a side without trimming).
+constexpr int kTrimSide = kSeedPoint + kMaxPairParams;
+constexpr int kVertices = kTrimSide + 2;
 constexpr int kHeaderSize = kVertices + 2 * kMaxFactors * 4 * 3;
 
 double* Vertex(double* slot, int side, int factor, int vertex) {
@@ -93,6 +96,7 @@ class PairSearch {
     tau_ = kDistanceTolerance * std::max(a.size, b.size);
     options_.size = a.size + b.size;
     retryStep_ = std::max(1, n_ / 2);
+    trimmed_ = a.trim || b.trim;
     for (int side = 0; side < 2; ++side) {
       const PairSide& s = side == 0 ? a : b;
       double center[3];
@@ -141,6 +145,25 @@ class PairSearch {
     return local;
   }
   PairSolveResult Finish(const PairLocalResult& best, bool certified, double bound2) const;
+  const TrimmedCell* Trim(int side) const { return side == 0 ? a_.trim : b_.trim; }
+  /// True unless the reference coordinates of some trimmed side lie
+  /// outside its face's region.
+  bool Admitted(const double* w) const;
+  /// The subdomain's reference box on `side` (line factors: quads, lines).
+  void SideBox(double* slot, int side, double* lo, double* hi) const;
+  /// A trimmed pair's closest points are an admitted KKT point of the pair
+  /// over the cells' boxes, or lie on a trimmed face's boundary, which its
+  /// edges' pairs answer: false when the subdomain can hold no such KKT
+  /// point with a squared distance up to `level2` (kernels/kkt_exclusion.h's
+  /// argument on the joint gradient's nets) or only on a face of a cell's
+  /// box that lies outside the region.
+  bool MayHoldAdmittedKkt(double* slot, const PairNets& nets, double level2);
+  /// Forgets a local answer outside the region (its distance becomes +inf).
+  void Reject(PairLocalResult* local) const {
+    local->squaredDistance = kInf;
+    local->kkt.kkt = false;
+    local->onBoundary = false;
+  }
 
   const PairSide& a_;
   const PairSide& b_;
@@ -159,10 +182,79 @@ class PairSearch {
   /// every parameter, which halves the Hessian's bounds' spread.
   int retryStep_ = 1;
   int examined_ = 0;
+  bool trimmed_ = false;
+  /// Trimmed pairs: the root nets' bound, which holds for every point of
+  /// the pair (the KKT exclusion above holds for the KKT points only).
+  double rootBound2_ = 0.0;
 };
+
+bool PairSearch::Admitted(const double* w) const {
+  for (int side = 0; side < 2; ++side) {
+    const TrimmedCell* trim = Trim(side);
+    if (trim && !trim->Admits(w + layout_.offset(side))) return false;
+  }
+  return true;
+}
+
+void PairSearch::SideBox(double* slot, int side, double* lo, double* hi) const {
+  const CellShape& shape = layout_.shape(side);
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    lo[f] = Vertex(slot, side, f, 0)[0];
+    hi[f] = Vertex(slot, side, f, 1)[0];
+  }
+}
+
+bool PairSearch::MayHoldAdmittedKkt(double* slot, const PairNets& nets, double level2) {
+  const double* sideA = slot + kHeaderSize;
+  const double* sideB = sideA + nets.sideLength(0);
+  const double levelLo = std::max(slot[kLowerBound] - slack_, 0.0);
+  // The values a candidate can have here: from the subdomain's lower bound
+  // up to the best so far or its own largest, whichever is less (the
+  // narrower the band, the sooner one sign holds at both its ends).
+  const double levelHi = std::min(level2, nets.UpperBound(sideA, sideB)) + slack_;
+  double lo1[kMaxPairParams], hi1[kMaxPairParams], lo2[kMaxPairParams], hi2[kMaxPairParams];
+  nets.GradientRanges(sideA, sideB, levelLo, lo1, hi1, &ws_->scratch);
+  nets.GradientRanges(sideA, sideB, levelHi, lo2, hi2, &ws_->scratch);
+  // Each coefficient of Q is off by up to the slack times WW's: a
+  // derivative's, a difference times the degree, by twice that.
+  const double noise = 2.0 * slack_ * nets.LargestWeight(sideA, sideB);
+  // The part of each side's subdomain where KKT points may lie.
+  double boxLo[2][3], boxHi[2][3];
+  bool pinned[2] = {false, false};
+  for (int side = 0; side < 2; ++side) {
+    const CellShape& shape = layout_.shape(side);
+    if (Trim(side)) SideBox(slot, side, boxLo[side], boxHi[side]);
+    for (int f = 0; f < shape.numFactors(); ++f) {
+      if (shape.factor(f).dim != 1) continue;  // line factors only (a trimmed face's are)
+      const int p = layout_.offset(side) + shape.factor(f).offset;
+      // f = Q / WW has the sign of Q - f WW's derivative, affine in f:
+      // one strict sign at both levels holds for every value between.
+      const double lo = std::min(lo1[p], lo2[p]), hi = std::max(hi1[p], hi2[p]);
+      const double margin =
+          1e-12 * std::max(std::abs(lo), std::abs(hi)) + noise * nets.shape(side).factor(f).degree;
+      if (!(lo > margin) && !(hi < -margin)) continue;
+      // Rising: a KKT point needs the cell's lower face; falling: its upper.
+      const double face = lo > margin ? 0.0 : 1.0;
+      if (Vertex(slot, side, f, face == 0.0 ? 0 : 1)[0] != face) return false;
+      if (Trim(side)) {
+        boxLo[side][f] = boxHi[side][f] = face;
+        pinned[side] = true;
+      }
+    }
+  }
+  for (int side = 0; side < 2; ++side) {
+    if (pinned[side] && Trim(side)->ClassifySubdomain(boxLo[side], boxHi[side]) == TrimRegion::Side::Outside) {
+      return false;
+    }
+  }
+  return true;
+}
 
 void PairSearch::SetRoot(double* slot) {
   std::fill(slot, slot + kHeaderSize, 0.0);
+  for (int side = 0; side < 2; ++side) {
+    slot[kTrimSide + side] = static_cast<double>(Trim(side) ? TrimRegion::Side::Crossing : TrimRegion::Side::Inside);
+  }
   for (int side = 0; side < 2; ++side) {
     const CellShape& shape = layout_.shape(side);
     for (int f = 0; f < shape.numFactors(); ++f) {
@@ -533,7 +625,18 @@ PairSolveResult PairSearch::Finish(const PairLocalResult& best, bool certified, 
   // Every subdomain the search closed lies at or beyond the exclusion
   // level of min(best, bound2), less the nets' rounding.
   const double closed = ExclusionLevel(std::min(best.squaredDistance, bound2), tau_, 0.0);
-  result.lowerBound = std::sqrt(std::max(0.0, certified ? closed : std::min(closed, open_)));
+  double proved = certified ? closed : std::min(closed, open_);
+  // A trimmed pair's search proves bounds for its admitted KKT points only.
+  if (trimmed_) proved = std::min(proved, rootBound2_);
+  result.lowerBound = std::sqrt(std::max(0.0, proved));
+  if (!(best.squaredDistance < kInf)) {
+    // No admitted point found: a trimmed pair whose nearest points lie on
+    // its faces' boundaries (their edges' pairs answer) or beyond the bound.
+    result.distance = kInf;
+    result.status = certified ? PairStatus::Farther : PairStatus::NotCertified;
+    if (!certified) result.openBound2 = std::max(open_, 0.0);
+    return result;
+  }
   if (!certified) {
     // Whatever its distance: some part of the pair may still hold a closer point.
     result.status = PairStatus::NotCertified;
@@ -567,6 +670,8 @@ PairSolveResult PairSearch::Probe(double bound2) {
   ControlPointLocation(nets.shape(0), argA, start);
   ControlPointLocation(nets.shape(1), argB, start + layout_.offset(1));
   best_ = Local(start);
+  if (!Admitted(best_.w)) Reject(&best_);
+  rootBound2_ = lowerBound;
   if (best_.squaredDistance <= tau_ * tau_) return Finish(best_, true, bound2);
   open_ = lowerBound;
   return Finish(best_, false, bound2);
@@ -587,6 +692,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     nets.BuildRoot(sideA, sideB);
     int argA = 0, argB = 0;
     pool[root][kLowerBound] = nets.LowerBound(sideA, sideB, &ws_->scratch, &argA, &argB);
+    rootBound2_ = pool[root][kLowerBound] - slack_;
     if (bounded && pool[root][kLowerBound] - slack_ >= bound2) {
       PairSolveResult far;
       far.status = PairStatus::Farther;
@@ -606,6 +712,16 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     std::copy(startB, startB + layout_.paramDim(1), start + layout_.offset(1));
   }
   best_ = Local(start);
+  if (!Admitted(best_.w)) {
+    // Two affine maps: the KKT points are the convex distance's minima, a
+    // convex set; one outside a region leaves the pair's nearest admitted
+    // points on that region's boundary, which the face's edges answer.
+    if (a_.affine && b_.affine && best_.kkt.kkt) {
+      Reject(&best_);
+      return Finish(best_, true, bound2);
+    }
+    Reject(&best_);
+  }
   // Two affine maps make the squared distance a convex quadratic: a KKT
   // point is global. A distance within tau of zero cannot be beaten by more.
   if ((a_.affine && b_.affine && best_.kkt.kkt) || best_.squaredDistance <= tau_ * tau_) {
@@ -615,6 +731,8 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     open_ = 0.0;
     return Finish(best_, false, bound2);
   }
+  // A trimmed side's local answer outside the region keeps nothing for the
+  // search to prune with until it finds a point of the region.
 
   const PairNets nets(a_, b_);
   const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
@@ -647,6 +765,10 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
       open_ = std::min(open_, pool[s][kLowerBound] - slack_);
       break;
     }
+    if (trimmed_ && !MayHoldAdmittedKkt(pool[s], nets, std::min(best_.squaredDistance, bound2))) {
+      pool.Free(s);
+      continue;
+    }
     const bool tryCertificate = pool[s][kDepth] >= pool[s][kRetryDepth];
     if (tryCertificate && CertifiedAround(pool[s], pruneLevel())) {
       pool.Free(s);
@@ -662,12 +784,27 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     // finds the KKT points its centre's value cannot show.
     const bool seed = examined > kHardSearch && hardSeeds < kHardSeeds;
     hardSeeds += seed ? 1 : 0;
-    if (fCenter < best_.squaredDistance || seed) {
+    // A trimmed pair seeds only from centres its regions admit (as the
+    // cell search does): an admitted KKT point is the limit of the centres
+    // of the subdomains that shrink onto it, and the stationary points
+    // outside, which centres outside would find again and again, are no answers.
+    const bool centerAdmitted = !trimmed_ || Admitted(center);
+    if ((fCenter < best_.squaredDistance || seed) && centerAdmitted) {
       const PairLocalResult local = Local(center);
-      if (local.squaredDistance < best_.squaredDistance) {
+      const bool admitted = !trimmed_ || Admitted(local.w);
+      if (admitted && local.squaredDistance < best_.squaredDistance) {
         best_ = local;
         if (best_.squaredDistance <= tau_ * tau_) break;
-      } else if (local.kkt.kkt && Contains(pool[s], local.w)) {
+      } else if (trimmed_ && fCenter < best_.squaredDistance) {
+        // The centre is a point of the pair: it bounds the distance from
+        // above and lets the search prune (it is never certified as a KKT point).
+        PairLocalResult sample;
+        std::copy(center, center + n_, sample.w);
+        std::copy(jet.x, jet.x + 3, sample.x);
+        std::copy(jet.y, jet.y + 3, sample.y);
+        sample.squaredDistance = fCenter;
+        best_ = sample;
+      } else if (local.squaredDistance >= best_.squaredDistance && local.kkt.kkt && Contains(pool[s], local.w)) {
         pool[s][kHasSeed] = 1.0;
         pool[s][kSeedValue] = local.squaredDistance;
         std::copy(local.w, local.w + n_, pool[s] + kSeedPoint);
@@ -685,8 +822,14 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     }
     if (tryCertificate && HoldsKktPoint(pool[s])) pool[s][kRetryDepth] = pool[s][kDepth] + retryStep_;
     int side = 0, factor = 0, vi = 0, vj = 1;
+    const bool crossing = pool[s][kTrimSide] == static_cast<double>(TrimRegion::Side::Crossing) ||
+                          pool[s][kTrimSide + 1] == static_cast<double>(TrimRegion::Side::Crossing);
     if (HoldsKktPoint(pool[s])) {
       ChooseSplitByVariation(pool[s], &side, &factor, &vi, &vj);
+    } else if (crossing) {
+      // Along a trimming curve, splits where the net bends most could make
+      // slivers that no test closes: by length.
+      ChooseSplit(pool[s], &side, &factor, &vi, &vj);
     } else {
       ChooseSplitByBend(pool[s], nets, &side, &factor, &vi, &vj);
     }
@@ -702,6 +845,16 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
       const double* kept = Vertex(slot, side, factor, keep);
       for (int i = 0; i < 3; ++i) moved[i] = 0.5 * (moved[i] + kept[i]);
       if (slot[kHasSeed] != 0.0 && !Contains(slot, slot + kSeedPoint)) slot[kHasSeed] = 0.0;
+      if (Trim(side) && slot[kTrimSide + side] != static_cast<double>(TrimRegion::Side::Inside)) {
+        double lo[3], hi[3];
+        SideBox(slot, side, lo, hi);
+        const TrimRegion::Side where = Trim(side)->ClassifySubdomain(lo, hi);
+        if (where == TrimRegion::Side::Outside) {
+          pool.Free(c);
+          continue;
+        }
+        slot[kTrimSide + side] = static_cast<double>(where);
+      }
       const double* parentA = parent + kHeaderSize;
       const double* parentB = parentA + nets.sideLength(0);
       double* childA = slot + kHeaderSize;

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -149,6 +151,7 @@ class PyDistanceTracker {
     const auto start = std::chrono::steady_clock::now();
     {
       py::gil_scoped_release noGil;
+      const std::lock_guard<std::mutex> lock(mutex_);
       error = tracker_->Update(pose, &result, &message);
     }
     ThrowOnError(error, message);
@@ -157,8 +160,15 @@ class PyDistanceTracker {
   }
 
   void SetPoseA(const py::handle& poseA) {
+    const Pose pose = ToPose(poseA, "pose_a", dimension_);
     std::string message;
-    ThrowOnError(tracker_->SetPoseA(ToPose(poseA, "pose_a", dimension_), &message), message);
+    Error error;
+    {
+      py::gil_scoped_release noGil;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      error = tracker_->SetPoseA(pose, &message);
+    }
+    ThrowOnError(error, message);
   }
 
  private:
@@ -166,6 +176,9 @@ class PyDistanceTracker {
   bool allMinima_;
   int dimension_ = 3;
   std::unique_ptr<DistanceTracker> tracker_;
+  /// Updates from several Python threads take turns: a tracker carries the
+  /// previous pose's answer from one update to the next.
+  std::mutex mutex_;
 };
 
 /// invmap.PointTracker: keeps the manifold alive (a Python reference).
@@ -189,6 +202,7 @@ class PyPointTracker {
     Error error;
     {
       py::gil_scoped_release noGil;
+      const std::lock_guard<std::mutex> lock(mutex_);
       error = tracker_->Update(p, &answer, &message);
     }
     ThrowOnError(error, message);
@@ -208,6 +222,7 @@ class PyPointTracker {
   py::object manifold_;
   int dimension_;
   std::unique_ptr<PointTracker> tracker_;
+  std::mutex mutex_;  ///< As DistanceTracker's: updates take turns.
 };
 
 /// A numpy array that owns `values` (moved, not copied).

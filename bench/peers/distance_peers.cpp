@@ -3,7 +3,9 @@
 // BRepExtrema_DistShapeShape (spline surfaces as faces, triangle meshes as
 // compounds of planar faces) and FCL's distance on OBBRSS BVH models of
 // triangle meshes. CGAL offers no minimum distance between two general
-// (non-convex) models and is not run.
+// (non-convex) models and is not run. A CAD workload (the bundled bracket
+// against itself, read from its STEP file by both) runs where invmap's CAD
+// reader is built.
 //
 // Every workload runs the same poses through every engine in one process,
 // one thread each, timed on the thread's CPU clock (so other processes on a
@@ -54,6 +56,11 @@
 #include <fcl/fcl.h>
 #endif
 
+#if INVMAP_PEER_CAD
+#include "cad/model.h"
+#include "cad/shape_reader.h"
+#endif
+
 namespace {
 
 using invmap::Geometry;
@@ -88,6 +95,8 @@ struct Workload {
   /// OpenCascade on the meshes of this workload (too slow on large ones).
   bool occ = true;
   double tolerance = 1e-7;  ///< "Farther" means by more than this.
+  /// A CAD file both models are read from (invmap's reader, OpenCascade's), or empty.
+  std::string cadFile;
 };
 
 Geometry Scaled(Geometry g, double s) {
@@ -166,6 +175,49 @@ std::vector<Workload> MakeWorkloads(bool quick) {
   };
   list.push_back(meshWorkload("triangle meshes 1,280 / 320", 1280, 320, true));
   list.push_back(meshWorkload("triangle meshes 81,920 / 5,120", 81920, 5120, false));
+#if INVMAP_PEER_CAD
+  {
+    // The bracket against a copy of itself turned about a random axis,
+    // its centre 0.6 to 0.9 of the bracket's size from the first one's.
+    Workload w;
+    w.name = "CAD bracket.step / bracket.step (trimmed faces)";
+    w.cadFile = std::string(INVMAP_SOURCE_DIR) + "/examples/data/bracket.step";
+    const invmap::cad::LoadResult loaded = invmap::cad::Model::Load(w.cadFile);
+    if (!loaded.error.empty()) {
+      std::fprintf(stderr, "%s: %s\n", w.cadFile.c_str(), loaded.error.c_str());
+      std::exit(1);
+    }
+    w.a = w.b = loaded.model->geometry();
+    const invmap::cad::ModelInfo info = loaded.model->Info();
+    double center[3], size2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      center[k] = 0.5 * (info.boundsLo[k] + info.boundsHi[k]);
+      size2 += (info.boundsHi[k] - info.boundsLo[k]) * (info.boundsHi[k] - info.boundsLo[k]);
+    }
+    const double size = std::sqrt(size2);
+    w.tolerance = 1e-6 * size;
+    auto posed = [&](double ax, double ay, double az, double angle, double dx, double dy, double dz, double reach) {
+      // x -> R (x - c) + c + reach d: turned about the centre, moved along d.
+      Pose pose = AxisAngle(ax, ay, az, angle, 0, 0, 0);
+      const double n = std::sqrt(dx * dx + dy * dy + dz * dz);
+      for (int k = 0; k < 3; ++k) {
+        double rc = 0.0;
+        for (int l = 0; l < 3; ++l) rc += pose.m[4 * k + l] * center[l];
+        pose.m[4 * k + 3] = center[k] - rc + reach * size * (k == 0 ? dx : k == 1 ? dy : dz) / n;
+      }
+      return pose;
+    };
+    for (int i = 0; i < freshCount; ++i) {
+      w.fresh.push_back(posed(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, 2 * pi * u(rng), u(rng) - 0.5, u(rng) - 0.5,
+                              u(rng) - 0.5, 0.6 + 0.3 * u(rng)));
+    }
+    for (int i = 0; i < trackCount; ++i) {
+      const double t = 1e-3 * i;
+      w.trajectory.push_back(posed(1, 0.5, 0.2, 0.3 + t, std::cos(t), std::sin(t), 0.3, 0.75));
+    }
+    list.push_back(std::move(w));
+  }
+#endif
   return list;
 }
 
@@ -199,8 +251,18 @@ TopoDS_Shape ToOccShape(const Geometry& g) {
 }
 
 Peer MakeOccPeer(const Workload& w) {
-  auto a = std::make_shared<TopoDS_Shape>(ToOccShape(w.a));
-  auto b = std::make_shared<TopoDS_Shape>(ToOccShape(w.b));
+  auto a = std::make_shared<TopoDS_Shape>();
+  auto b = std::make_shared<TopoDS_Shape>();
+#if INVMAP_PEER_CAD
+  if (!w.cadFile.empty()) {
+    std::string format;
+    *a = *b = invmap::cad::ReadCadShape(w.cadFile, &format);
+  }
+#endif
+  if (w.cadFile.empty()) {
+    *a = ToOccShape(w.a);
+    *b = ToOccShape(w.b);
+  }
   Peer peer;
   peer.name = std::string("OpenCascade ") + OCC_VERSION_COMPLETE + " BRepExtrema_DistShapeShape";
   peer.query = [a, b](const Pose& pose) {

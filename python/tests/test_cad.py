@@ -128,8 +128,52 @@ def test_point_tracker_reports_as_invert(screw):
             np.testing.assert_allclose(answer["params"][:2], result["params"][i, :2], rtol=0, atol=1e-7)
 
 
-def test_minima_enumerations_refuse_trimmed_faces(screw):
-    with pytest.raises(invmap.InputError, match="trimmed surfaces"):
-        screw.local_minima(np.zeros((1, 3)))
-    with pytest.raises(invmap.InputError, match="trimmed surfaces"):
-        invmap.distance(screw, screw)
+def tiny_triangle(tmp_path, name="probe.obj", size=1e-7):
+    """A triangle of side `size` at the origin: a model that is one point
+    to a few parts in 1e7 of the screw's size."""
+    path = tmp_path / name
+    path.write_text(f"v 0 0 0\nv {size} 0 0\nv 0 {size} 0\nf 1 2 3\n")
+    return invmap.load(path)
+
+
+def translation(t):
+    return [1, 0, 0, t[0], 0, 1, 0, t[1], 0, 0, 1, t[2]]
+
+
+def test_distance_to_a_cad_model_is_the_point_distance(screw, tmp_path):
+    # invmap.distance between the screw and a model that is one point q
+    # (a tiny triangle posed at q) is q's distance to the screw: the pair
+    # search on trimmed faces against the point search, with the faces'
+    # parameters reported as invert reports them.
+    probe = tiny_triangle(tmp_path)
+    points = points_around(screw, 40, seed=11)
+    inverted = screw.invert(points)
+    size = np.linalg.norm(np.subtract(screw.info()["cad"]["model_bounds_hi"], screw.info()["cad"]["model_bounds_lo"]))
+    for i, q in enumerate(points):
+        result = invmap.distance(screw, probe, pose_b=translation(q))
+        assert result["certified"]
+        assert abs(result["distance"] - inverted["distance"][i]) <= 1e-6 * size
+        if result["a"]["patch"] == inverted["patch"][i] and result["a"]["cell"] == inverted["cell"][i]:
+            np.testing.assert_allclose(result["a"]["params"][:2], inverted["params"][i, :2], rtol=0, atol=1e-5)
+
+
+def test_distance_tracker_and_all_minima_on_cad(screw, tmp_path):
+    # A tracked point moving past the screw against fresh queries, and the
+    # nearest of all the minima against the nearest pair.
+    probe = tiny_triangle(tmp_path, "tracked.obj")
+    info = screw.info()["cad"]
+    lo, hi = np.array(info["model_bounds_lo"]), np.array(info["model_bounds_hi"])
+    tracker = invmap.DistanceTracker(screw, probe)
+    for s in np.linspace(0.0, 1.0, 12):
+        q = lo + (hi - lo) * np.array([s, 0.5, 1.1])
+        tracked = tracker.update(translation(q))
+        fresh = invmap.distance(screw, probe, pose_b=translation(q))
+        assert tracked["certified"] and fresh["certified"]
+        assert abs(tracked["distance"] - fresh["distance"]) <= 1e-9 * np.linalg.norm(hi - lo)
+    q = lo + (hi - lo) * np.array([0.5, 0.5, 1.1])
+    result = invmap.distance(screw, probe, pose_b=translation(q), all_minima=True,
+                             max_distance=0.5 * np.linalg.norm(hi - lo))
+    assert result["minima"]
+    assert abs(result["minima"][0]["distance"] - result["distance"]) <= 1e-9 * np.linalg.norm(hi - lo)
+    minima = screw.local_minima(q[None, :], max_distance=0.5 * np.linalg.norm(hi - lo))
+    assert abs(minima["distance"][0] - result["distance"]) <= 1e-6 * np.linalg.norm(hi - lo)

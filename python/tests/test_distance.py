@@ -3,6 +3,7 @@ forms, errors, and the same fields and values as `invmap distance`."""
 
 import json
 import math
+import threading
 
 import numpy as np
 import pytest
@@ -164,3 +165,34 @@ def test_point_tracker_matches_invert(geometry_files):
         tracker.update([1.0, 2.0])
     far = invmap.PointTracker(surface, max_distance=1e-3).update([0.5, 0.5, 5.0])
     assert far["status"] == 1 and far["patch"] == -1
+
+
+def test_trackers_shared_between_threads(geometry_files):
+    """A tracker used from several Python threads at once: updates take
+    turns, each answering its own query (no crash, no answer of another)."""
+    surface = invmap.load(geometry_files["surface"])
+    torus = invmap.load(geometry_files["torus"])
+    point_tracker = invmap.PointTracker(surface)
+    pair_tracker = invmap.DistanceTracker(surface, torus, threads=1)
+    failures = []
+
+    def run(seed):
+        rng = np.random.default_rng(seed)
+        for _ in range(40):
+            point = rng.random(3)
+            got = point_tracker.update(point)["distance"]
+            fresh = surface.invert(point[None], threads=1)["distance"][0]
+            if abs(got - fresh) > 1e-12:
+                failures.append(("point", point.tolist(), got, fresh))
+            pose = [1, 0, 0, 0.5, 0, 1, 0, 0.5, 0, 0, 1, 0.6 + rng.uniform(0, 0.5)]
+            distance = pair_tracker.update(pose)["distance"]
+            fresh = invmap.distance(surface, torus, pose_b=pose, threads=1)["distance"]
+            if abs(distance - fresh) > 1e-12:
+                failures.append(("pair", pose[11], distance, fresh))
+
+    threads = [threading.Thread(target=run, args=(seed,)) for seed in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not failures, failures[:5]

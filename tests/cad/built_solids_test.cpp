@@ -14,7 +14,6 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
-#include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -154,36 +153,6 @@ TEST(BuiltSolids, FilletedBoxAgainstOpenCascade) {
   EXPECT_EQ(c.notFound + c.farther + c.offFace + c.badParameters, 0) << c.firstFailure;
 }
 
-/// Dense samples of the trimmed faces: a grid over each face's parameter
-/// box, the points the face classifier keeps, and points along every edge.
-/// `spacing` receives the largest distance between neighbouring samples.
-std::vector<gp_Pnt> DenseSamples(const std::vector<TopoDS_Face>& faces, int grid, double* spacing) {
-  std::vector<gp_Pnt> samples;
-  *spacing = 0.0;
-  for (const TopoDS_Face& face : faces) {
-    double u0, u1, v0, v1;
-    BRepTools::UVBounds(face, u0, u1, v0, v1);
-    const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
-    for (int j = 0; j <= grid; ++j) {
-      for (int i = 0; i <= grid; ++i) {
-        const double u = u0 + (u1 - u0) * i / grid, v = v0 + (v1 - v0) * j / grid;
-        const gp_Pnt p = surface->Value(u, v);
-        *spacing = std::max({*spacing, p.Distance(surface->Value(u + (u1 - u0) / grid, v)),
-                             p.Distance(surface->Value(u, v + (v1 - v0) / grid))});
-        BRepClass_FaceClassifier classifier(face, gp_Pnt2d(u, v), 1e-9);
-        if (classifier.State() != TopAbs_OUT) samples.push_back(p);
-      }
-    }
-    for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
-      double first, last;
-      const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(it.Current()), first, last);
-      if (curve.IsNull()) continue;
-      for (int k = 0; k <= 4 * grid; ++k) samples.push_back(curve->Value(first + (last - first) * k / (4 * grid)));
-    }
-  }
-  return samples;
-}
-
 TEST(BuiltSolids, CrossingCylindersAgainstOpenCascadeAndDenseSamples) {
   const TopoDS_Shape a = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(-15, 0, 0), gp_Dir(1, 0, 0)), 5.0, 30.0).Shape();
   const TopoDS_Shape b = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, -12, 1), gp_Dir(0, 1, 0)), 4.0, 24.0).Shape();
@@ -195,8 +164,9 @@ TEST(BuiltSolids, CrossingCylindersAgainstOpenCascadeAndDenseSamples) {
 
   // Dense samples bound the distance from above (they are points of the
   // faces) and from below within their spacing.
-  double spacing = 0.0;
-  const std::vector<gp_Pnt> samples = DenseSamples(Faces(part), 100, &spacing);
+  const FaceSamples dense = SampleFaces(Faces(part), 100);
+  const std::vector<gp_Pnt>& samples = dense.points;
+  const double spacing = dense.spacing;
   points.resize(3 * 150);
   const Results results = InvertOnModel(*model, points);
   const double size = ShapeSize(part);

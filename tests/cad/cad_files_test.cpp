@@ -119,22 +119,6 @@ TEST(CadFiles, StepAnswersAndInfoDescribesTheModel) {
   }
 }
 
-TEST(CadFiles, AllMinimaAndModelDistanceRefuseTrimmedFaces) {
-  // Their per-cell enumerations know nothing of a face's trimming region
-  // (they would answer inside a face's holes): refused, never answered.
-  const std::string part = std::string(INVMAP_SOURCE_DIR) + "/examples/data/bracket.step";
-  const std::string output = ScratchDir() + "/all_minima.csv";
-  std::filesystem::remove(output);
-  const CliRun minima = RunCli("invert --all-minima -g " + part + " -p " + PointsFile() + " -o " + output);
-  EXPECT_EQ(minima.exitCode, 2) << minima.output;
-  EXPECT_NE(minima.output.find("trimmed faces"), std::string::npos) << minima.output;
-  EXPECT_FALSE(std::filesystem::exists(output));
-  const CliRun distance = RunCli("distance --a " + part + " --b " + part + " -o " + ScratchDir() + "/d.json");
-  EXPECT_EQ(distance.exitCode, 3) << distance.output;
-  EXPECT_NE(distance.output.find("trimmed surfaces (CAD faces)"), std::string::npos) << distance.output;
-  EXPECT_FALSE(std::filesystem::exists(ScratchDir() + "/d.json"));
-}
-
 TEST(CadFiles, EveryCommandReadingAGeometryReadsCad) {
   // generate points reads geometry through io's reader registry, where the
   // command registers the CAD readers; a bad CAD file is the same exit 3.

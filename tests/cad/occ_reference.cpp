@@ -190,6 +190,39 @@ std::vector<double> PointsNearEdges(const TopoDS_Shape& shape, std::size_t count
   return points;
 }
 
+FaceSamples SampleFaces(const std::vector<TopoDS_Face>& faces, int grid) {
+  FaceSamples samples;
+  for (const TopoDS_Face& face : faces) {
+    double u0, u1, v0, v1;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+    for (int j = 0; j <= grid; ++j) {
+      for (int i = 0; i <= grid; ++i) {
+        const double u = u0 + (u1 - u0) * i / grid, v = v0 + (v1 - v0) * j / grid;
+        const gp_Pnt p = surface->Value(u, v);
+        samples.spacing = std::max({samples.spacing, p.Distance(surface->Value(u + (u1 - u0) / grid, v)),
+                                    p.Distance(surface->Value(u, v + (v1 - v0) / grid))});
+        BRepClass_FaceClassifier classifier(face, gp_Pnt2d(u, v), 1e-9);
+        if (classifier.State() != TopAbs_OUT) samples.points.push_back(p);
+      }
+    }
+    for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
+      double first, last;
+      const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(it.Current()), first, last);
+      if (curve.IsNull()) continue;
+      for (int k = 0; k <= 4 * grid; ++k) {
+        samples.points.push_back(curve->Value(first + (last - first) * k / (4 * grid)));
+        samples.onEdge.push_back(samples.points.size() - 1);
+        if (k > 0) {
+          const gp_Pnt& previous = samples.points[samples.points.size() - 2];
+          samples.edgeSpacing = std::max(samples.edgeSpacing, samples.points.back().Distance(previous));
+        }
+      }
+    }
+  }
+  return samples;
+}
+
 Results InvertOnModel(const cad::Model& model, const std::vector<double>& points) {
   BuildResult built = Manifold::Build(model.geometry());
   EXPECT_EQ(built.error, "");

@@ -6,6 +6,7 @@
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <gp_Pnt.hxx>
 
 #include <memory>
 #include <string>
@@ -54,6 +55,17 @@ std::vector<double> PointsAround(const TopoDS_Shape& shape, std::size_t count, c
 /// nears[1], ... times the size in turn.
 std::vector<double> PointsNearEdges(const TopoDS_Shape& shape, std::size_t count, const std::vector<double>& nears,
                                     unsigned seed);
+
+/// Dense samples of trimmed faces: a grid of (grid + 1)^2 points over each
+/// face's parameter box, those its face classifier keeps, then 4 grid + 1
+/// points along each of its edges' curves.
+struct FaceSamples {
+  std::vector<gp_Pnt> points;
+  std::vector<std::size_t> onEdge;  ///< Indices of the edges' samples.
+  double spacing = 0.0;             ///< Largest gap between neighbouring grid samples.
+  double edgeSpacing = 0.0;         ///< Largest gap between neighbouring edge samples.
+};
+FaceSamples SampleFaces(const std::vector<TopoDS_Face>& faces, int grid);
 
 /// Inverts `points` (3 per point) on the model's geometry with one thread.
 Results InvertOnModel(const cad::Model& model, const std::vector<double>& points);

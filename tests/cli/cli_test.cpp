@@ -400,6 +400,39 @@ TEST_F(CliTest, AnOutputThroughASymbolicLinkIsWrittenToItsTarget) {
   }
 }
 
+TEST_F(CliTest, AnOutputReplacedKeepsItsPermissionsAndOnlyRegularWritableFilesAreReplaced) {
+  ASSERT_EQ(Run("generate surface --spans 4 -o " + Path("s.json")), 0);
+  WriteFile("p.xyz", "0.1 0.2 0.3\n");
+  const std::string invert = "invert -g " + Path("s.json") + " -p " + Path("p.xyz") + " -q -o ";
+  // A private output stays private.
+  WriteFile("private.csv", "secret\n");
+  fs::permissions(Path("private.csv"), fs::perms::owner_read | fs::perms::owner_write);
+  ASSERT_EQ(Run(invert + Path("private.csv")), 0);
+  EXPECT_EQ(fs::status(Path("private.csv")).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_EQ(ReadFile(Path("private.csv")).rfind("index,status,", 0), 0u);
+  // A pipe is not replaced by a plain file (its reader would wait forever).
+  ASSERT_EQ(::mkfifo(Path("pipe.csv").c_str(), 0644), 0);
+  std::string log;
+  EXPECT_EQ(Run(invert + Path("pipe.csv"), &log), 4) << log;
+  EXPECT_NE(log.find("not a regular file"), std::string::npos) << log;
+  EXPECT_TRUE(fs::is_fifo(Path("pipe.csv")));
+  // A read-only output is not replaced (root may write it, as with cp).
+  WriteFile("readonly.csv", "old\n");
+  fs::permissions(Path("readonly.csv"), fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  if (::geteuid() != 0) {
+    EXPECT_EQ(Run(invert + Path("readonly.csv"), &log), 4) << log;
+    EXPECT_EQ(ReadFile(Path("readonly.csv")), "old\n");
+  } else {
+    ASSERT_EQ(Run(invert + Path("readonly.csv")), 0);
+    EXPECT_EQ(fs::status(Path("readonly.csv")).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  }
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_NE(entry.path().filename().string()[0], '.') << "left behind: " << entry.path();
+  }
+}
+
 /// Names in `dir` that start with a dot: the hidden temporary outputs.
 std::vector<std::string> HiddenFiles(const fs::path& dir) {
   std::vector<std::string> names;

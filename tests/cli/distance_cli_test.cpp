@@ -141,6 +141,13 @@ TEST_F(DistanceCliTest, BadPoseLinesAreNamedByLine) {
   EXPECT_NE(err.find("scaled.txt:3:"), std::string::npos) << err;
   EXPECT_NE(err.find("rotation"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(Path("x.json")));
+  // A comma too many, and a NUL byte, are named as such (the message whole).
+  WriteFile("comma.txt", "1,0,0,0,0,1,0,0,0,0,1,0,\n");
+  EXPECT_EQ(Run(Models() + " --poses-b " + Path("comma.txt"), nullptr, &err), 3);
+  EXPECT_NE(err.find("comma.txt:1: an empty number at position 13"), std::string::npos) << err;
+  WriteFile("nul.txt", std::string("1,0,0,0,0,1,0,0,0,0,1,0.6") + '\0' + "1\n");
+  EXPECT_EQ(Run(Models() + " --poses-b " + Path("nul.txt"), nullptr, &err), 3);
+  EXPECT_NE(err.find("nul.txt:1: '0.6\\x001' is not a finite number"), std::string::npos) << err;
   // No pose at all.
   WriteFile("empty.txt", "# nothing\n");
   EXPECT_EQ(Run(Models() + " --poses-b " + Path("empty.txt"), nullptr, &err), 3);

@@ -2,7 +2,7 @@
 // (the same record: status, distance, a closest point on the geometry at
 // the reported cell and parameters), along paths of small steps with jumps
 // to other parts of the geometry, on surfaces, a triangle mesh, a torus and
-// a volume mesh; invalid points and max distance.
+// a volume mesh; invalid points and max distance; moved-from trackers.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -83,6 +83,31 @@ TEST(PointTracker, InvalidPointsAndEmptyAnswers) {
   ASSERT_EQ(tracker.Update(near, &answer), Error::Ok);
   EXPECT_EQ(answer.status, Status::Found);
   EXPECT_NEAR(answer.distance, 0.2, 1e-12);
+}
+
+TEST(Trackers, MovedFromTrackersAnswerAnError) {
+  // As a moved-from Manifold does: an error and a message, not a crash.
+  const auto model = BuildModel(NurbsSphere({0, 0, 0}, 1.0));
+  std::string message;
+  PointTracker point(model->manifold);
+  PointTracker pointMoved(std::move(point));
+  PointAnswer answer;
+  const double p[3] = {1.5, 0, 0};
+  EXPECT_EQ(point.Update(p, &answer, &message), Error::InvalidArgument);  // NOLINT(bugprone-use-after-move)
+  EXPECT_NE(message.find("moved from"), std::string::npos) << message;
+  EXPECT_EQ(pointMoved.Update(p, &answer), Error::Ok);
+  EXPECT_NEAR(answer.distance, 0.5, 1e-12);
+
+  DistanceTracker pair(model->model, model->model);
+  DistanceTracker pairMoved(std::move(pair));
+  DistanceResult result;
+  message.clear();
+  EXPECT_EQ(pair.Update(Pose(), &result, &message), Error::InvalidArgument);  // NOLINT(bugprone-use-after-move)
+  EXPECT_NE(message.find("moved from"), std::string::npos) << message;
+  EXPECT_EQ(pair.SetPoseA(Pose(), &message), Error::InvalidArgument);  // NOLINT(bugprone-use-after-move)
+  EXPECT_EQ(pairMoved.Update(Pose(), &result), Error::Ok);
+  EXPECT_TRUE(result.nearest.found);
+  EXPECT_EQ(result.nearest.distance, 0.0);
 }
 
 }  // namespace

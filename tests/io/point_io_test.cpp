@@ -177,6 +177,9 @@ TEST(TextPoints, RejectsBadInput) {
   expectBad("trailing.csv", "1,2,3\n4,5x,6\n", 2, "'5x' is not a number");
   expectBad("emptyfield.csv", "1,2,3\n4,,6\n", 2, "column 2: '' is not a number");
   expectBad("binary.xyz", std::string("\x01\x02\n\x00\x7f\n", 6), 2, "expected at least 2 numbers");
+  // Old Mac line endings: the whole file is one line; say why.
+  expectBad("mac.csv", "x,y,z\r1,2,3\r4,5,6\r", 1, "lines must end in \\n or \\r\\n, not in \\r alone");
+  expectBad("mac.xyz", "1 2 3\r4 5 6\r", 1, "a carriage return inside the line");
   ExpectInputError([&] { OpenPointReader(dir.Path("missing.xyz")); }, dir.Path("missing.xyz"), 0, "no such file");
   const std::string sub = dir.Path("sub.xyz");
   std::filesystem::create_directory(sub);
