@@ -524,7 +524,10 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
   for (int r = 0; r < n; ++r) largest = std::max(largest, std::abs(atCenter(r, r)));
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> unit(n);
   for (int r = 0; r < n; ++r) unit[r] = 1.0 / std::sqrt(std::max(std::abs(atCenter(r, r)), 1e-12 * largest + 1e-300));
-  double most = -1.0;
+  // The longest edge unless the Hessian changes along some edge: where it
+  // changes along none (a parabola's vertex at the centre, where the
+  // change is alike either way), the first edge would be split for ever.
+  double most = 0.0;
   ChooseSplit(slot, side, factor, vi, vj);
   for (int s = 0; s < 2; ++s) {
     const CellShape& shape = layout_.shape(s);
@@ -540,12 +543,7 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
             plus[layout_.offset(s) + fac.offset + i] += quarter;
             minus[layout_.offset(s) + fac.offset + i] -= quarter;
           }
-          // Both halves' changes from the centre: their difference alone
-          // misses a Hessian that changes alike either way (the vertex of
-          // a parabola at the centre), and would split the other side for
-          // ever.
-          const double variation = (unit.asDiagonal() * (hessianAt(plus) - atCenter) * unit.asDiagonal()).norm() +
-                                   (unit.asDiagonal() * (hessianAt(minus) - atCenter) * unit.asDiagonal()).norm();
+          const double variation = (unit.asDiagonal() * (hessianAt(plus) - hessianAt(minus)) * unit.asDiagonal()).norm();
           if (variation > most) {
             most = variation;
             *side = s;
