@@ -20,7 +20,7 @@ import re
 import subprocess
 import sys
 
-INVMAP_BYTES_PER_TRIANGLE = 450  # peak resident set a triangle, with slack (docs/limitations.md#memory)
+INVMAP_BYTES_PER_TRIANGLE = 300  # peak resident set a triangle (about 175 on large meshes), with slack (docs/limitations.md#memory)
 
 
 def parse_list(text):

@@ -147,6 +147,7 @@ ConvertedModel ConvertModel(const TopoDS_Shape& input) {
       SurfaceSpline spline = surface.surface;
       BalanceSpans(&spline);
       SetSurface(spline, &patch);
+      patch.analytic = surface.analytic;
       const double tolerance2d = 1e-10 * std::max(u1 - u0, v1 - v0);
       patch.trimLoops = FaceLoops(forward, tolerance2d, &record);
       for (TopExp_Explorer edges(forward, TopAbs_EDGE); edges.More(); edges.Next()) {

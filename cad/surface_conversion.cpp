@@ -49,6 +49,18 @@ Frame FrameOf(const gp_Ax3& position) {
   return f;
 }
 
+/// The elementary surface of `kind` in frame `f`.
+AnalyticSurface AnalyticOf(AnalyticSurface::Kind kind, const Frame& f, double radius) {
+  AnalyticSurface a;
+  a.kind = kind;
+  std::copy(f.origin, f.origin + 3, a.origin);
+  std::copy(f.x, f.x + 3, a.xAxis);
+  std::copy(f.y, f.y + 3, a.yAxis);
+  std::copy(f.z, f.z + 3, a.axis);
+  a.radius = radius;
+  return a;
+}
+
 /// origin + a x + c z.
 void InPlane(const Frame& f, double a, double c, double* out) {
   for (int k = 0; k < 3; ++k) out[k] = f.origin[k] + a * f.x[k] + c * f.z[k];
@@ -210,6 +222,7 @@ ConvertedSurface ConvertSurface(const Handle(Geom_Surface)& input, double u0, do
     const Frame f = FrameOf(plane->Position());
     result.type = "plane";
     result.surface = PlanePatch(f.origin, f.x, f.y, u0, u1, v0, v1);
+    result.analytic = AnalyticOf(AnalyticSurface::Kind::Plane, f, 0.0);
     return result;
   }
   if (auto cylinder = Handle(Geom_CylindricalSurface)::DownCast(surface)) {
@@ -220,6 +233,7 @@ ConvertedSurface ConvertSurface(const Handle(Geom_Surface)& input, double u0, do
     InPlane(f, r, v1, p1);
     result.type = "cylinder";
     result.surface = Revolve(LineCurve(3, p0, p1, v0, v1), f.origin, f.x, f.y, f.z, u0, u1);
+    result.analytic = AnalyticOf(AnalyticSurface::Kind::Cylinder, f, r);
     return result;
   }
   if (auto cone = Handle(Geom_ConicalSurface)::DownCast(surface)) {
@@ -230,6 +244,8 @@ ConvertedSurface ConvertSurface(const Handle(Geom_Surface)& input, double u0, do
     InPlane(f, r + v1 * s, v1 * c, p1);
     result.type = "cone";
     result.surface = Revolve(LineCurve(3, p0, p1, v0, v1), f.origin, f.x, f.y, f.z, u0, u1);
+    result.analytic = AnalyticOf(AnalyticSurface::Kind::Cone, f, r);
+    result.analytic.semiAngle = cone->SemiAngle();
     return result;
   }
   if (auto sphere = Handle(Geom_SphericalSurface)::DownCast(surface)) {
@@ -239,6 +255,7 @@ ConvertedSurface ConvertSurface(const Handle(Geom_Surface)& input, double u0, do
     result.type = "sphere";
     const double lo = std::max(v0, -0.5 * M_PI), hi = std::min(v1, 0.5 * M_PI);
     result.surface = Revolve(ArcCurve(3, f.origin, x, z, lo, hi, kDoublyCurvedArcSpan), f.origin, f.x, f.y, f.z, u0, u1);
+    result.analytic = AnalyticOf(AnalyticSurface::Kind::Sphere, f, r);
     return result;
   }
   if (auto torus = Handle(Geom_ToroidalSurface)::DownCast(surface)) {
@@ -249,6 +266,8 @@ ConvertedSurface ConvertSurface(const Handle(Geom_Surface)& input, double u0, do
     const double x[3] = {r * f.x[0], r * f.x[1], r * f.x[2]}, z[3] = {r * f.z[0], r * f.z[1], r * f.z[2]};
     result.type = "torus";
     result.surface = Revolve(ArcCurve(3, center, x, z, v0, v1, kDoublyCurvedArcSpan), f.origin, f.x, f.y, f.z, u0, u1);
+    result.analytic = AnalyticOf(AnalyticSurface::Kind::Torus, f, big);
+    result.analytic.minorRadius = r;
     return result;
   }
   if (auto revolution = Handle(Geom_SurfaceOfRevolution)::DownCast(surface)) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cad/spline_builders.h"
+#include "invmap/invmap.h"
 
 namespace invmap::cad {
 
@@ -18,6 +19,10 @@ struct ConvertedSurface {
   /// by `deviation` (measured; within `tolerance` unless refining gave up).
   bool approximated = false;
   double deviation = 0.0;
+  /// The elementary surface it is (plane, cylinder, cone, sphere, torus, or
+  /// an offset of one), for the closed-form solves (Patch::analytic);
+  /// Kind::None for the others.
+  AnalyticSurface analytic;
   /// The surface's kind, for `invmap info`: plane, cylinder, cone, sphere,
   /// torus, revolution, extrusion, bspline, bezier, offset or other.
   std::string type;

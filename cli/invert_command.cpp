@@ -6,6 +6,7 @@
 #include <memory>
 #include <new>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "cad/model.h"
@@ -222,9 +223,11 @@ Manifold TakeManifold(BuildResult built, const std::string& path, const io::Geom
 
 Manifold LoadManifold(const std::string& path, void (*refuse)(const Geometry&, const std::string& path)) {
   io::GeometrySource source;
-  const Geometry geometry = io::ReadGeometryFile(path, &source);
+  Geometry geometry = io::ReadGeometryFile(path, &source);
   if (refuse) refuse(geometry, path);
-  return TakeManifold(Manifold::Build(geometry), path, &source);
+  // The geometry is not needed after the build: a mesh's arrays are taken
+  // rather than copied.
+  return TakeManifold(Manifold::Build(std::move(geometry)), path, &source);
 }
 
 Manifold BuildManifold(const Geometry& geometry, const std::string& path) {

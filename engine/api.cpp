@@ -7,6 +7,7 @@
 #include <new>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
 #include "common/check.h"
 #include "common/parallel.h"
@@ -94,7 +95,12 @@ Manifold& Manifold::operator=(Manifold&&) noexcept = default;
 
 bool Manifold::valid() const { return impl_ != nullptr; }
 
-BuildResult Manifold::Build(const Geometry& geometry) {
+namespace {
+
+/// Manifold::Build's body: validates `geometry`, then makes the manifold's
+/// index with build(geometry); every exception becomes the result's code.
+template <typename BuildIndex>
+BuildResult ValidateAndBuild(const Geometry& geometry, const BuildIndex& build) {
   BuildResult result;
   try {
     // The one validation of every geometry, whatever produced it.
@@ -104,7 +110,7 @@ BuildResult Manifold::Build(const Geometry& geometry) {
       result.code = Error::InvalidArgument;
       return result;
     }
-    result.manifold.impl_ = std::make_unique<Impl>(Impl{engine::SearchIndex::Build(geometry)});
+    build(&result.manifold);
   } catch (const std::bad_alloc&) {
     result.problem.message = "out of memory while building the manifold";
     result.code = Error::OutOfMemory;
@@ -114,6 +120,20 @@ BuildResult Manifold::Build(const Geometry& geometry) {
   }
   result.error = Describe(result.problem);
   return result;
+}
+
+}  // namespace
+
+BuildResult Manifold::Build(const Geometry& geometry) {
+  return ValidateAndBuild(geometry, [&](Manifold* manifold) {
+    manifold->impl_ = std::make_unique<Impl>(Impl{engine::SearchIndex::Build(geometry)});
+  });
+}
+
+BuildResult Manifold::Build(Geometry&& geometry) {
+  return ValidateAndBuild(geometry, [&](Manifold* manifold) {
+    manifold->impl_ = std::make_unique<Impl>(Impl{engine::SearchIndex::Build(std::move(geometry))});
+  });
 }
 
 ManifoldInfo Manifold::Info() const {

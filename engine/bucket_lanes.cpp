@@ -61,6 +61,31 @@ void StartFromAnswer(const CellStore& store, const BucketLanes& lanes, int j, st
   }
 }
 
+/// CellSolver::SolveLane's answers on a cell of a face's elementary
+/// surface: each lane in closed form (kernels/analytic_surface.h), or by
+/// the cell's solver where the closed form leaves the point to it.
+void SolveAnalyticLanes(const kernels::CellSolver& solver, const kernels::AnalyticCell& analytic,
+                        const kernels::QueryLane& query, const kernels::ResultLane& result,
+                        kernels::SolveWorkspace* workspace) {
+  for (int l = 0; l < query.count; ++l) {
+    const double p[3] = {query.coord[0][l], query.coord[1][l], query.coord[2][l]};
+    const double bound2 = query.bound2 ? query.bound2[l] : kInf;
+    kernels::CellSolveResult r;
+    if (!kernels::SolveAnalyticCell(analytic, p, bound2, &r)) {
+      const double start[3] = {query.initialRef[0] ? query.initialRef[0][l] : 0.5,
+                               query.initialRef[1] ? query.initialRef[1][l] : 0.5, 0.0};
+      r = solver.Solve(p, start, workspace, bound2);
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (result.ref[k]) result.ref[k][l] = r.ref[k];
+      if (result.closest[k]) result.closest[k][l] = r.closest[k];
+    }
+    result.distance[l] = r.distance;
+    result.status[l] = r.status;
+    result.iterations[l] = r.iterations;
+  }
+}
+
 /// Solves `cell` for the points of pairs [a, b) in lanes, from `starts`
 /// (per pair, 3 values) or from each point's answer, each lane bounded by its
 /// point's best so far (by the gap tolerance before any); keeps the answers
@@ -107,7 +132,11 @@ void SolveCellForPoints(const CellStore& store, std::int64_t cell, std::size_t a
   result.distance = lanes->distance.data();
   result.status = lanes->status.data();
   result.iterations = lanes->laneIterations.data();
-  solver.SolveLane(query, result, &lanes->workspace);
+  if (const kernels::AnalyticCell* analytic = store.analytic(cell)) {
+    SolveAnalyticLanes(solver, *analytic, query, result, &lanes->workspace);
+  } else {
+    solver.SolveLane(query, result, &lanes->workspace);
+  }
   for (int l = 0; l < n; ++l) {
     const int j = lanes->pairs[a + l].second;
     lanes->iterations[j] += lanes->laneIterations[l];

@@ -65,6 +65,11 @@ CellStore::CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, 
       regions_(std::move(regions)),
       faceAdjacency_(std::move(faceAdjacency)) {
   FindLargestSize();
+  const auto& analyticCells = nets_.trimmed.analyticCells;
+  if (!analyticCells.empty()) {
+    analyticOf_.assign(static_cast<std::size_t>(size_), -1);
+    for (std::size_t a = 0; a < analyticCells.size(); ++a) analyticOf_[analyticCells[a].first] = static_cast<std::int32_t>(a);
+  }
   // Algorithm 6: the subdivisions the BVH is built over, every region once
   // (at its first cell) and every cell outside a region; without regions,
   // the cells themselves (no arrays).
@@ -255,7 +260,8 @@ void CellStore::ReportedParameters(std::int64_t cell, const double* ref, double*
 std::size_t CellStore::MemoryBytes() const {
   std::size_t bytes = nets_.MemoryBytes() + solvers_.capacity() * sizeof(kernels::CellSolver) +
                       regions_.capacity() * sizeof(AffineRegion) + regionOfCell_.capacity() * sizeof(std::int32_t) +
-                      subdivisions_.capacity() * sizeof(std::int64_t) + faceAdjacency_.MemoryBytes();
+                      subdivisions_.capacity() * sizeof(std::int64_t) + faceAdjacency_.MemoryBytes() +
+                      analyticOf_.capacity() * sizeof(std::int32_t);
   for (const AffineRegion& r : regions_)
     for (const std::vector<double>& breaks : r.breaks) bytes += breaks.capacity() * sizeof(double);
   for (const kernels::CellSolver& s : solvers_) bytes += s.NetMemoryBytes();

@@ -15,6 +15,7 @@
 #include "engine/face_adjacency.h"
 #include "engine/mesh_triangles.h"
 #include "invmap/invmap.h"
+#include "kernels/analytic_surface.h"
 #include "kernels/cell_solver.h"
 
 namespace invmap::engine {
@@ -39,6 +40,9 @@ class CellStore {
   /// ValidateGeometry(geometry) found no problem (engine/geometry_validation.h).
   /// `maxThreads` bounds the threads used (0 = all).
   static CellStore Build(const Geometry& geometry, int maxThreads);
+  /// The cells of a geometry of triangle meshes alone (what Build makes
+  /// of one), from its triangles already taken (MeshTriangles::Take).
+  explicit CellStore(MeshTriangles triangles);
 
   CellStore(CellStore&&) noexcept;
   CellStore& operator=(CellStore&&) noexcept;
@@ -100,6 +104,15 @@ class CellStore {
   /// NaN where unused): knot values, angles where a direction is angular,
   /// and for an edge of a trimmed surface its pcurve's (u, v).
   void ReportedParameters(std::int64_t cell, const double* ref, double* params) const;
+  /// The closed-form description of `cell` when it lies on a face's
+  /// elementary surface (Patch::analytic, kernels/analytic_surface.h): the
+  /// search answers it with SolveAnalyticCell instead of solver(cell).
+  /// Null otherwise.
+  const kernels::AnalyticCell* analytic(std::int64_t cell) const {
+    if (analyticOf_.empty()) return nullptr;
+    const std::int32_t a = analyticOf_[cell];
+    return a < 0 ? nullptr : &nets_.trimmed.analyticCells[a].second;
+  }
   /// True when some patch is a TrimmedSurface (a CAD face): features that
   /// enumerate a cell's minima without its trimming region refuse it.
   bool hasTrimmedSurfaces() const { return !nets_.trimmed.empty(); }
@@ -157,7 +170,6 @@ class CellStore {
 
   CellStore(BezierNets nets, std::vector<kernels::CellSolver> solvers, FaceAdjacency faceAdjacency,
             std::vector<AffineRegion> regions);
-  explicit CellStore(MeshTriangles triangles);
 
   /// Sets largestSize_ from the cells' boxes.
   void FindLargestSize();
@@ -173,6 +185,9 @@ class CellStore {
   std::vector<std::int64_t> subdivisions_;    // cell index, or -1 - region index
   FaceAdjacency faceAdjacency_;
   double largestSize_ = 0.0;
+  // Per cell: its entry in nets_.trimmed.analyticCells, or -1 (empty when
+  // no cell has one).
+  std::vector<std::int32_t> analyticOf_;
   // Geometries of triangle meshes alone: their cells (empty otherwise), and
   // the solvers solver() built for them.
   MeshTriangles triangles_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include "common/parallel.h"
@@ -116,8 +117,10 @@ struct FaceEntry {
 
 void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int maxThreads) {
   neighbors_.clear();
+  startGrid_ = WalkStartGrid();
   stride_ = 0;
   const std::int64_t count = static_cast<std::int64_t>(solvers.size());
+  if (count > std::numeric_limits<std::int32_t>::max()) return;
   std::vector<std::int16_t> tableOf;
   const std::vector<FaceTable> tables = TablesOf(solvers, &tableOf);
   for (const FaceTable& table : tables) stride_ = std::max(stride_, table.faces);
@@ -164,10 +167,13 @@ void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int m
           ++matches;
         }
       }
-      if (matches == 1) neighbors_[a] = match / stride;
+      if (matches == 1) neighbors_[a] = static_cast<std::int32_t>(match / stride);
     }
     first = last;
   }
+  std::vector<bool> walkable(solvers.size());
+  for (std::size_t c = 0; c < solvers.size(); ++c) walkable[c] = tableOf[c] >= 0;
+  startGrid_.Build(solvers, walkable);
 }
 
 }  // namespace invmap::engine

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/walk_start_grid.h"
 #include "kernels/cell_solver.h"
 
 namespace invmap::engine {
@@ -17,7 +18,8 @@ class FaceAdjacency {
   /// whose corner control points coincide exactly, across patches and cell
   /// types too (a wedge's triangle with a tetrahedron's). A face shared by
   /// more than two cells (a non-conforming or duplicated mesh) gets no
-  /// neighbour.
+  /// neighbour. Builds the walk's start grid over the same cells. Nothing
+  /// for a manifold of 2^31 cells or more.
   void Build(const std::vector<kernels::CellSolver>& solvers, int maxThreads);
 
   /// The cell across face `face` of volume cell `cell` (numbered as
@@ -27,11 +29,16 @@ class FaceAdjacency {
     return neighbors_.empty() ? -1 : neighbors_[static_cast<std::size_t>(cell) * stride_ + face];
   }
   bool empty() const { return neighbors_.empty(); }
-  std::size_t MemoryBytes() const { return neighbors_.capacity() * sizeof(std::int64_t); }
+  /// Where a walk to a point starts (engine/walk_start_grid.h).
+  const WalkStartGrid& startGrid() const { return startGrid_; }
+  std::size_t MemoryBytes() const { return neighbors_.capacity() * sizeof(std::int32_t) + startGrid_.MemoryBytes(); }
 
  private:
   int stride_ = 0;  // the most faces of a volume cell of the manifold
-  std::vector<std::int64_t> neighbors_;  // stride_ per cell
+  // stride_ per cell; 32 bits (half the memory the walk reads in random
+  // order; a manifold of 2^31 cells or more gets no neighbours).
+  std::vector<std::int32_t> neighbors_;
+  WalkStartGrid startGrid_;
 };
 
 }  // namespace invmap::engine

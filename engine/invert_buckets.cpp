@@ -110,12 +110,21 @@ void InvertBuckets(const SearchIndex& index, const QueryPoints& points, int buck
           const bool volumeLanes = UsesVolumeLanes(store, pointwise);
           std::int64_t lanesFrom = -1;
           WarmStart warm;
+          const bool walks = store.hasVolumeCells() && !store.faceAdjacency().startGrid().empty();
           for (std::int64_t s = first; s < last; ++s) {
             double p[3] = {0, 0, 0};
             bool finite = true;
             for (int k = 0; k < dim; ++k) {
               p[k] = points.coord[k][s];
               finite = finite && std::isfinite(p[k]);
+            }
+            if (walks) {
+              double ahead[2][3];
+              for (int a = 0; a < 2; ++a) {
+                for (int k = 0; k < 3; ++k) ahead[a][k] = s + 1 + a < last ? points.coord[k][s + 1 + a] : 0.0;
+              }
+              PrefetchWalk(store, index.simplices(), s + 1 < last ? ahead[0] : nullptr,
+                           s + 2 < last ? ahead[1] : nullptr);
             }
             if (!finite) continue;
             const int lane = static_cast<int>(s - lanesFrom);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <limits>
+#include <type_traits>
+#include <utility>
 
 namespace invmap::engine {
 
@@ -15,27 +17,54 @@ bool MeshTriangles::Applies(const Geometry& geometry) {
   return vertices <= static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
 }
 
-void MeshTriangles::Build(const Geometry& geometry) {
+namespace {
+
+/// Copies the vertices and corners of every patch of `patches` into the
+/// arrays; from a mutable patch list (MeshTriangles::Take) a single patch's
+/// vertex array is moved instead, and each patch's arrays are freed once
+/// consumed.
+template <typename Patches>
+void Fill(Patches& patches, std::vector<double>* vertices, std::vector<std::int32_t>* corners,
+          std::vector<std::int64_t>* patchFirst) {
+  constexpr bool take = !std::is_const_v<Patches>;
   std::size_t numVertices = 0, numCorners = 0;
-  for (const Patch& patch : geometry.patches) {
+  for (const Patch& patch : patches) {
     numVertices += patch.points.size();
     numCorners += patch.cells.size();
   }
-  vertices_.clear();
-  corners_.clear();
-  patchFirst_.clear();
-  vertices_.reserve(numVertices);
-  corners_.reserve(numCorners);
-  patchFirst_.reserve(geometry.patches.size() + 1);
-  for (const Patch& patch : geometry.patches) {
-    patchFirst_.push_back(size());
+  vertices->clear();
+  corners->clear();
+  patchFirst->clear();
+  const bool moveVertices = take && patches.size() == 1;
+  if (!moveVertices) vertices->reserve(numVertices);
+  corners->reserve(numCorners);
+  patchFirst->reserve(patches.size() + 1);
+  std::int64_t base = 0;
+  for (auto& patch : patches) {
+    patchFirst->push_back(static_cast<std::int64_t>(corners->size() / 3));
     // A triangle's finite-element vertex order is its Bezier net's.
-    const auto base = static_cast<std::int64_t>(vertices_.size() / 3);
-    for (const std::int64_t index : patch.cells) corners_.push_back(static_cast<std::int32_t>(base + index));
-    vertices_.insert(vertices_.end(), patch.points.begin(), patch.points.end());
+    for (const std::int64_t index : patch.cells) corners->push_back(static_cast<std::int32_t>(base + index));
+    base += static_cast<std::int64_t>(patch.points.size() / 3);
+    if constexpr (take) {
+      std::vector<std::int64_t>().swap(patch.cells);
+      if (moveVertices) {
+        *vertices = std::move(patch.points);
+      } else {
+        vertices->insert(vertices->end(), patch.points.begin(), patch.points.end());
+        std::vector<double>().swap(patch.points);
+      }
+    } else {
+      vertices->insert(vertices->end(), patch.points.begin(), patch.points.end());
+    }
   }
-  patchFirst_.push_back(size());
+  patchFirst->push_back(static_cast<std::int64_t>(corners->size() / 3));
 }
+
+}  // namespace
+
+void MeshTriangles::Build(const Geometry& geometry) { Fill(geometry.patches, &vertices_, &corners_, &patchFirst_); }
+
+void MeshTriangles::Take(Geometry&& geometry) { Fill(geometry.patches, &vertices_, &corners_, &patchFirst_); }
 
 std::int32_t MeshTriangles::PatchOf(std::int64_t cell) const {
   // The last patch whose first triangle is at or before `cell` (empty

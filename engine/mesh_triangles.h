@@ -22,6 +22,13 @@ class MeshTriangles {
   /// Copies the vertices and corners of every patch. Precondition:
   /// Applies(geometry) and ValidateGeometry(geometry) found no problem.
   void Build(const Geometry& geometry);
+  /// The same triangles, taken from `geometry` instead of copied: a single
+  /// patch's vertex array is moved in, and each patch's arrays are freed as
+  /// soon as they are consumed (the 64-bit indices once their 32-bit
+  /// corners are made), so the geometry as read is gone before the tree's
+  /// build allocates anything. Leaves the patches' points and cells empty.
+  /// Same precondition as Build.
+  void Take(Geometry&& geometry);
 
   bool empty() const { return patchFirst_.empty(); }
   std::int64_t size() const { return static_cast<std::int64_t>(corners_.size() / 3); }

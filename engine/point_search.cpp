@@ -63,14 +63,27 @@ void PointSearch::TryInside(std::int64_t subdivision) {
   TryInsideCell(store.subdivisionCell(subdivision));
 }
 
-void PointSearch::TryInsideByWalk(const Bvh& bvh) {
+void PointSearch::TryInsideByWalk(const Bvh& bvh, std::int64_t from) {
   tried.clear();
-  const std::int64_t start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
-  if (start < 0 || store.inRegion(start)) return;
-  if (!store.solver(start).isFullRank()) return;
   const FaceAdjacency& adjacency = store.faceAdjacency();
+  std::int64_t start = from;
+  if (start < 0) start = adjacency.startGrid().StartCell(p);
+  if (start < 0) start = warmCell >= 0 ? warmCell : DescendToVolumeCell(bvh, store, p);
+  if (start < 0) return;
+  // An affine tetrahedron's item says it is a full-rank cell of no region:
+  // its solver, a cold read, is not needed.
+  const int startItem = simplices.item(start);
+  if (startItem < 0 || simplices.paramDim(startItem) != 3) {
+    if (store.inRegion(start) || !store.solver(start).isFullRank()) return;
+  }
   std::int64_t cell = start;
   for (int step = 0;; ++step) {
+    // The answer's origin (engine/bezier_nets.h), which WriteFound reads in
+    // cell order, a cache miss of its own a point: requested now, while the
+    // cell is tried.
+    const char* origin = reinterpret_cast<const char*>(&store.origin(cell));
+    __builtin_prefetch(origin);
+    __builtin_prefetch(origin + sizeof(CellOrigin) - 1);
     // The faces to leave by, likeliest first.
     int exits[kernels::kMaxFaces];
     int exitCount = 0;
@@ -85,7 +98,7 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
       if (kernels::CellSolver::TetBarycentric(vertices, p, lambda)) {
         const int exit = static_cast<int>(std::min_element(lambda, lambda + 4) - lambda);
         if (lambda[exit] >= -kernels::kHullSlack) {
-          TryInsideSimplexItem(item, vertices);
+          TryInsideSimplexItem(item, vertices, lambda);
           tried.push_back(cell);
         } else {
           exits[exitCount++] = exit;
@@ -129,7 +142,23 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh) {
   }
 }
 
-void PointSearch::TryInsideSimplexItem(int item, const double* const* vertices) {
+void PointSearch::TryInsideSimplexItem(int item, const double* const* vertices, const double* lambda) {
+  if (*std::min_element(lambda, lambda + 4) >= 0.0) {
+    // Within the closed tetrahedron: the point is its own closest point,
+    // its preimage its barycentric coordinates (what the closed form below
+    // would find, to rounding).
+    kernels::CellSolveResult r;
+    std::copy(lambda + 1, lambda + 4, r.ref);
+    std::copy(p, p + 3, r.closest);
+    r.distance = 0.0;
+    r.status = kernels::PointStatus::Converged;
+    best = 0.0;
+    bestCell = simplices.cell(item);
+    bestResult = r;
+    bestModel = -1;
+    inside = true;
+    return;
+  }
   // CellSolver::SolveInside of an affine tetrahedron whose corner
   // barycentrics passed its hull test: the closed form, inside within the
   // distance tolerance of the cell's size, the diagonal of its control

@@ -170,18 +170,22 @@ struct PointSearch {
   /// holds the point exactly; only the local solve runs, no global search.
   void TryInside(std::int64_t subdivision);
 
-  /// The previous point's cell first (7.3.2.1 with a warm start): in Morton
-  /// order a volume's points come in runs inside the same cell. Then a walk
-  /// across the faces of the volume mesh (engine/face_adjacency.h) to the
-  /// neighbour beyond the face the point lies past, which usually holds it:
-  /// for a tetrahedron the face of its straight corner tetrahedron, for a
-  /// hexahedron or wedge the face its inside solve names (an affine cell's
-  /// preimage, a curved cell's stop on the boundary: CellSolver::SolveInside).
-  /// The walk only proposes cells: each answer is an inside solve's exact
-  /// one, and a point the walk does not place goes to the full search. The
-  /// first point of a bucket starts from the cell DescendToVolumeCell picks.
-  /// The cells tried are kept (the searches skip them).
-  void TryInsideByWalk(const Bvh& bvh);
+  /// A walk across the faces of the volume mesh (engine/face_adjacency.h)
+  /// to the neighbour beyond the face the point lies past, which usually
+  /// holds it: for a tetrahedron the face of its straight corner
+  /// tetrahedron, for a hexahedron or wedge the face its inside solve names
+  /// (an affine cell's preimage, a curved cell's stop on the boundary:
+  /// CellSolver::SolveInside). It starts from `from` when given, else from
+  /// the start grid's cell for the point (engine/walk_start_grid.h: about
+  /// one face from it; 2.0 cells tried a point on random points in
+  /// tetrahedra where a start from the previous point's cell tried 3.2, and
+  /// starting from that cell when it holds the point measured slower), else
+  /// from the previous point's cell or, for the first point of a bucket, the
+  /// cell DescendToVolumeCell picks. The walk only proposes
+  /// cells: each answer is an inside solve's exact one, and a point the walk
+  /// does not place goes to the full search. The cells tried are kept (the
+  /// searches skip them).
+  void TryInsideByWalk(const Bvh& bvh, std::int64_t from = -1);
 
   bool IsTriedCell(std::int64_t cell) const { return std::find(tried.begin(), tried.end(), cell) != tried.end(); }
 
@@ -198,9 +202,9 @@ struct PointSearch {
   void TryInsideRegion(const AffineRegion& region);
 
   /// TryInsideCell for the affine tetrahedron of BVH item `item` (its
-  /// vertices, as the item keeps them), once its corner barycentrics put
-  /// the point within its hull.
-  void TryInsideSimplexItem(int item, const double* const* vertices);
+  /// vertices, as the item keeps them), once its barycentric coordinates
+  /// `lambda` (4) put the point within its hull.
+  void TryInsideSimplexItem(int item, const double* const* vertices, const double* lambda);
 
   /// `cornerLambda`: the cell's CornerBarycentric of the point, when known.
   /// `stopRef` (3 values, optional) receives where a failed inside solve
@@ -208,6 +212,36 @@ struct PointSearch {
   void TryInsideCell(std::int64_t cell, const double* cornerLambda = nullptr, double* stopRef = nullptr);
 
 };
+
+/// Requests from memory what the walk (PointSearch::TryInsideByWalk) of a
+/// point reads first, a point or two before its search: the start grid's
+/// entry of point `later` (two points ahead) and, for point `next` (one
+/// ahead, whose entry the previous call requested), its start cell's
+/// vertices (an affine tetrahedron's copy) or solver and control points,
+/// and its origin. Each is a cache miss of its own a point on a mesh larger
+/// than the cache; requested ahead, they arrive while the point before is
+/// searched. Either point may be null.
+inline void PrefetchWalk(const CellStore& store, const SimplexItems& simplices, const double* next,
+                         const double* later) {
+  const WalkStartGrid& grid = store.faceAdjacency().startGrid();
+  if (later) grid.Prefetch(later);
+  if (!next) return;
+  const std::int64_t start = grid.StartCell(next);
+  if (start < 0) return;
+  const int item = simplices.item(start);
+  const auto lines = [](const void* from, std::size_t bytes) {
+    const char* first = static_cast<const char*>(from);
+    for (std::size_t at = 0; at < bytes; at += 64) __builtin_prefetch(first + at);
+    __builtin_prefetch(first + bytes - 1);
+  };
+  if (item >= 0) {
+    lines(simplices.vertices(item), 4 * 3 * sizeof(double));
+  } else {
+    const kernels::CellSolver& solver = store.solver(start);
+    lines(&solver, sizeof(kernels::CellSolver));
+  }
+  lines(&store.origin(start), sizeof(CellOrigin));
+}
 
 // The solves every candidate goes through, defined here so that the searches
 // (engine/search_candidates.cpp, engine/search_bvh.cpp) inline them as they
@@ -217,6 +251,16 @@ struct PointSearch {
 
 inline void PointSearch::SolveCell(std::int64_t cell) {
   const kernels::CellSolver& solver = store.solver(cell);
+  // A cell on a face's elementary surface: its minimum in closed form
+  // (global over the cell; no start, no certificate), unless the point is
+  // one the closed form leaves to the search (kernels/analytic_surface.h).
+  if (const kernels::AnalyticCell* analytic = store.analytic(cell)) {
+    kernels::CellSolveResult r;
+    if (kernels::SolveAnalyticCell(*analytic, p, Bound2(solver), &r)) {
+      if (r.status != kernels::PointStatus::Farther) Consider(cell, r);
+      return;
+    }
+  }
   double start[3];
   const double* initial = cell == warmCell ? warmRef : (StartFromBest(cell, start) ? start : nullptr);
   const int slot = bestModel == 0 ? 1 : 0;

@@ -26,7 +26,18 @@ std::vector<BvhBox> SubdivisionBoxes(const CellStore& cells, int maxThreads) {
 }  // namespace
 
 SearchIndex SearchIndex::Build(const Geometry& geometry, int maxThreads) {
-  CellStore cells = CellStore::Build(geometry, maxThreads);
+  return BuildOver(CellStore::Build(geometry, maxThreads), geometry, maxThreads);
+}
+
+SearchIndex SearchIndex::Build(Geometry&& geometry, int maxThreads) {
+  if (!MeshTriangles::Applies(geometry)) return Build(static_cast<const Geometry&>(geometry), maxThreads);
+  MeshTriangles triangles;
+  triangles.Take(std::move(geometry));
+  // Meshes alone: no partition-of-unity surfaces to build.
+  return BuildOver(CellStore(std::move(triangles)), Geometry{}, maxThreads);
+}
+
+SearchIndex SearchIndex::BuildOver(CellStore cells, const Geometry& geometry, int maxThreads) {
   Bvh bvh;
   {
     // The boxes go once the tree has its own copy (48 bytes a triangle).

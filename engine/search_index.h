@@ -27,6 +27,11 @@ class SearchIndex {
   /// (engine/geometry_validation.h). `maxThreads` bounds the threads used
   /// (0 = all).
   static SearchIndex Build(const Geometry& geometry, int maxThreads = 0);
+  /// The same index, taking what it can from `geometry` instead of copying
+  /// it: a geometry of triangle meshes alone gives up its vertex and index
+  /// arrays (MeshTriangles::Take) before the tree is built; any other is
+  /// read as by Build(const Geometry&) and left as it was.
+  static SearchIndex Build(Geometry&& geometry, int maxThreads = 0);
 
   const CellStore& cells() const { return cells_; }
   /// Binary BVH over the subdivisions of cells() (CellStore::numSubdivisions).
@@ -43,6 +48,9 @@ class SearchIndex {
 
  private:
   SearchIndex(CellStore cells, Bvh bvh, WideBvh wideBvh, SimplexItems simplices, PouPatches pou);
+  /// Builds everything after the cells: the trees, the simplex items and
+  /// the partition-of-unity surfaces of `geometry`.
+  static SearchIndex BuildOver(CellStore cells, const Geometry& geometry, int maxThreads);
 
   CellStore cells_;
   Bvh bvh_;

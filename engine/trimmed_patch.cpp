@@ -7,6 +7,7 @@
 
 #include "engine/bezier_extraction.h"
 #include "engine/bezier_nets.h"
+#include "kernels/cell_map.h"
 #include "kernels/own_parameter.h"
 #include "kernels/trimmed_cell.h"
 
@@ -112,7 +113,88 @@ void BuildTrimRegion(const std::vector<std::vector<SplineCurve>>& loops, kernels
   region->Finish();
 }
 
+double Dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/// The diagonal of the box of the patch's control points.
+double PatchSize(const Patch& patch) {
+  double lo[3] = {kNaN, kNaN, kNaN}, hi[3] = {kNaN, kNaN, kNaN};
+  for (std::size_t i = 0; i + 2 < patch.points.size(); i += 3) {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = i == 0 ? patch.points[i + k] : std::min(lo[k], patch.points[i + k]);
+      hi[k] = i == 0 ? patch.points[i + k] : std::max(hi[k], patch.points[i + k]);
+    }
+  }
+  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+}
+
+/// True when cell `cell` of `nets` (whose box of own parameters `analytic`
+/// holds) is `surface` there: the two within `tolerance` at the corners,
+/// the middle and a few points between.
+bool AgreesWithCell(const BezierNets& nets, std::int64_t cell, const kernels::AnalyticCell& analytic,
+                    double tolerance) {
+  const kernels::AnalyticSurface& surface = *analytic.surface;
+  const kernels::CellView view = nets.View(cell);
+  constexpr double kSamples[][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}, {0.5, 0.5}, {0.25, 0.7}, {0.8, 0.3}};
+  for (const auto& ref : kSamples) {
+    kernels::MapJet jet;
+    kernels::EvaluateMap(view, ref, kernels::JetOrder::Value, &jet);
+    double own[2], xyz[3];
+    for (int d = 0; d < 2; ++d) {
+      own[d] = kernels::OwnParameter(analytic.paramLo[d], analytic.paramScale[d], analytic.angular[d], ref[d]);
+    }
+    surface.Evaluate(own[0], own[1], xyz);
+    if (!(std::hypot(xyz[0] - jet.x[0], xyz[1] - jet.x[1], xyz[2] - jet.x[2]) <= tolerance)) return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+std::unique_ptr<kernels::AnalyticSurface> AnalyticSurfaceOf(const Patch& patch) {
+  using Kind = AnalyticSurface::Kind;
+  const AnalyticSurface& in = patch.analytic;
+  if (in.kind == Kind::None) return nullptr;
+  auto out = std::make_unique<kernels::AnalyticSurface>();
+  const double* axes[3] = {in.xAxis, in.yAxis, in.axis};
+  double* outAxes[3] = {out->x, out->y, out->z};
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a; b < 3; ++b) {
+      const double expected = a == b ? 1.0 : 0.0;
+      if (!(std::abs(Dot(axes[a], axes[b]) - expected) <= 1e-12)) return nullptr;
+    }
+    std::copy(axes[a], axes[a] + 3, outAxes[a]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(in.origin[k])) return nullptr;
+    out->origin[k] = in.origin[k];
+  }
+  out->radius = in.radius;
+  out->minorRadius = in.minorRadius;
+  const bool finite = std::isfinite(in.radius) && std::isfinite(in.minorRadius);
+  using Out = kernels::AnalyticSurface::Kind;
+  switch (in.kind) {
+    case Kind::None:
+      return nullptr;
+    case Kind::Plane:
+      out->kind = Out::Plane;
+      return out;
+    case Kind::Cylinder:
+    case Kind::Sphere:
+      out->kind = in.kind == Kind::Cylinder ? Out::Cylinder : Out::Sphere;
+      return finite && in.radius > 0.0 ? std::move(out) : nullptr;
+    case Kind::Cone:
+      out->kind = Out::Cone;
+      out->sinAngle = std::sin(in.semiAngle);
+      out->cosAngle = std::cos(in.semiAngle);
+      return finite && in.radius >= 0.0 && std::abs(in.semiAngle) < 0.5 * M_PI ? std::move(out) : nullptr;
+    case Kind::Torus:
+      // A spindle or horn torus too: its cells that reach the axis keep
+      // their NURBS search (kernels::ClosedFormCovers).
+      out->kind = Out::Torus;
+      return finite && in.minorRadius > 0.0 && in.radius >= 0.0 ? std::move(out) : nullptr;
+  }
+  return nullptr;
+}
 
 EdgeParameters::EdgeParameters(const SplineCurve& pcurve) {
   if (pcurve.points.empty()) return;
@@ -165,6 +247,8 @@ std::size_t TrimmedFaces::MemoryBytes() const {
   for (const auto& [cell, trim] : crossingCells) bytes += sizeof(kernels::TrimmedCell) + trim->near.MemoryBytes();
   for (const EdgeParameters& edge : edges) bytes += edge.MemoryBytes();
   for (const std::vector<std::int64_t>& spans : spanCells) bytes += spans.capacity() * sizeof(std::int64_t);
+  bytes += analyticSurfaces.size() * sizeof(kernels::AnalyticSurface) +
+           analyticCells.capacity() * sizeof(analyticCells[0]) + analyticSurfaces.capacity() * sizeof(void*);
   return bytes;
 }
 
@@ -177,6 +261,9 @@ void AddTrimmedSurfaceCells(const Patch& patch, std::size_t p, BezierNets* nets)
 
   auto region = std::make_unique<kernels::TrimRegion>();
   BuildTrimRegion(patch.trimLoops, region.get());
+  std::unique_ptr<kernels::AnalyticSurface> analytic = AnalyticSurfaceOf(patch);
+  const double agreement = 1e-9 * PatchSize(patch);
+  std::vector<std::pair<std::int64_t, kernels::AnalyticCell>> analyticCells;
   const bool trimmed = region->numPieces() > 0;
 
   // The surface's cells: those wholly outside the region are left out,
@@ -213,8 +300,19 @@ void AddTrimmedSurfaceCells(const Patch& patch, std::size_t p, BezierNets* nets)
     nets->Add(shape, cells.points.data() + first * dim, cells.weights.empty() ? nullptr : cells.weights.data() + first,
               origin);
     spanCells[c] = cell;
+    kernels::AnalyticCell onSurface;
+    if (analytic) {
+      onSurface.surface = analytic.get();
+      for (int d = 0; d < 2; ++d) {
+        onSurface.paramLo[d] = origin.paramLo[d];
+        onSurface.paramScale[d] = origin.paramScale[d];
+        onSurface.angular[d] = angular[d];
+      }
+      if (!AgreesWithCell(*nets, cell, onSurface, agreement)) analytic.reset();
+    }
     if (side == kernels::TrimRegion::Side::Crossing) {
       auto trim = std::make_unique<kernels::TrimmedCell>();
+      onSurface.trim = trim.get();
       trim->region = region.get();
       for (int d = 0; d < 2; ++d) {
         trim->paramLo[d] = origin.paramLo[d];
@@ -224,8 +322,13 @@ void AddTrimmedSurfaceCells(const Patch& patch, std::size_t p, BezierNets* nets)
       trim->near = std::move(near);
       faces.crossingCells.emplace_back(cell, std::move(trim));
     }
+    if (analytic && kernels::ClosedFormCovers(onSurface)) analyticCells.emplace_back(cell, onSurface);
   }
   faces.regions.push_back(std::move(region));
+  if (analytic) {
+    faces.analyticCells.insert(faces.analyticCells.end(), analyticCells.begin(), analyticCells.end());
+    faces.analyticSurfaces.push_back(std::move(analytic));
+  }
 
   // The edges: curve cells, numbered on after the surface's spans.
   std::int64_t next = cells.numCells;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "invmap/invmap.h"
+#include "kernels/analytic_surface.h"
 #include "kernels/trim_region.h"
 #include "kernels/trimmed_cell.h"
 
@@ -53,14 +54,31 @@ struct TrimmedFaces {
   /// Per patch: the cell of each span of its surface, -1 for spans wholly
   /// outside the region (empty for other kinds of patches).
   std::vector<std::vector<std::int64_t>> spanCells;
+  /// The elementary surfaces of the faces whose Patch::analytic agrees with
+  /// their B-spline surface (AnalyticSurfaceOf), and the cells on them,
+  /// which the search answers in closed form (kernels/analytic_surface.h).
+  std::vector<std::unique_ptr<kernels::AnalyticSurface>> analyticSurfaces;
+  std::vector<std::pair<std::int64_t, kernels::AnalyticCell>> analyticCells;
 
   bool empty() const { return regions.empty(); }
   std::size_t MemoryBytes() const;
 };
 
+/// The elementary surface `patch.analytic` describes, in the form the
+/// closed-form solves take, or null when there is none, it is one they do
+/// not take (a torus that is not a ring), or it is not well formed (a
+/// frame that is not orthonormal, a radius that is not positive and
+/// finite). Whether it agrees with the B-spline surface is checked cell by
+/// cell (AddTrimmedSurfaceCells).
+std::unique_ptr<kernels::AnalyticSurface> AnalyticSurfaceOf(const Patch& patch);
+
 /// Appends the cells of TrimmedSurface patch `p` to `nets` (and what they
 /// need to nets->trimmed): the surface's knot spans, except those wholly
-/// outside the region, then every edge's curve spans. Precondition:
+/// outside the region, then every edge's curve spans. When the patch's
+/// analytic surface (AnalyticSurfaceOf) agrees with the surface at sample
+/// points of every cell, within 1e-9 of the patch's size, its cells are
+/// listed in nets->trimmed.analyticCells (but those the closed form does
+/// not cover: kernels::ClosedFormCovers). Precondition:
 /// ValidateGeometry found no problem.
 void AddTrimmedSurfaceCells(const Patch& patch, std::size_t p, BezierNets* nets);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/analytic_start.h"
 #include "kernels/cramer.h"
 
 namespace invmap::engine {
@@ -72,6 +73,7 @@ bool SolveFree(const double (*model)[3], const double* rhs, int paramDim, const 
 void PredictStart(const CellStore& store, const WarmStart& warm, const double* p, std::int64_t* cell, double* ref) {
   *cell = warm.cell;
   for (int i = 0; i < 3; ++i) ref[i] = warm.ref[i];
+  if (warm.cell >= 0 && PredictOnElementarySurface(store, warm, p, cell, ref)) return;
   if (warm.cell < 0 || !warm.model.known) return;
   const int dim = store.dimension();
   if (std::equal(p, p + dim, warm.point)) return;

@@ -74,18 +74,25 @@ WideNode EmptyWideNode() {
   return wide;
 }
 
-/// The items below each binary node, [first[i], end[i]): the Bvh lays its
-/// tree out depth first, so they are contiguous.
-void ItemRanges(const Bvh& bvh, std::vector<int>* first, std::vector<int>* end) {
-  const std::vector<BvhNode>& nodes = bvh.Nodes();
-  first->resize(nodes.size());
-  end->resize(nodes.size());
-  // Children come after their parent: a backward pass sees them first.
-  for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
-    const BvhNode& node = nodes[i];
-    (*first)[i] = node.count > 0 ? node.first : (*first)[node.first];
-    (*end)[i] = node.count > 0 ? node.first + node.count : (*end)[node.first + 1];
+/// The number of wide nodes WideBvh::Collapse makes of the binary `nodes`:
+/// the root, and every inner node that fills a slot (an inner child of a
+/// wide node's binary node is replaced by its two children).
+std::size_t CountWideNodes(const std::vector<BvhNode>& nodes) {
+  if (nodes[0].count > 0) return 1;
+  std::size_t count = 0;
+  std::vector<int> pending = {0};
+  while (!pending.empty()) {
+    const int binary = pending.back();
+    pending.pop_back();
+    ++count;
+    for (int child = nodes[binary].first; child < nodes[binary].first + 2; ++child) {
+      if (nodes[child].count > 0) continue;
+      for (int grandchild = nodes[child].first; grandchild < nodes[child].first + 2; ++grandchild) {
+        if (nodes[grandchild].count == 0) pending.push_back(grandchild);
+      }
+    }
   }
+  return count;
 }
 
 }  // namespace
@@ -195,11 +202,17 @@ std::vector<int> WideBvh::Collapse(const Bvh& bvh) {
   for (const BvhNode& node : nodes) {
     for (int k = 0; k < 3; ++k) extent_ = std::max({extent_, std::abs(node.lo[k]), std::abs(node.hi[k])});
   }
+  // Reserved at their final size: grown by doubling and shrunk, the nodes
+  // (71 bytes a triangle) were held twice at the build's peak.
+  const std::size_t numWide = CountWideNodes(nodes);
+  nodes_.reserve(numWide);
   // (binary inner node, wide node) pairs still to fill with the binary
   // node's grandchildren.
   std::vector<std::pair<int, int>> pending;
   // The binary node of each slot (4 per wide node), -1 for an unused one.
-  std::vector<int> slotBinary(4, -1);
+  std::vector<int> slotBinary;
+  slotBinary.reserve(4 * numWide);
+  slotBinary.assign(4, -1);
   nodes_.push_back(EmptyWideNode());
   if (nodes[0].count > 0) {
     FillSlot(nodes[0], 0, nodes[0].first, &nodes_[0]);
@@ -235,17 +248,83 @@ std::vector<int> WideBvh::Collapse(const Bvh& bvh) {
       slotBinary[4 * wideIndex + s] = slots[s];
     }
   }
-  // The array grew by doubling: up to half of it would stay unused.
-  nodes_.shrink_to_fit();
   return slotBinary;
 }
 
 
+namespace {
+
+/// Binary nodes this far from the root and nearer split their two subtrees
+/// into tasks of their own (up to 2^12 of them).
+constexpr int kParallelDepth = 12;
+
+/// Walks the binary tree children first, making each node's moments from
+/// its children's (a leaf's from its items, in order) and fitting the
+/// oriented box of every node that is a slot of the wide tree as soon as
+/// its moments are known. Only the path from the root is held: an array of
+/// every node's moments took about 76 bytes a triangle at the build's peak.
+/// The moments are merged in the same order whatever the threads, so the
+/// boxes are too.
+class SlotBoxFitter {
+ public:
+  SlotBoxFitter(const Bvh& bvh, int dimension, const WideBvh::Hulls& hulls, const std::vector<int>& slotOfBinary,
+                const std::vector<PointMoments>& itemMoments, std::vector<WideNode>* wide)
+      : bvh_(bvh),
+        dimension_(dimension),
+        hulls_(hulls),
+        slotOfBinary_(slotOfBinary),
+        itemMoments_(itemMoments),
+        wide_(*wide) {}
+
+  /// The moments of the items below binary node `n` (`depth` below the
+  /// root), which are items [*first, *end).
+  PointMoments Visit(int n, int depth, int* first, int* end) const {
+    const BvhNode& node = bvh_.Nodes()[n];
+    PointMoments moments;
+    if (node.count > 0) {
+      *first = node.first;
+      *end = node.first + node.count;
+      moments = ItemMoments(node.first);
+      for (int item = node.first + 1; item < *end; ++item) {
+        moments = PointMoments::Merge(moments, ItemMoments(item));
+      }
+    } else {
+      PointMoments children[2];
+      int ends[2];
+      const auto visitChildren = [&](std::int64_t begin, std::int64_t stop) {
+        for (std::int64_t c = begin; c < stop; ++c) {
+          int childFirst;
+          children[c] = Visit(node.first + static_cast<int>(c), depth + 1, &childFirst, &ends[c]);
+          if (c == 0) *first = childFirst;
+        }
+      };
+      ForEachBlock(depth < kParallelDepth ? ExecutionPolicy::Par : ExecutionPolicy::Seq, 2, 1, visitChildren);
+      *end = ends[1];
+      moments = PointMoments::Merge(children[0], children[1]);
+    }
+    if (const int slot = slotOfBinary_[n]; slot >= 0) {
+      SetOrientedBox(FitItemsBox(bvh_, hulls_, *first, *end, dimension_, moments), slot % 4, &wide_[slot / 4]);
+    }
+    return moments;
+  }
+
+ private:
+  PointMoments ItemMoments(int item) const {
+    return itemMoments_.empty() ? hulls_.Moments(item) : itemMoments_[item];
+  }
+
+  const Bvh& bvh_;
+  int dimension_;
+  const WideBvh::Hulls& hulls_;
+  const std::vector<int>& slotOfBinary_;
+  const std::vector<PointMoments>& itemMoments_;
+  std::vector<WideNode>& wide_;
+};
+
+}  // namespace
+
 void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const Hulls& hulls,
                                const std::vector<int>& slotBinary) {
-  std::vector<int> first, end;
-  ItemRanges(bvh, &first, &end);
-  auto momentsOf = [&hulls](int item) { return hulls.Moments(item); };
   // With item boxes, each item's moments and box from its own hull points;
   // without, the moments are made where the leaves merge them (not kept:
   // about 110 bytes an item).
@@ -255,48 +334,19 @@ void WideBvh::FitOrientedBoxes(const Bvh& bvh, int dimension, const Hulls& hulls
                  for (std::int64_t i = begin; i < stop; ++i) {
                    const int item = static_cast<int>(i);
                    PointMoments& m = itemMoments[i];
-                   m = momentsOf(item);
+                   m = hulls.Moments(item);
                    if (!m.complete) continue;
                    OrientedBoxFitter fitter(dimension, bvh.Origin(), m);
                    hulls.AddToInterval(item, item + 1, &fitter);
                    itemOriented_[i] = fitter.Result();
                  }
                });
-  auto itemMomentsOf = [&](int item) { return itemMoments.empty() ? momentsOf(item) : itemMoments[item]; };
-  // The binary nodes' moments: the leaves' merged from their items (in
-  // parallel), then the inner nodes' from their children (children come
-  // after their parent: a backward pass sees them first).
-  const std::vector<BvhNode>& nodes = bvh.Nodes();
-  std::vector<PointMoments> nodeMoments(nodes.size());
-  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(nodes.size()), 1024,
-               [&](std::int64_t begin, std::int64_t stop) {
-                 for (std::int64_t i = begin; i < stop; ++i) {
-                   const BvhNode& node = nodes[i];
-                   if (node.count == 0) continue;
-                   PointMoments m = itemMomentsOf(node.first);
-                   for (int item = node.first + 1; item < node.first + node.count; ++item) {
-                     m = PointMoments::Merge(m, itemMomentsOf(item));
-                   }
-                   nodeMoments[i] = m;
-                 }
-               });
-  std::vector<PointMoments>().swap(itemMoments);
-  for (int i = static_cast<int>(nodes.size()) - 1; i >= 0; --i) {
-    const BvhNode& node = nodes[i];
-    if (node.count == 0) nodeMoments[i] = PointMoments::Merge(nodeMoments[node.first], nodeMoments[node.first + 1]);
+  std::vector<int> slotOfBinary(bvh.Nodes().size(), -1);
+  for (std::size_t s = 0; s < slotBinary.size(); ++s) {
+    if (slotBinary[s] >= 0) slotOfBinary[slotBinary[s]] = static_cast<int>(s);
   }
-  // Every slot's intervals read the hull points of all items below it: one
-  // pass over the points per level of the tree.
-  ForEachBlock(ExecutionPolicy::Par, static_cast<std::int64_t>(slotBinary.size()), 16,
-               [&](std::int64_t begin, std::int64_t stop) {
-                 for (std::int64_t s = begin; s < stop; ++s) {
-                   const int binary = slotBinary[s];
-                   if (binary < 0) continue;
-                   const OrientedBox box =
-                       FitItemsBox(bvh, hulls, first[binary], end[binary], dimension, nodeMoments[binary]);
-                   SetOrientedBox(box, static_cast<int>(s % 4), &nodes_[s / 4]);
-                 }
-               });
+  int first, end;
+  SlotBoxFitter(bvh, dimension, hulls, slotOfBinary, itemMoments, &nodes_).Visit(0, 0, &first, &end);
 }
 
 WidePoint WideBvh::Prepare(const double* p) const {

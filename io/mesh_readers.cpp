@@ -589,7 +589,14 @@ Geometry ParseOff(InputBuffer* in, const std::string& name) {
       }
       face.push_back(index);
     }
+    // The shortest triangle line is "3 0 0 0" and its newline.
+    if (face.size() != 4) ReserveTriangles(numFaces - i, remaining + 1, 8, &mesh.tris);
     mesh.AddPolygon(face.data(), face.size());
+  }
+  // Faces beyond the header's count would be dropped unseen.
+  if (NextContentLine(&lines, &line)) {
+    throw InputError(name, lines.line(),
+                     "data after the last of the " + std::to_string(numFaces) + " faces the header declares");
   }
   return mesh.Finish(name, EndLine(lines));
 }
@@ -630,6 +637,13 @@ Geometry ReadStl(std::istream& in, const std::string& nameForMessages) {
 
 Geometry ReadOff(std::istream& in, const std::string& nameForMessages) {
   return ParseStream(in, nameForMessages, ParseOff);
+}
+
+void ReserveTriangles(std::int64_t faces, std::int64_t bytes, std::int64_t minTriangleBytes,
+                      std::vector<std::int64_t>* tris) {
+  if (bytes < 0 || tris->capacity() > 0) return;
+  const std::int64_t count = std::min(faces, bytes / std::max<std::int64_t>(minTriangleBytes, 1));
+  if (count > 0) tris->reserve(3 * static_cast<std::size_t>(count));
 }
 
 void AppendPolygon(const std::int64_t* v, std::size_t n, std::vector<std::int64_t>* tris) {

@@ -42,6 +42,16 @@ namespace invmap::io {
 /// reader of polygon meshes (OBJ, OFF, PLY) shares it.
 void AppendPolygon(const std::int64_t* v, std::size_t n, std::vector<std::int64_t>* tris);
 
+/// Reserves room in `tris` for the triangles of `faces` faces a header
+/// declares, but for no more than `bytes` of the file can hold at
+/// `minTriangleBytes` a triangle face (a header's count is only a claim:
+/// the reservation stays within a few times the file's size); nothing when
+/// the size is unknown (bytes < 0) or once `tris` has room. A face of more
+/// than 3 vertices that becomes several triangles grows the array as
+/// usual.
+void ReserveTriangles(std::int64_t faces, std::int64_t bytes, std::int64_t minTriangleBytes,
+                      std::vector<std::int64_t>* tris);
+
 /// Reads the mesh at `path`, chosen by its extension (.obj, .stl, .off; case
 /// insensitive). Throws InputError for an unknown extension or a bad file.
 Geometry ReadMeshFile(const std::string& path);

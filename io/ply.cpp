@@ -234,6 +234,7 @@ void PlyReader::ParseHeader() {
   // Check the promised records against the bytes that follow the header
   // before any caller reserves memory for them.
   const std::int64_t available = input_.remaining();
+  dataBytes_ = available;
   std::int64_t needed = 0;
   for (const PlyElement& element : header_.elements) {
     const std::int64_t minBytes = MinRecordBytes(element, header_.format);
@@ -412,6 +413,31 @@ void PlyReader::NextElement() {
 
 void PlyReader::SkipToElement(std::size_t index) {
   while (element_ < index && element_ < header_.elements.size()) NextElement();
+}
+
+void PlyReader::ExpectEnd() {
+  SkipToElement(header_.elements.size());
+  const auto fail = [&](std::int64_t line) {
+    std::string declared;
+    for (const PlyElement& element : header_.elements) {
+      declared += (declared.empty() ? "" : ", ") + std::to_string(element.count) + " '" + element.name + "'";
+    }
+    throw InputError(input_.name(), line,
+                     "data after the last record: the header declares " + declared +
+                         " records, and the file holds more");
+  };
+  if (header_.format == PlyFormat::Ascii) {
+    std::string_view line;
+    while (input_.ReadLine(&line)) {
+      if (line.find_first_not_of(" \t\r") != std::string_view::npos) fail(input_.lineNumber());
+    }
+    return;
+  }
+  while (input_.Fill(1) || input_.available() > 0) {
+    const std::string_view bytes(input_.data(), input_.available());
+    if (bytes.find_first_not_of(" \t\r\n") != std::string_view::npos) fail(0);
+    input_.Consume(bytes.size());
+  }
 }
 
 }  // namespace invmap::io

@@ -133,6 +133,9 @@ class PlyReader {
   /// file or a seekable stream): only then may a caller reserve memory for
   /// all the records a header declares.
   bool countsChecked() const { return input_.size() >= 0; }
+  /// Bytes of data after the header (what the counts were checked
+  /// against); -1 when the input's size is unknown.
+  std::int64_t dataBytes() const { return dataBytes_; }
 
   /// Reads the next record of the current element into `record` and, when
   /// `raw` is not null, appends the record's bytes to it verbatim (ascii:
@@ -143,6 +146,12 @@ class PlyReader {
   void NextElement();
   /// Skips forward to the first record of element `index` (>= element()).
   void SkipToElement(std::size_t index);
+  /// Skips the elements left, then throws InputError when data follows the
+  /// last record (a header that declares fewer records than the file
+  /// holds, whose extra records would be dropped unseen): ascii, the first
+  /// line that is not blank, by its number; binary, any byte but ASCII
+  /// whitespace (a newline some writers add).
+  void ExpectEnd();
 
  private:
   /// Parses the header lines and checks the counts against the file size.
@@ -160,6 +169,7 @@ class PlyReader {
   std::int64_t record_ = 0;  ///< See recordIndex().
   /// Per element: bytes of a binary record, or -1 when it has a list.
   std::vector<std::int64_t> fixedRecordBytes_;
+  std::int64_t dataBytes_ = -1;  ///< See dataBytes().
 };
 
 }  // namespace invmap::io

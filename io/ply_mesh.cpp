@@ -1,5 +1,6 @@
 #include "io/ply_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -26,6 +27,21 @@ int ScalarProperty(const PlyReader& reader, const PlyElement& element, const cha
   return p;
 }
 
+/// Smallest bytes a face record of three vertex indices (list property
+/// `indices`) takes: ascii, "3 0 0 0" and its newline; binary, every
+/// property at its size, the indices' list with its count and 3 entries,
+/// other lists empty.
+std::int64_t MinTriangleRecordBytes(const PlyHeader& header, const PlyElement& faces, int indices) {
+  if (header.format == PlyFormat::Ascii) return 8;
+  std::int64_t bytes = 0;
+  for (std::size_t p = 0; p < faces.properties.size(); ++p) {
+    const PlyProperty& property = faces.properties[p];
+    bytes += PlyTypeSize(property.isList ? property.countType : property.type);
+    if (static_cast<int>(p) == indices) bytes += 3 * PlyTypeSize(property.type);
+  }
+  return bytes;
+}
+
 Geometry ReadMesh(PlyReader& reader) {
   const PlyHeader& header = reader.header();
   const int vertexElement = header.FindElement("vertex");
@@ -46,8 +62,19 @@ Geometry ReadMesh(PlyReader& reader) {
   const int dim = pz >= 0 ? 3 : 2;
 
   std::vector<double> points;
-  if (reader.countsChecked()) points.reserve(static_cast<std::size_t>(vertices.count) * static_cast<std::size_t>(dim));
+  if (reader.countsChecked()) {
+    // The reader checked the count against a record of one byte a value
+    // (ascii: a digit and a separator per record); an ascii vertex has at
+    // least that for each of its properties.
+    std::int64_t count = vertices.count;
+    if (header.format == PlyFormat::Ascii) {
+      count = std::min(count, reader.dataBytes() / (2 * static_cast<std::int64_t>(vertices.properties.size())));
+    }
+    points.reserve(static_cast<std::size_t>(count) * static_cast<std::size_t>(dim));
+  }
+  // Reserved at the first triangle, from the faces left (ReserveTriangles).
   std::vector<std::int64_t> tris;
+  const std::int64_t minTriangleBytes = MinTriangleRecordBytes(header, faces, pIndices);
   std::vector<std::int64_t> quads;
   std::vector<std::int64_t> polygon;  // the face being read
   PlyRecord record;
@@ -104,11 +131,13 @@ Geometry ReadMesh(PlyReader& reader) {
         }
         polygon.clear();
         for (std::size_t i = 0; i < n; ++i) polygon.push_back(vertexAt(i));
+        ReserveTriangles(faces.count - face, reader.dataBytes(), minTriangleBytes, &tris);
         AppendPolygon(polygon.data(), n, &tris);
       }
     }
   }
 
+  reader.ExpectEnd();
   Geometry geometry;
   geometry.dimension = dim;
   for (auto* cells : {&tris, &quads}) {

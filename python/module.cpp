@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cad/register_readers.h"
@@ -77,7 +78,7 @@ PyManifold LoadJson(const std::string& text, const std::string& nameForMessages)
   } catch (const io::InputError& e) {
     throw InputError(e.what());
   }
-  return PyManifold(geometry, nameForMessages, &source);
+  return PyManifold(std::move(geometry), nameForMessages, &source);
 }
 
 /// Unpickling: rebuilds from PyManifold::state().
@@ -133,7 +134,7 @@ PyManifold FromMesh(const py::handle& vertices, const py::handle& cells, const s
   patch.points = CopyElements(vertexArray);
   patch.cells = CopyElements(cellArray);
   py::gil_scoped_release noGil;
-  return PyManifold(geometry, "from_mesh");
+  return PyManifold(std::move(geometry), "from_mesh");
 }
 
 /// invmap.from_bspline, once __init__.py has put the control points (and

@@ -33,17 +33,23 @@ class PyManifold {
   /// for a geometry read from a file with its `source`, naming the file and
   /// line. Pure C++: callers may release the GIL around it.
   PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
-      : PyManifold(geometry, nameForMessages, source, SerializeGeometry(geometry)) {}
+      : PyManifold(geometry, nameForMessages, source, SerializeGeometry(geometry), nullptr) {}
+  /// The same from a geometry no longer needed: the build takes a mesh's
+  /// arrays instead of copying them (Manifold::Build(Geometry&&)).
+  PyManifold(Geometry&& geometry, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
+      : PyManifold(geometry, nameForMessages, source, SerializeGeometry(geometry), &geometry) {}
 
   /// A CAD model's manifold: it pickles as the model's file (CadSource).
   PyManifold(const CadSource& source, const std::string& nameForMessages)
-      : PyManifold(source.model->geometry(), nameForMessages, nullptr, source.state) {
+      : PyManifold(source.model->geometry(), nameForMessages, nullptr, source.state, nullptr) {
     cad_ = source.model;
   }
 
-  /// The same with the node fields of the geometry's file (kept for probe).
+  /// The same with the node fields of the geometry's file (kept for probe,
+  /// with the geometry; without fields the geometry is handed over).
   PyManifold(FieldGeometry&& model, const std::string& nameForMessages, const io::GeometrySource* source = nullptr)
-      : PyManifold(model.geometry, nameForMessages, source) {
+      : PyManifold(model.geometry, nameForMessages, source, SerializeGeometry(model.geometry),
+                   model.fields.empty() ? &model.geometry : nullptr) {
     if (model.fields.empty()) return;
     state_ = SerializeModel(state_, model.fields);
     fields_ = std::make_shared<const FieldGeometry>(std::move(model));
@@ -83,10 +89,12 @@ class PyManifold {
   }
 
  private:
+  /// `handOver`: null, or `geometry` itself when the build may take its
+  /// arrays (its patches' kinds stay, which the charts below read).
   PyManifold(const Geometry& geometry, const std::string& nameForMessages, const io::GeometrySource* source,
-             std::string state)
+             std::string state, Geometry* handOver)
       : state_(std::move(state)), dimension_(geometry.dimension), patches_(geometry.patches.size()) {
-    BuildResult built = Manifold::Build(geometry);
+    BuildResult built = handOver ? Manifold::Build(std::move(*handOver)) : Manifold::Build(geometry);
     if (built.code == Error::OutOfMemory) throw std::bad_alloc();  // MemoryError
     if (built.code == Error::Internal) throw std::runtime_error(nameForMessages + ": " + built.error);
     if (built.problem && source) throw InputError(source->ToInputError(built.problem).what());

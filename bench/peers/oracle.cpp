@@ -1,16 +1,25 @@
 // invmap's oracle ratio: the engine's full time over the time of the cell
-// solves alone, on the cell the engine reported, from the cell's center.
+// solves alone, on the cell the engine reported, from the cell's center (a
+// cell on a CAD face's elementary surface in closed form, as the engine
+// solves it).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "bench/peers/harness.h"
 #include "engine/cell_store.h"
 #include "engine/geometry_validation.h"
+#include "kernels/analytic_surface.h"
 #include "kernels/cell_solver.h"
 
 namespace invmap::bench {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+}  // namespace
 
 OracleRun RunOracle(const Geometry& geometry, const PointSet& set, std::int64_t count, const Results& invmapResults,
                     double tolerance) {
@@ -40,7 +49,9 @@ OracleRun RunOracle(const Geometry& geometry, const PointSet& set, std::int64_t 
     // A volume cell that holds the point needs only its local solve, as in
     // the engine (7.3.2.1); the full cell solve is the fallback.
     kernels::CellSolveResult r;
-    if (!(solver.isFullRank() && solver.SolveInside(set.point(i), nullptr, &r))) {
+    const kernels::AnalyticCell* analytic = store.analytic(cells[i]);
+    const bool closedForm = analytic && kernels::SolveAnalyticCell(*analytic, set.point(i), kInfinity, &r);
+    if (!closedForm && !(solver.isFullRank() && solver.SolveInside(set.point(i), nullptr, &r))) {
       r = solver.Solve(set.point(i), nullptr, &workspace);
     }
     distance[i] = r.distance;

@@ -7,9 +7,12 @@
 // off the exact field by more than 1e-9 of the field's range (the peers'
 // values off by more than 1e-6 of it are counted too, and the largest error).
 //
-//   invmap_bench_probe [--quick] [--points N] [--threads T] [--only TEXT] [--markdown F] [--csv F] [--work-dir D]
+//   invmap_bench_probe [--quick] [--points N] [--threads T] [--repeat R] [--only TEXT] [--markdown F] [--csv F]
+//                      [--work-dir D]
 //
 // --only TEXT runs the meshes whose name contains TEXT ("linear hexes", "gmsh").
+// --repeat R times every method R times (default 3) and reports the run of
+// median time.
 #include <gmsh.h>
 #include <vtkCellLocatorStrategy.h>
 #include <vtkCharArray.h>
@@ -52,6 +55,7 @@ struct Options {
   bool quick = false;
   std::int64_t points = 200000;
   int threads = 0;
+  int repeat = 3;  ///< Timed runs of each method; the median is reported.
   std::string markdown = "probe_results.md";
   std::string csv = "probe_results.csv";
   std::string workDir = "probe_work";
@@ -90,6 +94,15 @@ struct Row {
   MethodRun invmap1, invmapAll;
   std::vector<MethodRun> peers;
 };
+
+/// The run of median time of `repeat` runs of `run`: on a shared machine
+/// one run in a few is slowed by others' work.
+MethodRun MedianRun(int repeat, const std::function<MethodRun()>& run) {
+  std::vector<MethodRun> runs;
+  for (int r = 0; r < std::max(1, repeat); ++r) runs.push_back(run());
+  std::sort(runs.begin(), runs.end(), [](const MethodRun& a, const MethodRun& b) { return a.seconds < b.seconds; });
+  return runs[runs.size() / 2];
+}
 
 /// The range of the exact values (at least 1e-300).
 double Range(const std::vector<double>& exact) {
@@ -194,14 +207,17 @@ Row VtkRow(const ProbeMeshKind& kind, int cells, const Options& options) {
   BuildResult built = Manifold::Build(model.geometry);
   std::vector<double> xyz, exact;
   MakePoints(options.points, kind.order, false, &xyz, &exact);
-  row.invmap1 = RunInvmap(model, built.manifold, xyz, exact, 1, "invmap, 1 thread");
-  row.invmapAll = RunInvmap(model, built.manifold, xyz, exact, options.threads, "invmap, all threads");
+  const int repeat = options.repeat;
+  row.invmap1 = MedianRun(repeat, [&] { return RunInvmap(model, built.manifold, xyz, exact, 1, "invmap, 1 thread"); });
+  row.invmapAll = MedianRun(
+      repeat, [&] { return RunInvmap(model, built.manifold, xyz, exact, options.threads, "invmap, all threads"); });
   const double budget = options.quick ? 0.2 : 3.0;
-  row.peers.push_back(RunVtkProbe(grid, xyz, exact, static_cast<std::int64_t>(exact.size()), true));
+  row.peers.push_back(
+      MedianRun(repeat, [&] { return RunVtkProbe(grid, xyz, exact, static_cast<std::int64_t>(exact.size()), true); }));
   const std::int64_t n = Calibrate(
       [&](std::int64_t count) { return RunVtkProbe(grid, xyz, exact, count, false).seconds; },
       static_cast<std::int64_t>(exact.size()), budget);
-  row.peers.push_back(RunVtkProbe(grid, xyz, exact, n, false));
+  row.peers.push_back(MedianRun(repeat, [&] { return RunVtkProbe(grid, xyz, exact, n, false); }));
   return row;
 }
 
@@ -251,8 +267,11 @@ Row GmshRow(int order, const Options& options) {
   BuildResult built = Manifold::Build(model.geometry);
   std::vector<double> xyz, exact;
   MakePoints(options.points, order, true, &xyz, &exact);
-  row.invmap1 = RunInvmap(model, built.manifold, xyz, exact, 1, "invmap, 1 thread");
-  row.invmapAll = RunInvmap(model, built.manifold, xyz, exact, options.threads, "invmap, all threads");
+  row.invmap1 =
+      MedianRun(options.repeat, [&] { return RunInvmap(model, built.manifold, xyz, exact, 1, "invmap, 1 thread"); });
+  row.invmapAll = MedianRun(options.repeat, [&] {
+    return RunInvmap(model, built.manifold, xyz, exact, options.threads, "invmap, all threads");
+  });
   const auto gmshRun = [&](std::int64_t count) {
     MethodRun run;
     run.method = "gmsh::view::probe";
@@ -275,7 +294,7 @@ Row GmshRow(int order, const Options& options) {
   };
   const std::int64_t n = Calibrate([&](std::int64_t count) { return gmshRun(count).seconds; },
                                    static_cast<std::int64_t>(exact.size()), options.quick ? 0.2 : 3.0);
-  row.peers.push_back(gmshRun(n));
+  row.peers.push_back(MedianRun(options.repeat, [&] { return gmshRun(n); }));
   return row;
 }
 
@@ -329,6 +348,8 @@ int Main(int argc, char** argv) {
       options.points = std::stoll(next());
     } else if (a == "--threads") {
       options.threads = std::stoi(next());
+    } else if (a == "--repeat") {
+      options.repeat = std::stoi(next());
     } else if (a == "--only") {
       options.only = next();
     } else if (a == "--markdown") {
@@ -339,8 +360,8 @@ int Main(int argc, char** argv) {
       options.workDir = next();
     } else {
       std::fprintf(stderr,
-                   "usage: invmap_bench_probe [--quick] [--points N] [--threads T] [--only TEXT] [--markdown F] [--csv F] "
-                   "[--work-dir D]\n");
+                   "usage: invmap_bench_probe [--quick] [--points N] [--threads T] [--repeat R] [--only TEXT] "
+                   "[--markdown F] [--csv F] [--work-dir D]\n");
       return 2;
     }
   }

@@ -56,6 +56,37 @@ struct PatchEdge {
   SplineCurve pcurve;
 };
 
+/// The elementary surface a TrimmedSurface patch's B-spline surface is
+/// exactly, in the surface's own parameters (OpenCascade's conventions for
+/// Geom_Plane, Geom_CylindricalSurface, Geom_ConicalSurface,
+/// Geom_SphericalSurface and Geom_ToroidalSurface; e(u) = cos u xAxis +
+/// sin u yAxis):
+///  - Plane:    origin + u xAxis + v yAxis;
+///  - Cylinder: origin + radius e(u) + v axis;
+///  - Cone:     origin + (radius + v sin(semiAngle)) e(u) + v cos(semiAngle) axis;
+///  - Sphere:   origin + radius (cos v e(u) + sin v axis), v the latitude;
+///  - Torus:    origin + (radius + minorRadius cos v) e(u) + minorRadius sin v axis.
+/// An accelerator only: the cells of such a face are then answered in
+/// closed form instead of by the NURBS cell's search (docs/cad.md), and
+/// the B-spline surface stays the geometry for everything else. It is
+/// ignored unless it agrees with the B-spline surface (the frame
+/// orthonormal, and the two within 1e-9 of the surface's size at sample
+/// points of every cell). Cells where the closed form does not hold keep
+/// the NURBS search: those at a cone's apex, those of a spindle torus
+/// (minorRadius > radius) that reach its axis, a sphere's beyond the
+/// latitudes +-pi/2.
+struct AnalyticSurface {
+  enum class Kind : std::uint8_t { None, Plane, Cylinder, Cone, Sphere, Torus };
+  Kind kind = Kind::None;
+  double origin[3] = {0, 0, 0};
+  double xAxis[3] = {1, 0, 0};
+  double yAxis[3] = {0, 1, 0};  ///< Orthonormal to both others (either handedness).
+  double axis[3] = {0, 0, 1};
+  double radius = 0.0;       ///< Cylinder, sphere; a cone's at v = 0; a torus's major radius.
+  double minorRadius = 0.0;  ///< Torus.
+  double semiAngle = 0.0;    ///< Cone (radians).
+};
+
 /// One patch of a geometry, as in the geometry file (docs/formats.md section 2).
 /// Fields not used by a kind are left empty.
 ///  - BSpline: degrees, knots, counts, points, optional weights.
@@ -125,6 +156,9 @@ struct Patch {
   std::vector<std::vector<SplineCurve>> trimLoops;
   /// TrimmedSurface: the boundary curves of the face answered from this patch.
   std::vector<PatchEdge> edges;
+  /// TrimmedSurface, optional: the elementary surface the B-spline surface
+  /// is (see AnalyticSurface; Kind::None: none).
+  AnalyticSurface analytic;
   /// PouManifold: the shape functions' control points, chart after chart:
   /// (degrees[v] + 1)^2 points of 3 coordinates for vertex v, x fastest.
   std::vector<double> chartControlPoints;
@@ -244,6 +278,18 @@ class Manifold {
   /// index 4 (0.5 > 0.25)"). Every geometry is checked here, whatever
   /// produced it.
   static BuildResult Build(const Geometry& geometry);
+  /// The same manifold, from a geometry the caller no longer needs: the
+  /// build may take its arrays instead of copying them. A geometry of
+  /// triangle meshes alone (Mesh patches of Tri cells in 3D) gives up its
+  /// vertices and indices, which the manifold keeps (as 32-bit indices)
+  /// while the geometry's 64-bit ones are freed before the search tree is
+  /// built: on a large mesh that takes the geometry as read, about 37 bytes
+  /// a triangle, off the build's peak (docs/limitations.md, "Memory").
+  /// Afterwards `geometry` is valid, its patches and their kinds are there,
+  /// but their `points` and `cells` may be empty; a geometry that fails
+  /// validation (BuildResult::problem) is left as it was. Answers are those
+  /// of Build(const Geometry&).
+  static BuildResult Build(Geometry&& geometry);
 
   Manifold();
   ~Manifold();

@@ -36,14 +36,6 @@ namespace {
 
 double Square(double x) { return x * x; }
 
-TopoDS_Compound CompoundOf(std::initializer_list<TopoDS_Shape> shapes) {
-  TopoDS_Compound compound;
-  BRep_Builder builder;
-  builder.MakeCompound(compound);
-  for (const TopoDS_Shape& shape : shapes) builder.Add(compound, shape);
-  return compound;
-}
-
 TopoDS_Shape Box(double x0, double y0, double z0, double x1, double y1, double z1) {
   return BRepPrimAPI_MakeBox(gp_Pnt(x0, y0, z0), gp_Pnt(x1, y1, z1)).Shape();
 }

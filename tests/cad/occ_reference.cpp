@@ -89,6 +89,14 @@ TopoDS_Compound Compound(const std::vector<TopoDS_Face>& faces) {
   return compound;
 }
 
+TopoDS_Compound CompoundOf(std::initializer_list<TopoDS_Shape> shapes) {
+  TopoDS_Compound compound;
+  BRep_Builder builder;
+  builder.MakeCompound(compound);
+  for (const TopoDS_Shape& shape : shapes) builder.Add(compound, shape);
+  return compound;
+}
+
 double OccDistance(const TopoDS_Shape& shape, const double* point) {
   const TopoDS_Vertex vertex = BRepBuilderAPI_MakeVertex(gp_Pnt(point[0], point[1], point[2])).Vertex();
   BRepExtrema_DistShapeShape distance(vertex, shape);
@@ -224,13 +232,18 @@ FaceSamples SampleFaces(const std::vector<TopoDS_Face>& faces, int grid) {
 }
 
 Results InvertOnModel(const cad::Model& model, const std::vector<double>& points) {
-  BuildResult built = Manifold::Build(model.geometry());
+  return InvertOnGeometry(model.geometry(), points);
+}
+
+Results InvertOnGeometry(const Geometry& geometry, const std::vector<double>& points, Manifold* kept) {
+  BuildResult built = Manifold::Build(geometry);
   EXPECT_EQ(built.error, "");
   Results results;
   InversionOptions options;
   options.threads = 1;
   EXPECT_EQ(built.manifold.Invert(PointsView::Interleaved(points.data(), points.size() / 3, 3), options, &results),
             Error::Ok);
+  if (kept) *kept = std::move(built.manifold);
   return results;
 }
 

@@ -8,6 +8,7 @@
 #include <TopoDS_Shape.hxx>
 #include <gp_Pnt.hxx>
 
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +32,8 @@ TopoDS_Shape ReadShape(const std::string& path);
 /// the boundary, which BRepExtrema measures to (a solid would give 0 inside).
 std::vector<TopoDS_Face> Faces(const TopoDS_Shape& shape);
 TopoDS_Compound Compound(const std::vector<TopoDS_Face>& faces);
+/// Shapes as one compound (an assembly of them).
+TopoDS_Compound CompoundOf(std::initializer_list<TopoDS_Shape> shapes);
 
 /// BRepExtrema_DistShapeShape from the point to `shape`.
 double OccDistance(const TopoDS_Shape& shape, const double* point);
@@ -69,6 +72,8 @@ FaceSamples SampleFaces(const std::vector<TopoDS_Face>& faces, int grid);
 
 /// Inverts `points` (3 per point) on the model's geometry with one thread.
 Results InvertOnModel(const cad::Model& model, const std::vector<double>& points);
+/// The same on `geometry`; `kept` (optional) receives the manifold built.
+Results InvertOnGeometry(const Geometry& geometry, const std::vector<double>& points, Manifold* kept = nullptr);
 
 /// The model's own precision at a face: the largest tolerance of the face
 /// and its edges and vertices, or, where larger, how far its edges' curves

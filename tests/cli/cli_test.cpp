@@ -550,6 +550,42 @@ TEST_F(CliTest, AnEmptyOrTooSmallGeometryIsAnInputError) {
   EXPECT_FALSE(fs::exists(Path("r.csv")));
 }
 
+TEST_F(CliTest, MeshFilesWhoseHeaderCountsLieAreInputErrors) {
+  // Fewer faces declared than the file holds (the rest would be dropped
+  // unseen), or more than it holds: exit 3 naming the file and line, no output.
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face FACES\nproperty list uchar int vertex_indices\n"
+                          "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 2 1 0\n";
+  const auto withFaces = [&](const char* faces) {
+    std::string text = ply;
+    text.replace(text.find("FACES"), 5, faces);
+    return text;
+  };
+  WriteFile("few.ply", withFaces("1"));
+  WriteFile("many.ply", withFaces("3"));
+  WriteFile("few.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 2 1 0\n");
+  WriteFile("p.xyz", "0.2 0.2 1\n");
+  const std::pair<const char*, const char*> cases[] = {
+      {"few.ply", "few.ply:14: data after the last record"},
+      {"many.ply", "many.ply:15: the file ends in 'face' record 2 of 3"},
+      {"few.off", "few.off:7: data after the last of the 1 faces the header declares"}};
+  for (const auto& [file, message] : cases) {
+    std::string log;
+    EXPECT_EQ(Run("invert -g " + Path(file) + " -p " + Path("p.xyz") + " -o " + Path("r.csv"), &log), 3) << log;
+    EXPECT_NE(log.find(message), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(Path("r.csv")));
+  }
+  // The same two faces declared: read, built (the mesh handed over) and
+  // answered; the point is 1 above the face.
+  WriteFile("two.ply", withFaces("2"));
+  ASSERT_EQ(Run("invert -q -g " + Path("two.ply") + " -p " + Path("p.xyz") + " -o " + Path("r.csv")), 0);
+  std::string header;
+  const auto rows = CsvRows(ReadFile(Path("r.csv")), &header);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0][1], "found");
+  EXPECT_EQ(std::stod(rows[0][10]), 1.0);
+}
+
 TEST_F(CliTest, GapToleranceZeroFindsEveryPointInsideAndTrimKeepsThemNear) {
   // QA: 14 of 100,000 inside points of curved tets came back none at
   // --max-distance 0, and trim --keep far output them.

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/bvh_build.h"
@@ -52,6 +54,83 @@ TEST(MeshTrianglesTest, PatchesOfTrianglesMatchExactDistances) {
   const QuerySet q = MakeQueries(reference.cells(), g.dimension, reference.size(), mix, 2801);
   const CheckSummary s = RunFamily("two triangle meshes", g, q, [&](const double* p) { return reference.Closest(p); });
   EXPECT_EQ(s.found, s.points);
+}
+
+/// Builds `g` from a copy handed over (Manifold::Build(Geometry&&)), checks
+/// every answer against the exact point-triangle distances, expects the
+/// bits of the build from `g` itself, and returns the copy as the build
+/// left it.
+Geometry ExpectMovedInBuildAnswersAsTheReference(const char* name, const Geometry& g, std::uint64_t seed) {
+  ReferenceGeometry reference(g);
+  QueryMix mix;
+  mix.on = 500;
+  mix.near = 5000;
+  mix.mid = 1000;
+  mix.far = 1000;
+  const QuerySet q = MakeQueries(reference.cells(), g.dimension, reference.size(), mix, seed);
+  Geometry handed = g;
+  const BuildResult moved = Manifold::Build(std::move(handed));
+  EXPECT_TRUE(moved.error.empty()) << name << ": " << moved.error;
+  if (!moved.error.empty()) return handed;
+  std::string error;
+  const Results results = InvertQueries(moved.manifold, q, {}, &error);
+  EXPECT_TRUE(error.empty()) << name << ": " << error;
+  const CheckSummary s = CheckResults(g, q, results, [&](const double* p) { return reference.Closest(p); }, {});
+  EXPECT_EQ(s.failures, 0) << name << ": " << s.report;
+  EXPECT_EQ(s.found, s.points) << name;
+  const BuildResult copied = Manifold::Build(g);
+  EXPECT_TRUE(copied.error.empty()) << name << ": " << copied.error;
+  EXPECT_EQ(CompareBitwise(InvertQueries(copied.manifold, q, {}, &error), results), "") << name;
+  EXPECT_EQ(moved.manifold.Info().memoryBytes, copied.manifold.Info().memoryBytes) << name;
+  return handed;
+}
+
+TEST(MeshTrianglesTest, HandedOverMeshesAnswerAsTheReferenceAndGiveUpTheirArrays) {
+  // One patch (its vertex array is moved in) and several (copied, each
+  // patch's freed once read).
+  Geometry one;
+  one.patches.push_back(BumpySphereMesh(80, 40, {{0.1, 0.2, -0.1}}, 1.0));
+  for (const auto& [name, g] : {std::pair<const char*, Geometry>{"one mesh", one}, {"meshes", TwoMeshes(true)}}) {
+    const Geometry left = ExpectMovedInBuildAnswersAsTheReference(name, g, 2803);
+    ASSERT_EQ(left.patches.size(), g.patches.size()) << name;
+    for (const Patch& patch : left.patches) {
+      EXPECT_TRUE(patch.points.empty()) << name;
+      EXPECT_TRUE(patch.cells.empty()) << name;
+    }
+  }
+}
+
+TEST(MeshTrianglesTest, HandedOverGeometriesOfOtherCellsAreReadAsTheyWere) {
+  // A triangle mesh beside a quad mesh keeps solvers: nothing is taken.
+  Geometry g = TwoMeshes();
+  Patch quads;
+  quads.kind = Patch::Kind::Mesh;
+  quads.cell = CellType::Quad;
+  quads.points = {3, 0, 0, 4, 0, 0, 4, 1, 0.2, 3, 1, 0};
+  quads.cells = {0, 1, 2, 3};
+  g.patches.push_back(quads);
+  const Geometry left = ExpectMovedInBuildAnswersAsTheReference("meshes and a quad", g, 2804);
+  ASSERT_EQ(left.patches.size(), g.patches.size());
+  for (std::size_t p = 0; p < g.patches.size(); ++p) {
+    EXPECT_EQ(left.patches[p].points, g.patches[p].points) << "patch " << p;
+    EXPECT_EQ(left.patches[p].cells, g.patches[p].cells) << "patch " << p;
+  }
+}
+
+TEST(MeshTrianglesTest, HandedOverInvalidMeshIsRefusedAndLeftAsItWas) {
+  Geometry g = TwoMeshes();
+  g.patches[1].cells[7] = static_cast<std::int64_t>(g.patches[1].points.size() / 3);  // one past the last vertex
+  Geometry handed = g;
+  const BuildResult built = Manifold::Build(std::move(handed));
+  EXPECT_EQ(built.code, Error::InvalidArgument);
+  EXPECT_EQ(built.problem.patch, 1);
+  EXPECT_FALSE(built.manifold.valid());
+  EXPECT_EQ(built.error, Manifold::Build(g).error);
+  ASSERT_EQ(handed.patches.size(), g.patches.size());
+  for (std::size_t p = 0; p < g.patches.size(); ++p) {
+    EXPECT_EQ(handed.patches[p].points, g.patches[p].points) << "patch " << p;
+    EXPECT_EQ(handed.patches[p].cells, g.patches[p].cells) << "patch " << p;
+  }
 }
 
 TEST(MeshTrianglesTest, KeepNoObjectPerTriangle) {

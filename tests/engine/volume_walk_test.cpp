@@ -107,7 +107,7 @@ void ExpectWalkReaches(const char* name, const Geometry& g, std::int64_t from, s
   engine::BucketScratch scratch;
   engine::PointSearch search(store, index.simplices(), p, scratch, from, start.data(),
                              std::numeric_limits<double>::infinity());
-  search.TryInsideByWalk(index.bvh());
+  search.TryInsideByWalk(index.bvh(), from);
   EXPECT_TRUE(search.inside) << name;
   EXPECT_EQ(search.bestCell, to) << name;
   EXPECT_GE(search.tried.size(), minCells) << name;

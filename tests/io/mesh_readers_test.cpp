@@ -315,6 +315,11 @@ TEST(OffReader, Errors) {
   ExpectInputError([&] { Off("OFF\n3 1 0\n0 0 0\n1 -nan 0\n0 1 0\n3 0 1 2\n"); }, 4,
                    {"vertex 1: coordinate 1: \"-nan\" is not a finite number"});
   ExpectInputError([&] { Off("OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"); }, 5, {"no faces"});
+  // A header that declares fewer faces than the file holds: the extra ones
+  // would be dropped unseen. Comments and blank lines after the last are no data.
+  ExpectInputError([&] { Off(v3 + "3 0 1 2\n\n# end\n3 2 1 0\n"); }, 9,
+                   {"m.off:9: data after the last of the 1 faces the header declares"});
+  EXPECT_EQ(Off(v3 + "3 0 1 2\n\n# end\n").patches[0].cells.size(), 3u);
 }
 
 // ------------------------------------------------------------ files and dispatch

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "io/input_error.h"
+#include "io/mesh_readers.h"
 #include "io/ply_mesh.h"
 #include "tests/io/io_scratch.h"
 
@@ -422,6 +423,72 @@ TEST(ReadPlyMesh, RejectsBadMeshes) {
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
       11, "vertex 1 has a coordinate that is not finite");
+}
+
+TEST(ReadPlyMesh, HeadersWhoseFaceCountLiesAreRefusedNamingTheLine) {
+  ScratchDir dir;
+  const auto header = [](const std::string& format, int faces) {
+    return "ply\nformat " + format + " 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+           "property float z\nelement face " + std::to_string(faces) +
+           "\nproperty list uchar int vertex_indices\nend_header\n";
+  };
+  const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
+  const auto expectBad = [&](const std::string& content, std::int64_t line, const std::string& part) {
+    const std::string path = dir.Write("lies.ply", content);
+    ExpectInputError([&] { ReadPlyMesh(path); }, path, line, part);
+  };
+  // Too many: the file ends before the faces it declares (the padding
+  // keeps the size check from finding it first); the line named is the
+  // one after the last.
+  expectBad(header("ascii", 3) + vertices + "3 0 1 2\n\n\n\n\n\n\n\n", 21, "ends in 'face' record 1 of 3");
+  // Too few: a face past the declared ones would be dropped unseen.
+  expectBad(header("ascii", 1) + vertices + "3 0 1 2\n3 2 1 0\n", 14,
+            "data after the last record: the header declares 3 'vertex', 1 'face' records");
+  // Blank lines after the last record are no data.
+  EXPECT_EQ(ReadPlyMesh(dir.Write("blank.ply", header("ascii", 1) + vertices + "3 0 1 2\n\n  \n")).patches[0].cells,
+            (std::vector<std::int64_t>{0, 1, 2}));
+  // Binary: a whole extra face is refused, a trailing newline is not.
+  std::string binary = header("binary_little_endian", 1);
+  const auto putFloat = [&](float x) { binary.append(reinterpret_cast<const char*>(&x), 4); };
+  const auto putFace = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
+    binary += static_cast<char>(3);
+    for (const std::int32_t v : {a, b, c}) binary.append(reinterpret_cast<const char*>(&v), 4);
+  };
+  for (const float x : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) putFloat(x);
+  putFace(0, 1, 2);
+  EXPECT_EQ(ReadPlyMesh(dir.Write("one.ply", binary + "\n")).patches[0].cells.size(), 3u);
+  putFace(2, 1, 0);
+  expectBad(binary, 0, "data after the last record: the header declares 3 'vertex', 1 'face' records");
+}
+
+TEST(ReadPlyMesh, HostileFaceCountsReserveNoMoreThanTheFileHolds) {
+  // A binary file of a million declared faces: one real triangle, then
+  // empty lists (a byte each, so the header's count passes the size
+  // check). The triangles' reservation is capped by what the file's bytes
+  // could hold at 13 bytes a triangle, and the empty face is named.
+  ScratchDir dir;
+  std::string content =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1000000\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const float x : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) content.append(reinterpret_cast<const char*>(&x), 4);
+  content += static_cast<char>(3);
+  for (const std::int32_t v : {0, 1, 2}) content.append(reinterpret_cast<const char*>(&v), 4);
+  content.append(1000000 - 1, '\0');
+  const std::string path = dir.Write("hostile.ply", content);
+  ExpectInputError([&] { ReadPlyMesh(path); }, path, 0, "face 1 has 0 vertices");
+  // The cap itself: triangles for the faces declared, at most what the
+  // bytes can hold.
+  std::vector<std::int64_t> tris;
+  ReserveTriangles(1000000, 1000013, 13, &tris);
+  EXPECT_GE(tris.capacity(), 3u * 76924);
+  EXPECT_LT(tris.capacity(), 3u * 76924 + 64);
+  std::vector<std::int64_t> few;
+  ReserveTriangles(10, 1000000, 13, &few);
+  EXPECT_GE(few.capacity(), 30u);
+  EXPECT_LT(few.capacity(), 64u);
+  std::vector<std::int64_t> unknown;
+  ReserveTriangles(1000000, -1, 13, &unknown);
+  EXPECT_EQ(unknown.capacity(), 0u);
 }
 
 }  // namespace
