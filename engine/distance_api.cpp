@@ -44,11 +44,23 @@ void AddAllMinima(const DistanceModel::Impl& a, const kernels::RigidMotion& ma, 
   bool certified = true;
   const std::vector<engine::CellPairAnswer> minima =
       engine::AllPairMinima(engine::Place(a, ma), engine::Place(b, mb), maxDistance, &certified, ws);
+  // Models that meet where the enumeration of faces never looks (a part of
+  // one inside a volume of the other, which the inside test found): the
+  // points at distance 0 there form a continuum, which no list of isolated
+  // minima holds. Its common point stands for it, and the list is not
+  // certified complete.
+  const bool overlapUnlisted = result->nearest.found && result->nearest.distance == 0.0 &&
+                               (minima.empty() || minima.front().distance > 0.0);
+  if (overlapUnlisted) {
+    certified = false;
+    result->minima.push_back(result->nearest);
+  }
   for (const engine::CellPairAnswer& m : minima) {
     DistanceAnswer answer = engine::ToAnswer(m, a, b);
     answer.certified = certified;
     result->minima.push_back(answer);
   }
+  if (overlapUnlisted) result->minima.front().certified = false;
 }
 
 kernels::RigidMotion MotionOrThrow(const Pose& pose, int dimension, const char* which) {

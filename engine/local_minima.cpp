@@ -25,6 +25,7 @@
 #include "kernels/active_set.h"
 #include "kernels/cell_minima.h"
 #include "kernels/local_solver.h"
+#include "kernels/tolerances.h"
 
 namespace invmap {
 namespace {
@@ -198,9 +199,16 @@ Error LocalMinima(const Manifold& manifold, const PointsView& points, const Inve
                   kernels::CellLocalMinima(store.solver(c), p, options.maxDistance, &scratch.minima);
               if (!found.certified) certified[i] = 0;
               const kernels::TrimmedCell* trim = store.solver(c).trim();
-              for (const kernels::CellMinimum& m : found.minima) {
+              for (kernels::CellMinimum m : found.minima) {
                 // A minimum of the cell's box outside its face's region is none of the face's.
-                if (!trim || trim->Admits(m.ref)) scratch.candidates.push_back({c, m});
+                if (trim && !trim->Admits(m.ref)) continue;
+                // Inside a volume the point is its own closest point: at
+                // distance exactly 0, as invert reports it, not the rounding
+                // of the solve that found it there.
+                if (store.shape(c).paramDim() == dim && m.distance <= kernels::kDistanceTolerance * store.solver(c).size()) {
+                  m.distance = 0.0;
+                }
+                scratch.candidates.push_back({c, m});
               }
             }
             std::sort(scratch.candidates.begin(), scratch.candidates.end(), [](const Candidate& a, const Candidate& b) {

@@ -96,18 +96,23 @@ bool ProvesWith(const PairCertificateInput& in, const Transformed& data, const M
     reachF = std::max(reachF, along.tail(free).norm());
   }
   const double push = used > 0 ? leastMultiplier * sigma : 0.0;
-  // The lower bound at |D_N| = s, least over |D_F| in [0, reachF].
+  // The lower bound at |D_N| = s, least over |D_F| = r in [0, reachF]. The
+  // residual pulls along F as the mixed block does: where g bends up along
+  // F, the least of lambda_F r^2 / 2 - pull r is -pull^2 / (2 lambda_F),
+  // not -pull reachF (a residual of rounding times the face's whole length
+  // would exceed the tolerance of a distance of 1e-6 of the cells' size).
   auto bound = [&](double s) {
+    const double pull = mixed * s + residualNorm;
     double faceTerm;
     if (free == 0) {
       faceTerm = 0.0;
     } else if (lambdaF > 0.0) {
-      const double r = std::min(mixed * s / lambdaF, reachF);
-      faceTerm = 0.5 * lambdaF * r * r - mixed * s * r;
+      const double r = std::min(pull / lambdaF, reachF);
+      faceTerm = 0.5 * lambdaF * r * r - pull * r;
     } else {
-      faceTerm = std::min(0.0, 0.5 * lambdaF * reachF * reachF - mixed * s * reachF);
+      faceTerm = std::min(0.0, 0.5 * lambdaF * reachF * reachF - pull * reachF);
     }
-    return push * s - 0.5 * normalBend * s * s + faceTerm - residualNorm * (s + reachF);
+    return push * s - 0.5 * normalBend * s * s + faceTerm - residualNorm * s;
   };
   return bound(0.0) >= -in.allowed && bound(reachN) >= -in.allowed;
 }
@@ -169,10 +174,13 @@ bool ProvesPairBound(const PairCertificateInput& in) {
   // Scale the coordinates so the Hessian's diagonal is about one: a cell
   // 1e3 times the other's size must not lend the other its scale.
   double largestDiagonal = 0.0;
-  for (int a = 0; a < n; ++a) largestDiagonal = std::max(largestDiagonal, mid(a, a));
+  for (int a = 0; a < n; ++a) largestDiagonal = std::max(largestDiagonal, std::abs(mid(a, a)));
   if (!(largestDiagonal > 0.0)) largestDiagonal = 1.0;
   Vector scale(n);  // D^(-1/2): local = scale * scaled
-  for (int a = 0; a < n; ++a) scale[a] = 1.0 / std::sqrt(std::max(mid(a, a), 1e-12 * largestDiagonal));
+  // By the diagonal's magnitude: where g bends down (a minimum on a face,
+  // held by its multiplier) the floor made that direction 1e6 times longer
+  // than the others, and its bend swamped what the multiplier proves.
+  for (int a = 0; a < n; ++a) scale[a] = 1.0 / std::sqrt(std::max(std::abs(mid(a, a)), 1e-12 * largestDiagonal));
   mid = scale.asDiagonal() * mid * scale.asDiagonal();
   rad = scale.asDiagonal() * rad * scale.asDiagonal();
 

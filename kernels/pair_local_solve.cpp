@@ -267,7 +267,7 @@ PairLocalResult PairLocalSolve(const PairSide& a, const PairSide& b, const PairL
       // quadratic region: taken unchecked, it resolves the point's last
       // digits, along flat directions too (the two points sliding together
       // along parallel tangents, where only the curvature tells).
-      if (newton && p.lpNorm<Eigen::Infinity>() > kNoStep && p.lpNorm<Eigen::Infinity>() < kFinalStep) {
+      if (newton && p.lpNorm<Eigen::Infinity>() > kNoStep && p.lpNorm<Eigen::Infinity>() < options.finalStep) {
         for (int i = 0; i < n; ++i) w[i] += p[i];
         layout.Project(w);
         EvaluatePair(a, b, layout, w, JetOrder::Second, &jet);

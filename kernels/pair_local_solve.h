@@ -5,6 +5,7 @@
 #pragma once
 
 #include "kernels/pair_problem.h"
+#include "kernels/tolerances.h"
 
 namespace invmap::kernels {
 
@@ -36,6 +37,12 @@ struct PairLocalOptions {
   int maxIterations = 100;
   /// Length scale of the tolerances: the cells' sizes, summed.
   double size = 1.0;
+  /// The longest unchecked final Newton step (tolerances.h's kFinalStep), in
+  /// the solve's own parameters. A solve on subdomains of the cells, whose
+  /// parameters stretch the cells' by 1 / width, takes kFinalStep / width:
+  /// the same step in the cells' parameters, else it stops short of the
+  /// minimum by more than the cells' KKT test accepts.
+  double finalStep = kFinalStep;
 };
 
 /// Minimizes |x(u) - y(v)|^2 over the pair's domain from `start` (projected

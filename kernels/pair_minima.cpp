@@ -135,9 +135,14 @@ class Enumerator {
  private:
   /// Records the point pair (original reference coordinates) when it is a
   /// KKT point of the original pair within reach, with every strict slope.
-  void Record(const double* refA, const double* refB, const std::vector<Strict>& strict);
+  /// What Record made of a point.
+  enum class Recorded { Minimum, Elsewhere, NotKkt };
+  /// Minimum when recorded; Elsewhere when the point lies outside a
+  /// trimmed face's region or beyond the distance asked for; NotKkt when it
+  /// is no minimum of the cells (not stationary, or falling into a cell).
+  Recorded Record(const double* refA, const double* refB, const std::vector<Strict>& strict);
   /// The sub-problem's answer back to the original cells.
-  void RecordLocal(const Problem& problem, double* slot, const double* local);
+  Recorded RecordLocal(const Problem& problem, double* slot, const double* local);
   void SolveIn(const Problem& problem, double* slot);
   /// The minima of the subdomain pair on its face where `side`'s line
   /// factor `factor` is at local vertex `vertex` (a face of the problem's cell).
@@ -206,7 +211,7 @@ bool Enumerator::OutsideRegion(const Problem& problem, double* slot) const {
   return false;
 }
 
-void Enumerator::Record(const double* refA, const double* refB, const std::vector<Strict>& strict) {
+Enumerator::Recorded Enumerator::Record(const double* refA, const double* refB, const std::vector<Strict>& strict) {
   double w[kMaxPairParams];
   const int pa = layout_.paramDim(0), pb = layout_.paramDim(1);
   std::copy(refA, refA + pa, w);
@@ -216,13 +221,13 @@ void Enumerator::Record(const double* refA, const double* refB, const std::vecto
   // are its edges', curve cells of their own).
   for (int side = 0; side < 2; ++side) {
     const TrimmedCell* trim = original_[side].trim;
-    if (trim && !trim->Admits(w + layout_.offset(side))) return;
+    if (trim && !trim->Admits(w + layout_.offset(side))) return Recorded::Elsewhere;
   }
   PairJet jet;
   EvaluatePair(original_[0], original_[1], layout_, w, JetOrder::Second, &jet);
   const int ad = original_[0].cell.ambientDim;
   double d = std::sqrt(PairSquaredDistance(jet, ad));
-  if (!(d <= maxDistance_)) return;
+  if (!(d <= maxDistance_)) return Recorded::Elsewhere;
   PairKkt kkt = CheckPairKkt(layout_, jet, w, ad, size_);
   if (!kkt.kkt) {
     // A solve on a subdomain's own nets (a cell of its own) stops within
@@ -237,11 +242,11 @@ void Enumerator::Record(const double* refA, const double* refB, const std::vecto
     for (int k = 0; k < ad; ++k) {
       moved2 += (polished.x[k] - jet.x[k]) * (polished.x[k] - jet.x[k]) + (polished.y[k] - jet.y[k]) * (polished.y[k] - jet.y[k]);
     }
-    if (!polished.kkt.kkt || !(std::sqrt(moved2) <= kSamePointShare * size_)) return;
+    if (!polished.kkt.kkt || !(std::sqrt(moved2) <= kSamePointShare * size_)) return Recorded::NotKkt;
     std::copy(polished.w, polished.w + layout_.n(), w);
     EvaluatePair(original_[0], original_[1], layout_, w, JetOrder::Second, &jet);
     d = std::sqrt(PairSquaredDistance(jet, ad));
-    if (!(d <= maxDistance_)) return;
+    if (!(d <= maxDistance_)) return Recorded::Elsewhere;
     kkt = polished.kkt;
   }
   for (const Strict& s : strict) {
@@ -252,7 +257,7 @@ void Enumerator::Record(const double* refA, const double* refB, const std::vecto
     double length2 = 0.0;
     for (int k = 0; k < ad; ++k) length2 += jet.d1[k][p] * jet.d1[k][p];
     const double tolerance = (1e-7 * d + 1e-12 * size_) * std::max(std::sqrt(length2), kThinDirection * size_);
-    if (!(inward * kkt.gradient[p] > tolerance)) return;
+    if (!(inward * kkt.gradient[p] > tolerance)) return Recorded::NotKkt;
   }
   PairMinimum minimum;
   std::copy(w, w + pa, minimum.refA);
@@ -261,9 +266,10 @@ void Enumerator::Record(const double* refA, const double* refB, const std::vecto
   std::copy(jet.y, jet.y + 3, minimum.pointB);
   minimum.distance = d;
   out_->minima.push_back(minimum);
+  return Recorded::Minimum;
 }
 
-void Enumerator::RecordLocal(const Problem& problem, double* slot, const double* local) {
+Enumerator::Recorded Enumerator::RecordLocal(const Problem& problem, double* slot, const double* local) {
   double refs[2][3];
   const int offset = problem.side[0].cell.shape.paramDim();
   for (int side = 0; side < 2; ++side) {
@@ -271,7 +277,7 @@ void Enumerator::RecordLocal(const Problem& problem, double* slot, const double*
     for (int i = 0; i < problem.side[side].cell.shape.paramDim(); ++i) t[i] = local[(side == 0 ? 0 : offset) + i];
     SubdomainMap(problem, slot, side).Apply(t, refs[side]);
   }
-  Record(refs[0], refs[1], problem.strict);
+  return Record(refs[0], refs[1], problem.strict);
 }
 
 void Enumerator::SolveIn(const Problem& problem, double* slot) {
@@ -289,8 +295,24 @@ void Enumerator::SolveIn(const Problem& problem, double* slot) {
   layout.Center(start);
   PairLocalOptions options;
   options.size = size_;
+  // The subdomain's parameters stretch the original cells' (a hundredth of
+  // a cell becomes a unit): its final Newton step is the cells' own.
+  double widest = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    const RefMap map = SubdomainMap(problem, slot, side);
+    for (const auto& row : map.matrix) {
+      for (const double entry : row) widest = std::max(widest, std::abs(entry));
+    }
+  }
+  if (widest > 0.0) options.finalStep = kFinalStep / widest;
   const PairLocalResult local = PairLocalSolve(sides[0], sides[1], layout, start, options);
-  RecordLocal(problem, slot, local.w);
+  // The subdomain holds at most one minimum, and the solve's end tells
+  // where: a solve that stopped before converging (its iteration cap), at
+  // no minimum of the cells, leaves the subdomain open. (One that
+  // converged but misses the subdomain's KKT test by rounding, as on a
+  // rational cell's heavy weights, ended at the subdomain's least point:
+  // Record's polish judges it.)
+  if (RecordLocal(problem, slot, local.w) == Recorded::NotKkt && !local.converged) out_->certified = false;
 }
 
 void Enumerator::ReduceToFace(const Problem& problem, double* slot, int side, int factor, int vertex, bool strict) {

@@ -263,17 +263,22 @@ PairNets::PairNets(const PairSide& a, const PairSide& b) {
     offset_[k] = k < ambientDim_ ? centers[0][k] - centers[1][k] : 0.0;
     distance2 += offset_[k] * offset_[k];
   }
-  // As DistanceNets::RoundingSlack argues for one cell: every term of
-  // Q_ij is at most (R_a + R_b + |d|)^2 WW_ij, and so is its rounding;
-  // subdivisions are convex combinations and keep that.
-  const double magnitude = radius[0] + radius[1] + std::sqrt(distance2);
-  slack_ = 128.0 * std::numeric_limits<double>::epsilon() * magnitude * magnitude;
+  // |d|^2 WW stays out of the nets (shift_): with it, every term of Q_ij
+  // was of the order of |d|^2 and so was its rounding, which for models
+  // farther apart than some hundred times their size exceeded the distance
+  // tolerance (2 tau |d|) and no subdomain near the minimum could be
+  // excluded. Without it, as DistanceNets::RoundingSlack argues for one
+  // cell, every term is at most (R_a + R_b) (R_a + R_b + 2 |d|) WW_ij, and
+  // so is its rounding (subdivisions are convex combinations and keep
+  // that); adding |d|^2 back rounds once more.
+  shift_ = distance2;
+  const double radii = radius[0] + radius[1];
+  const double eps = std::numeric_limits<double>::epsilon();
+  slack_ = 128.0 * eps * radii * (radii + 2.0 * std::sqrt(distance2)) + 4.0 * eps * distance2;
 }
 
 void PairNets::BuildRoot(double* sideA, double* sideB) const {
   const int d = ambientDim_;
-  double distance2 = 0.0;
-  for (int k = 0; k < d; ++k) distance2 += offset_[k] * offset_[k];
   for (int s = 0; s < 2; ++s) {
     const DistanceNets& nets = *side_[s]->nets;
     const int n = size_[s];
@@ -291,13 +296,11 @@ void PairNets::BuildRoot(double* sideA, double* sideB) const {
     }
     std::copy(nets.ww(), nets.ww() + n, out + (d + 1) * n);
     const double* nn = nets.nn();
-    const double* ww = nets.ww();
     double* zero = out;
     const double sign = s == 0 ? 2.0 : -2.0;
     for (int i = 0; i < n; ++i) {
       double v = nn[i];
       for (int k = 0; k < d; ++k) v += sign * offset_[k] * out[(1 + k) * n + i];
-      if (s == 0) v += distance2 * ww[i];
       zero[i] = v;
     }
   }
@@ -367,7 +370,7 @@ double PairNets::LowerBound(const double* sideA, const double* sideB, std::vecto
     boxGap2 += gap * gap;
   }
   // Rounded down a little: the box coordinates carry their own rounding.
-  least = std::max(least, boxGap2 * (1.0 - 1e-12));
+  least = std::max(least + shift_, boxGap2 * (1.0 - 1e-12));
   if (argA || argB) {
     // The row's column, found again (the loop above keeps only the value,
     // which vectorizes).
@@ -398,7 +401,7 @@ double PairNets::UpperBound(const double* sideA, const double* sideB) const {
       most = std::max(most, q / (sideA[(d + 1) * na + i] * sideB[(d + 1) * nb + j]));
     }
   }
-  return most;
+  return most + shift_;
 }
 
 double PairNets::LeastWeight(const double* sideA, const double* sideB) const {
@@ -428,7 +431,7 @@ void PairNets::HessianRanges(const double* sideA, const double* sideB, double le
   scratch->resize(static_cast<size_t>(terms) * (na + nb));
   double* alpha = scratch->data();
   double* beta = alpha + terms * na;
-  SeparateTerms(sideA, sideB, d, na, nb, level, alpha, beta);
+  SeparateTerms(sideA, sideB, d, na, nb, level - shift_, alpha, beta);
   const double* alphaNets[8];
   const double* betaNets[8];
   for (int t = 0; t < terms; ++t) {
@@ -556,7 +559,7 @@ void PairNets::GradientRanges(const double* sideA, const double* sideB, double l
   scratch->resize(static_cast<size_t>(terms) * (na + nb));
   double* alpha = scratch->data();
   double* beta = alpha + terms * na;
-  SeparateTerms(sideA, sideB, d, na, nb, level, alpha, beta);
+  SeparateTerms(sideA, sideB, d, na, nb, level - shift_, alpha, beta);
   const double* alphaNets[8];
   const double* betaNets[8];
   for (int t = 0; t < terms; ++t) {
@@ -594,7 +597,7 @@ void PairNets::HessianRangesInBasis(const double* sideA, const double* sideB, do
   scratch->assign(static_cast<size_t>(terms) * (na + nb) + firstCount + secondCount + 8 * static_cast<size_t>(terms) * (na + nb), 0.0);
   double* alpha = scratch->data();
   double* beta = alpha + terms * na;
-  SeparateTerms(sideA, sideB, d, na, nb, level, alpha, beta);
+  SeparateTerms(sideA, sideB, d, na, nb, level - shift_, alpha, beta);
   double* firstA = beta + terms * nb;                 // [p][t][i]
   double* firstB = firstA + terms * pa * na;          // [p][t][j]
   double* secondA = firstB + terms * pb * nb;         // [p][q][t][i]

@@ -6,10 +6,12 @@
 // With the cells written homogeneously (x = N_a / W_a, y = N_b / W_b, each
 // net built around its own control box's centre and turned into the common
 // frame) and d the centres' difference there,
-//   |x - y|^2 W_a^2 W_b^2 = Q = a_0 (x) b_W + a_W (x) b_0 - 2 sum_k a_k (x) b_k,
-//   a_0 = NN_a + 2 d . NW_a + |d|^2 WW_a,  a_k = NW_a,k,  a_W = WW_a,
-//   b_0 = NN_b - 2 d . NW_b,               b_k = NW_b,k,  b_W = WW_b,
-// where (x) is the tensor product of a net of A's domain and one of B's: the
+//   |x - y|^2 W_a^2 W_b^2 = Q = |d|^2 WW + a_0 (x) b_W + a_W (x) b_0 - 2 sum_k a_k (x) b_k,
+//   a_0 = NN_a + 2 d . NW_a,  a_k = NW_a,k,  a_W = WW_a,
+//   b_0 = NN_b - 2 d . NW_b,  b_k = NW_b,k,  b_W = WW_b,
+// where (x) is the tensor product of a net of A's domain and one of B's (the
+// constant |d|^2 WW is added to the bounds, never to the nets, whose
+// rounding would otherwise grow with the models' separation squared): the
 // joint net's coefficient (i, j) is the sum of products of coefficients i
 // of A's nets and j of B's. The weight WW = a_W (x) b_W has positive
 // coefficients, so min over (i, j) of Q_ij / WW_ij bounds the squared
@@ -106,6 +108,7 @@ class PairNets {
   double slack_ = 0.0;
   double rotation_[2][3][3] = {};
   double offset_[3] = {0, 0, 0};  ///< d: A's net centre minus B's, common frame.
+  double shift_ = 0.0;            ///< |d|^2, which the nets leave out.
 };
 
 }  // namespace invmap::kernels

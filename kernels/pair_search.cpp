@@ -69,7 +69,10 @@ bool ScaledEigenBasis(const Matrix& h, double* basis) {
   for (int r = 0; r < n; ++r) largest = std::max(largest, h(r, r));
   if (!(largest > 0.0) || !h.allFinite()) return false;
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> scale(n);
-  for (int r = 0; r < n; ++r) scale[r] = 1.0 / std::sqrt(std::max(h(r, r), 1e-12 * largest));
+  // By the diagonal's magnitude: a direction in which f bends down (a
+  // minimum on a face, held by its multiplier) scaled by the floor instead
+  // grew by 1e6 against the others and its bound swamped the certificate.
+  for (int r = 0; r < n; ++r) scale[r] = 1.0 / std::sqrt(std::max(std::abs(h(r, r)), 1e-12 * largest));
   const Matrix scaled = scale.asDiagonal() * h * scale.asDiagonal();
   Eigen::SelfAdjointEigenSolver<Matrix> eigen(scaled);
   const Matrix directions = scale.asDiagonal() * eigen.eigenvectors();
@@ -132,6 +135,10 @@ class PairSearch {
   /// splits where its net bends most (kernels/bernstein_net.h); by length
   /// where the net is linear there.
   void ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi, int* vj) const;
+  /// The longest edge instead of the chosen one when that is shorter by
+  /// more than kBendSplitRatio2 (squared): a split that narrows one
+  /// direction for ever leaves the certificate the others' whole length.
+  void KeepSplitsLong(double* slot, int* side, int* factor, int* vi, int* vj) const;
   PairLocalResult Local(const double* start) {
     PairLocalResult local = PairLocalSolve(a_, b_, layout_, start, options_);
     iterations_ += local.iterations;
@@ -297,6 +304,12 @@ bool PairSearch::CertifiedAround(double* slot, double pruneLevel) {
 }
 
 bool PairSearch::CertifyWith(double* slot, const double* w, double value, const PairKkt& kkt, double pruneLevel) {
+  // The certificate bounds f itself, with the rounding of its own Taylor
+  // models: the nets' rounding slack, which the pruning level adds for the
+  // nets' lower bounds, is not its to pay. Paid here it left nothing of the
+  // tolerance (2 tau d) once d fell below slack / tau, and no minimum that
+  // near the other cell could ever be closed.
+  pruneLevel -= slack_;
   if (value < pruneLevel) {
     // Only the best point lies below the level, and then within rounding of it.
     value = std::max(value, 0.0);
@@ -511,7 +524,10 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
   for (int r = 0; r < n; ++r) largest = std::max(largest, std::abs(atCenter(r, r)));
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxPairParams, 1> unit(n);
   for (int r = 0; r < n; ++r) unit[r] = 1.0 / std::sqrt(std::max(std::abs(atCenter(r, r)), 1e-12 * largest + 1e-300));
-  double most = -1.0;
+  // The longest edge unless the Hessian changes along some edge: where it
+  // changes along none (a parabola's vertex at the centre, where the
+  // change is alike either way), the first edge would be split for ever.
+  double most = 0.0;
   ChooseSplit(slot, side, factor, vi, vj);
   for (int s = 0; s < 2; ++s) {
     const CellShape& shape = layout_.shape(s);
@@ -539,6 +555,11 @@ void PairSearch::ChooseSplitByVariation(double* slot, int* side, int* factor, in
       }
     }
   }
+  // Where the Hessian changes along one direction only (a segment against
+  // a parabola: it depends on the parabola's parameter alone), the other
+  // direction's length still enters the certificate through the residual
+  // of the KKT conditions.
+  KeepSplitsLong(slot, side, factor, vi, vj);
 }
 
 void PairSearch::ChooseSplitByBend(double* slot, const PairNets& nets, int* side, int* factor, int* vi,
@@ -556,6 +577,10 @@ void PairSearch::ChooseSplitByBend(double* slot, const PairNets& nets, int* side
   // along it bend little, but their least stays far below the distance).
   // A direction far shorter than the longest is not split again: the
   // longest is.
+  KeepSplitsLong(slot, side, factor, vi, vj);
+}
+
+void PairSearch::KeepSplitsLong(double* slot, int* side, int* factor, int* vi, int* vj) const {
   auto length2 = [&](int s, int f, int p, int q) {
     const SimplexFactor& fac = layout_.shape(s).factor(f);
     double l2 = 0.0;

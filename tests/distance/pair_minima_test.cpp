@@ -1,8 +1,10 @@
 // Every local minimum of the distance between two models (allMinima)
-// against an independent dense-sampling reference: none missed, none
-// extra, each once, nearest first; and analytic pairs with one minimum.
+// against an independent dense-sampling reference
+// (tests/distance/all_minima_check.h): none missed, none extra, each once,
+// nearest first; and analytic pairs with one minimum.
 #include <gtest/gtest.h>
 
+#include "tests/distance/all_minima_check.h"
 #include "tests/distance/distance_test_util.h"
 #include "tests/support/distance_geometries.h"
 #include "tests/support/test_geometries.h"
@@ -12,48 +14,9 @@ namespace {
 
 void CompareAllMinima(const Geometry& a, const Geometry& b, const PoseRows& poseB, double maxDistance,
                       int expectedAtLeast) {
-  const auto ma = BuildModel(a);
-  const auto mb = BuildModel(b);
-  const double size = GeometrySize(a) + GeometrySize(b);
-  DistanceOptions options;
-  options.allMinima = true;
-  options.maxDistance = maxDistance;
-  const DistanceResult r = DistanceQuery(*ma, IdentityRows(), *mb, poseB, options);
-  const std::vector<PairReferenceAnswer> reference =
-      BruteForcePairMinima(a, IdentityRows(), b, poseB, maxDistance, 1e-5 * size);
-  ASSERT_FALSE(r.minima.empty());
-  EXPECT_TRUE(r.minima.front().certified);
-  // The nearest of them is the distance.
-  EXPECT_NEAR(r.minima.front().distance, r.nearest.distance, 1e-9 * size);
-  for (std::size_t i = 0; i < r.minima.size(); ++i) {
-    ExpectConsistent(*ma, IdentityRows(), *mb, poseB, r.minima[i], 1e-9 * size);
-    if (i > 0) {
-      EXPECT_LE(r.minima[i - 1].distance, r.minima[i].distance);
-    }
-    for (std::size_t j = 0; j < i; ++j) {
-      EXPECT_FALSE(PointDistance(r.minima[i].a.point, r.minima[j].a.point) <= 1e-6 * size &&
-                   PointDistance(r.minima[i].b.point, r.minima[j].b.point) <= 1e-6 * size)
-          << "minima " << j << " and " << i << " are one";
-    }
-  }
-  auto same = [&](const DistanceAnswer& f, const PairReferenceAnswer& ref) {
-    return PointDistance(f.a.point, ref.a.point.data()) <= 1e-5 * size &&
-           PointDistance(f.b.point, ref.b.point.data()) <= 1e-5 * size &&
-           std::abs(f.distance - ref.distance) <= 1e-8 * size;
-  };
-  for (const PairReferenceAnswer& ref : reference) {
-    bool matched = false;
-    for (const DistanceAnswer& f : r.minima) matched = matched || same(f, ref);
-    EXPECT_TRUE(matched) << "the reference's minimum " << ref.distance << " at " << ref.a.point[0] << " "
-                         << ref.a.point[1] << " " << ref.a.point[2] << " is missing";
-  }
-  for (const DistanceAnswer& f : r.minima) {
-    bool matched = false;
-    for (const PairReferenceAnswer& ref : reference) matched = matched || same(f, ref);
-    EXPECT_TRUE(matched) << "extra minimum " << f.distance << " at " << f.a.point[0] << " " << f.a.point[1] << " "
-                         << f.a.point[2];
-  }
-  EXPECT_GE(static_cast<int>(r.minima.size()), expectedAtLeast);
+  std::size_t listed = 0;
+  CheckAllMinima(a, b, poseB, maxDistance, "", true, &listed);
+  EXPECT_GE(static_cast<int>(listed), expectedAtLeast);
 }
 
 TEST(PairMinima, WavyCurvesCrossing) {
