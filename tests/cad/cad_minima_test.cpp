@@ -264,7 +264,9 @@ TEST(CadLocalMinima, SphereAgainstAPlateWithHole) {
         << message;
     std::vector<Found> found;
     for (const DistanceAnswer& m : result.minima) {
-      if (certifiable[n]) EXPECT_TRUE(m.certified);
+      if (certifiable[n]) {
+        EXPECT_TRUE(m.certified);
+      }
       found.push_back({gp_Pnt(m.a.point[0], m.a.point[1], m.a.point[2]), m.distance, m.a.patch,
                        {m.a.params[0], m.a.params[1]}});
     }
