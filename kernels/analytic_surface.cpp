@@ -104,8 +104,17 @@ int ParallelsSign(const AnalyticSurface& s, const Box& box) {
   return 0;
 }
 
+/// True when a sphere's box keeps to the latitudes [-pi/2, pi/2] (within
+/// a rounding): past them cos v < 0 and the nearest azimuth is no longer
+/// the point's for every v.
+bool WithinLatitudes(const Box& box) {
+  const double slack = Slack(box.v0, box.v1);
+  return box.v0 >= -0.5 * M_PI - slack && box.v1 <= 0.5 * M_PI + slack;
+}
+
 /// The minimum of the squared distance over the closed box (see the
-/// header's comment). False on a cone's box that holds its apex.
+/// header's comment). False on a cone's box that holds its apex, a
+/// spindle torus's that reaches its axis, a sphere's past a pole.
 bool BoxMinimum(const AnalyticSurface& s, const Box& box, const Local& l, double* own) {
   switch (s.kind) {
     case AnalyticSurface::Kind::Plane:
@@ -127,6 +136,7 @@ bool BoxMinimum(const AnalyticSurface& s, const Box& box, const Local& l, double
       return true;
     }
     case AnalyticSurface::Kind::Sphere: {
+      if (!WithinLatitudes(box)) return false;
       own[0] = NearestAngle(l.phi, box.u0, box.u1);
       const double along = l.rho * std::cos(own[0] - l.phi);
       own[1] = NearestAngle(std::atan2(l.z, along), box.v0, box.v1);
@@ -288,10 +298,7 @@ bool ClosedFormCovers(const AnalyticCell& cell) {
   const Box box = BoxOf(cell);
   if (s.kind == AnalyticSurface::Kind::Cone) return !ApexInBox(s, box);
   if (s.kind == AnalyticSurface::Kind::Torus) return ParallelsSign(s, box) != 0;
-  if (s.kind == AnalyticSurface::Kind::Sphere) {
-    const double slack = Slack(box.v0, box.v1);
-    return box.v0 >= -0.5 * M_PI - slack && box.v1 <= 0.5 * M_PI + slack;
-  }
+  if (s.kind == AnalyticSurface::Kind::Sphere) return WithinLatitudes(box);
   return true;
 }
 
