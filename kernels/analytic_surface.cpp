@@ -222,6 +222,40 @@ bool Answer(const AnalyticCell& cell, const double* point, const double* own, do
   return true;
 }
 
+/// True when the cell's region admits `own` or, in a box wider than a
+/// turn, another turn of its angles within the box (the same point of the
+/// surface, which the region may hold at one turn only); `own` becomes the
+/// admitted one.
+bool AdmittedTurn(const AnalyticCell& cell, const Box& box, double* own) {
+  using Kind = AnalyticSurface::Kind;
+  const Kind kind = cell.surface->kind;
+  const bool periodic[2] = {kind != Kind::Plane, kind == Kind::Torus};
+  const double lo[2] = {box.u0, box.v0}, hi[2] = {box.u1, box.v1};
+  // Each angle's first turn in the box (within its slack), then every turn after it.
+  double first[2];
+  for (int d = 0; d < 2; ++d) {
+    first[d] = own[d];
+    if (periodic[d]) {
+      while (first[d] - kTwoPi >= lo[d] - Slack(lo[d], hi[d])) first[d] -= kTwoPi;
+    }
+  }
+  for (double u = first[0]; u <= hi[0] + Slack(lo[0], hi[0]); u += kTwoPi) {
+    for (double v = first[1]; v <= hi[1] + Slack(lo[1], hi[1]); v += kTwoPi) {
+      const double turn[2] = {std::clamp(u, lo[0], hi[0]), std::clamp(v, lo[1], hi[1])};
+      double ref[2];
+      for (int d = 0; d < 2; ++d) ref[d] = ReferenceOfOwn(cell.paramLo[d], cell.paramScale[d], cell.angular[d], turn[d]);
+      if (cell.trim->Admits(ref)) {
+        own[0] = turn[0];
+        own[1] = turn[1];
+        return true;
+      }
+      if (!periodic[1]) break;
+    }
+    if (!periodic[0]) break;
+  }
+  return false;
+}
+
 }  // namespace
 
 void AnalyticSurface::Evaluate(double u, double v, double* xyz) const {
@@ -315,9 +349,7 @@ bool SolveAnalyticCell(const AnalyticCell& cell, const double* point, double bou
     *result = r;
     return true;
   }
-  double ref[2];
-  for (int d = 0; d < 2; ++d) ref[d] = ReferenceOfOwn(cell.paramLo[d], cell.paramScale[d], cell.angular[d], own[d]);
-  if (cell.trim->Admits(ref)) {
+  if (AdmittedTurn(cell, box, own)) {
     if (!Answer(cell, point, own, bound2, &r)) r.status = PointStatus::Farther;
     *result = r;
     return true;
@@ -329,10 +361,7 @@ bool SolveAnalyticCell(const AnalyticCell& cell, const double* point, double bou
   if (count < 0) return false;
   r.status = PointStatus::Farther;
   for (int i = 0; i < count; ++i) {
-    for (int d = 0; d < 2; ++d) {
-      ref[d] = ReferenceOfOwn(cell.paramLo[d], cell.paramScale[d], cell.angular[d], stationary[i][d]);
-    }
-    if (!cell.trim->Admits(ref)) continue;
+    if (!AdmittedTurn(cell, box, stationary[i])) continue;
     CellSolveResult candidate;
     if (!Answer(cell, point, stationary[i], bound2, &candidate)) continue;
     if (r.status == PointStatus::Farther || candidate.distance < r.distance) r = candidate;

@@ -337,5 +337,37 @@ TEST(AnalyticSurfaceReview, TrimmedCellsFindTheRegionsInteriorMinimum) {
   EXPECT_GT(interior, 50);
 }
 
+// A box wider than a turn holds an angle twice; the region may hold the
+// second turn only. The cylinder of radius 1 about z over u in [0, 2 pi +
+// 2]; the region a square about u = 2 pi + 0.5; the point 2 from the axis
+// at azimuth 0.5: its foot (turn 0.5) is outside the region, the same
+// point of the surface at turn 2 pi + 0.5 inside it.
+TEST(AnalyticSurfaceReview, TrimmedBoxWiderThanATurnFindsTheSecondTurn) {
+  AnalyticSurface s;
+  s.kind = Kind::Cylinder;
+  s.radius = 1.0;
+  const double lo[2] = {0.0, -1.0}, hi[2] = {2.0 * M_PI + 2.0, 1.0};
+  for (const double height : {0.0, 3.0}) {  // the foot inside the box, then clamped onto v = 1
+    TrimRegion region;
+    const double centre[2] = {2.0 * M_PI + 0.5, height == 0.0 ? 0.0 : 0.9};
+    AddSquare(centre, 0.2, &region);
+    TrimmedCell trim;
+    trim.region = &region;
+    for (int d = 0; d < 2; ++d) {
+      trim.paramLo[d] = lo[d];
+      trim.paramScale[d] = hi[d] - lo[d];
+    }
+    trim.near = region.PiecesFor(lo, hi);
+    AnalyticCell cell = CellOver(s, lo, hi);
+    cell.trim = &trim;
+    const double p[3] = {2.0 * std::cos(0.5), 2.0 * std::sin(0.5), height};
+    CellSolveResult r;
+    ASSERT_TRUE(SolveAnalyticCell(cell, p, kInf, &r));
+    ASSERT_NE(r.status, PointStatus::Farther) << "height " << height;
+    EXPECT_NEAR(r.distance, height == 0.0 ? 1.0 : std::sqrt(5.0), 1e-14);
+    EXPECT_NEAR(OwnParameter(lo[0], hi[0] - lo[0], false, r.ref[0]), 2.0 * M_PI + 0.5, 1e-14);
+  }
+}
+
 }  // namespace
 }  // namespace invmap::kernels
