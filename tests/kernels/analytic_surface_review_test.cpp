@@ -17,58 +17,15 @@
 #include "kernels/own_parameter.h"
 #include "kernels/trim_region.h"
 #include "kernels/trimmed_cell.h"
+#include "tests/kernels/analytic_reference.h"
 
 namespace invmap::kernels {
 namespace {
 
 using Kind = AnalyticSurface::Kind;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-double Distance2(const AnalyticSurface& s, double u, double v, const double* p) {
-  double x[3];
-  s.Evaluate(u, v, x);
-  return (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]);
-}
-
-/// The least squared distance over [lo, hi] (optionally only where `keep`
-/// holds): a 120 x 120 grid, then six rounds of a 20 x 20 grid around the
-/// best sample, each a quarter as wide. `at` gets its parameters.
-template <typename Keep>
-double GridMinimum2(const AnalyticSurface& s, const double* lo, const double* hi, const double* p, Keep keep,
-                    double* at) {
-  double best = kInf;
-  double half[2] = {0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1])};
-  const auto scan = [&](const double* c, int n) {
-    const double centre[2] = {c[0], c[1]};
-    for (int i = 0; i <= n; ++i) {
-      for (int j = 0; j <= n; ++j) {
-        const double u = std::clamp(centre[0] - half[0] + 2.0 * half[0] * i / n, lo[0], hi[0]);
-        const double v = std::clamp(centre[1] - half[1] + 2.0 * half[1] * j / n, lo[1], hi[1]);
-        if (!keep(u, v)) continue;
-        const double d2 = Distance2(s, u, v, p);
-        if (d2 < best) {
-          best = d2;
-          at[0] = u;
-          at[1] = v;
-        }
-      }
-    }
-  };
-  const double middle[2] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])};
-  scan(middle, 120);
-  for (int d = 0; d < 2; ++d) half[d] = (hi[d] - lo[d]) / 120.0;
-  for (int round = 0; round < 6; ++round) {
-    const double c[2] = {at[0], at[1]};
-    scan(c, 20);
-    for (double& h : half) h *= 0.25;
-  }
-  return best;
-}
-
-double BoxMinimum2(const AnalyticSurface& s, const double* lo, const double* hi, const double* p) {
-  double at[2] = {lo[0], lo[1]};
-  return GridMinimum2(s, lo, hi, p, [](double, double) { return true; }, at);
-}
+using reference::AddSquare;
+using reference::SampledMinimum2;
 
 /// A cell of `s` over [lo, hi] with linear reference coordinates.
 AnalyticCell CellOver(const AnalyticSurface& s, const double* lo, const double* hi) {
@@ -107,7 +64,7 @@ void ExpectGlobal(const AnalyticCell& cell, const double* p, double tolerance, c
       << what;
   const double lo[2] = {cell.paramLo[0], cell.paramLo[1]};
   const double hi[2] = {cell.paramLo[0] + cell.paramScale[0], cell.paramLo[1] + cell.paramScale[1]};
-  const double sampled = std::sqrt(BoxMinimum2(s, lo, hi, p));
+  const double sampled = std::sqrt(SampledMinimum2(s, lo, hi, p));
   EXPECT_LE(r.distance, sampled + tolerance) << what << ": closed form " << r.distance << ", sampled " << sampled;
 }
 
@@ -261,15 +218,14 @@ TEST(AnalyticSurfaceReview, NonFinitePointsAreLeftToTheSearch) {
   }
 }
 
-/// The square [c - h, c + h] in own parameters as a region.
-void AddSquare(const double* c, double h, TrimRegion* region) {
-  const double corners[5][2] = {{c[0] - h, c[1] - h}, {c[0] + h, c[1] - h}, {c[0] + h, c[1] + h}, {c[0] - h, c[1] + h},
-                                {c[0] - h, c[1] - h}};
-  for (int k = 0; k < 4; ++k) {
-    const double piece[4] = {corners[k][0], corners[k][1], corners[k + 1][0], corners[k + 1][1]};
-    region->AddPiece(1, piece, nullptr);
+/// `region`'s trimmed cell over the box [lo, hi] (linear reference coordinates).
+void TrimOver(const TrimRegion& region, const double* lo, const double* hi, TrimmedCell* trim) {
+  trim->region = &region;
+  for (int d = 0; d < 2; ++d) {
+    trim->paramLo[d] = lo[d];
+    trim->paramScale[d] = hi[d] - lo[d];
   }
-  region->Finish();
+  trim->near = region.PiecesFor(lo, hi);
 }
 
 // A trimmed cell whose region's nearest point to the query lies inside the
@@ -297,12 +253,7 @@ TEST(AnalyticSurfaceReview, TrimmedCellsFindTheRegionsInteriorMinimum) {
       const double h = 0.15 * std::min(hi[0] - lo[0], hi[1] - lo[1]);
       AddSquare(c, h, &region);
       TrimmedCell trim;
-      trim.region = &region;
-      for (int d = 0; d < 2; ++d) {
-        trim.paramLo[d] = lo[d];
-        trim.paramScale[d] = hi[d] - lo[d];
-      }
-      trim.near = region.PiecesFor(lo, hi);
+      TrimOver(region, lo, hi, &trim);
       cell.trim = &trim;
       const double rlo[2] = {std::max(lo[0], c[0] - h), std::max(lo[1], c[1] - h)};
       const double rhi[2] = {std::min(hi[0], c[0] + h), std::min(hi[1], c[1] + h)};
@@ -314,8 +265,8 @@ TEST(AnalyticSurfaceReview, TrimmedCellsFindTheRegionsInteriorMinimum) {
         const double v = rlo[1] + (rhi[1] - rlo[1]) * (0.2 + 0.6 * unit(rng));
         s.Evaluate(u, v, p);
         for (int k = 0; k < 3; ++k) p[k] += (q < 4 ? 0.3 : 3.0) * (unit(rng) - 0.5);
-        double at[2] = {rlo[0], rlo[1]};
-        const double sampled = std::sqrt(GridMinimum2(s, rlo, rhi, p, [](double, double) { return true; }, at));
+        double at[2];
+        const double sampled = std::sqrt(SampledMinimum2(s, rlo, rhi, p, at));
         CellSolveResult r;
         if (!SolveAnalyticCell(cell, p, kInf, &r)) continue;  // left to the search: fine
         const double margin = 1e-6 * std::max(rhi[0] - rlo[0], rhi[1] - rlo[1]);
@@ -352,12 +303,7 @@ TEST(AnalyticSurfaceReview, TrimmedBoxWiderThanATurnFindsTheSecondTurn) {
     const double centre[2] = {2.0 * M_PI + 0.5, height == 0.0 ? 0.0 : 0.9};
     AddSquare(centre, 0.2, &region);
     TrimmedCell trim;
-    trim.region = &region;
-    for (int d = 0; d < 2; ++d) {
-      trim.paramLo[d] = lo[d];
-      trim.paramScale[d] = hi[d] - lo[d];
-    }
-    trim.near = region.PiecesFor(lo, hi);
+    TrimOver(region, lo, hi, &trim);
     AnalyticCell cell = CellOver(s, lo, hi);
     cell.trim = &trim;
     const double p[3] = {2.0 * std::cos(0.5), 2.0 * std::sin(0.5), height};

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "kernels/own_parameter.h"
+#include "tests/kernels/analytic_reference.h"
 #include "kernels/trim_region.h"
 #include "kernels/trimmed_cell.h"
 
@@ -23,6 +24,8 @@ namespace invmap::kernels {
 namespace {
 
 using Kind = AnalyticSurface::Kind;
+using reference::AddSquare;
+using reference::SampledMinimum2;
 
 void Normalize(double* v) {
   const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -45,43 +48,6 @@ void RandomFrame(std::mt19937_64& rng, bool leftHanded, AnalyticSurface* s) {
   s->y[1] = sign * (s->z[2] * s->x[0] - s->z[0] * s->x[2]);
   s->y[2] = sign * (s->z[0] * s->x[1] - s->z[1] * s->x[0]);
   for (int k = 0; k < 3; ++k) s->origin[k] = 4.0 * normal(rng);
-}
-
-double Distance2(const AnalyticSurface& s, double u, double v, const double* p) {
-  double x[3];
-  s.Evaluate(u, v, x);
-  return (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) + (x[2] - p[2]) * (x[2] - p[2]);
-}
-
-/// The least squared distance over the box by a 161 x 161 grid, then four
-/// rounds of a 21 x 21 grid around the best sample, each a fifth as wide.
-double SampledMinimum2(const AnalyticSurface& s, const double* lo, const double* hi, const double* p) {
-  double best = std::numeric_limits<double>::infinity(), at[2] = {lo[0], lo[1]};
-  double half[2] = {0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1])};
-  const auto scan = [&](const double* centre, int n) {
-    const double c[2] = {centre[0], centre[1]};
-    for (int i = 0; i <= n; ++i) {
-      for (int j = 0; j <= n; ++j) {
-        const double u = std::clamp(c[0] - half[0] + 2.0 * half[0] * i / n, lo[0], hi[0]);
-        const double v = std::clamp(c[1] - half[1] + 2.0 * half[1] * j / n, lo[1], hi[1]);
-        const double d2 = Distance2(s, u, v, p);
-        if (d2 < best) {
-          best = d2;
-          at[0] = u;
-          at[1] = v;
-        }
-      }
-    }
-  };
-  const double middle[2] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])};
-  scan(middle, 160);
-  // Around the best sample, one step of the grid before each way.
-  for (int d = 0; d < 2; ++d) half[d] = (hi[d] - lo[d]) / 160.0;
-  for (int round = 0; round < 4; ++round) {
-    scan(at, 20);
-    for (double& h : half) h *= 0.2;
-  }
-  return best;
 }
 
 /// Random surfaces of `kind`, boxes and points; the closed form against sampling.
@@ -171,12 +137,16 @@ void CheckKind(Kind kind, unsigned seed) {
       // And a bound below it makes the cell Farther.
       CellSolveResult farther;
       ASSERT_TRUE(SolveAnalyticCell(cell, p, 0.25 * r.distance * r.distance, &farther));
-      if (r.distance > 0.0) EXPECT_EQ(farther.status, PointStatus::Farther);
+      if (r.distance > 0.0) {
+        EXPECT_EQ(farther.status, PointStatus::Farther);
+      }
       ++checked;
     }
   }
   EXPECT_GT(checked, 500);
-  if (kind == Kind::Cone || kind == Kind::Torus) EXPECT_GT(declined, 0);
+  if (kind == Kind::Cone || kind == Kind::Torus) {
+    EXPECT_GT(declined, 0);
+  }
 }
 
 TEST(AnalyticSurface, PlaneBoxMinimaAgainstSampling) { CheckKind(Kind::Plane, 1); }
@@ -184,17 +154,6 @@ TEST(AnalyticSurface, CylinderBoxMinimaAgainstSampling) { CheckKind(Kind::Cylind
 TEST(AnalyticSurface, ConeBoxMinimaAgainstSampling) { CheckKind(Kind::Cone, 3); }
 TEST(AnalyticSurface, SphereBoxMinimaAgainstSampling) { CheckKind(Kind::Sphere, 4); }
 TEST(AnalyticSurface, TorusBoxMinimaAgainstSampling) { CheckKind(Kind::Torus, 5); }
-
-/// The square [c - h, c + h] in (u, v) as a region of four straight pieces.
-void AddSquare(const double* c, double h, TrimRegion* region) {
-  const double corners[5][2] = {{c[0] - h, c[1] - h}, {c[0] + h, c[1] - h}, {c[0] + h, c[1] + h}, {c[0] - h, c[1] + h},
-                                {c[0] - h, c[1] - h}};
-  for (int k = 0; k < 4; ++k) {
-    const double piece[4] = {corners[k][0], corners[k][1], corners[k + 1][0], corners[k + 1][1]};
-    region->AddPiece(1, piece, nullptr);
-  }
-  region->Finish();
-}
 
 /// A trimmed cell of a cylinder of radius 2 (the standard frame) over a
 /// whole turn, v in [-5, 5], whose region is a small square about `centre`;
