@@ -25,7 +25,9 @@
 // box's minimum when the region holds it, else a stationary point of the
 // distance on the surface that the region holds (the closed forms list them
 // all: plane 1, cylinder 2, cone 2, sphere 2, torus 4), else it has none of
-// its own. Where the stationary points are not isolated (a point on the
+// its own. A box wider than a turn holds each point of the surface at more
+// than one turn of its angles: the region is asked about every one. Where
+// the stationary points are not isolated (a point on the
 // axis, at a sphere's centre, on a torus's centre circle) or the surface is
 // singular in the box (a cone's apex, a spindle torus's points on its
 // axis), the closed form declines and the NURBS cell's certified search
