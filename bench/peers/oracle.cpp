@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <vector>
 
 #include "bench/peers/harness.h"
 #include "engine/cell_store.h"
@@ -18,6 +19,21 @@ namespace invmap::bench {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// Per patch, the store's cell of each reported cell index (-1 for none).
+/// Not simply the patch's first cell plus the index: a trimmed face has no
+/// cell for its spans outside the region, and numbers its edge cells after
+/// all of its spans.
+std::vector<std::vector<std::int64_t>> CellsByReportedIndex(const engine::CellStore& store) {
+  std::vector<std::vector<std::int64_t>> cells(store.numPatches());
+  for (std::int64_t c = 0; c < store.size(); ++c) {
+    const engine::CellOrigin& origin = store.origin(c);
+    std::vector<std::int64_t>& patch = cells[origin.patch];
+    if (static_cast<std::int64_t>(patch.size()) <= origin.indexInPatch) patch.resize(origin.indexInPatch + 1, -1);
+    patch[origin.indexInPatch] = c;
+  }
+  return cells;
+}
 
 }  // namespace
 
@@ -31,10 +47,11 @@ OracleRun RunOracle(const Geometry& geometry, const PointSet& set, std::int64_t 
     std::exit(2);
   }
   const engine::CellStore store = engine::CellStore::Build(geometry, 0);
+  const std::vector<std::vector<std::int64_t>> byReported = CellsByReportedIndex(store);
   std::vector<std::int64_t> cells(count, -1);
   for (std::int64_t i = 0; i < count; ++i) {
     if (invmapResults.status[i] != Status::Found) continue;
-    cells[i] = store.patchFirstCell(invmapResults.patch[i]) + invmapResults.cell[i];
+    cells[i] = byReported[invmapResults.patch[i]][invmapResults.cell[i]];
   }
   std::vector<double> distance(count, std::nan(""));
   kernels::SolveWorkspace workspace;

@@ -18,8 +18,7 @@
 #include "invmap/invmap.h"
 #include "invmap/pou.h"
 #include "pou/pou_surface.h"
-#include "tests/support/pou_meshes.h"
-#include "tests/support/pou_reference.h"
+#include "tests/pou/pou_test_support.h"
 
 namespace invmap {
 namespace {
@@ -73,25 +72,6 @@ TEST(PouHighValenceTest, SearchBlendIsTheChart) {
   }
 }
 
-struct Built {
-  Patch patch;
-  BuildResult built;
-  PouCharts charts;
-};
-
-void Build(const TriangleMesh& m, PouBase base, Built* out) {
-  PouOptions options;
-  options.base = base;
-  ASSERT_EQ(BuildPouManifold(m.xyz.data(), m.numVertices(), m.triangles.data(), m.numTriangles(), options,
-                             &out->patch),
-            "");
-  Geometry geometry;
-  geometry.patches.push_back(out->patch);
-  out->built = Manifold::Build(geometry);
-  ASSERT_EQ(out->built.error, "") << m.name;
-  ASSERT_EQ(PouCharts::Create(out->patch, &out->charts), "");
-}
-
 // theta_v(p) by the independent evaluator, for p anywhere in the p-domain of
 // any chart (the apexes' most of all), is on the surface: found at distance 0.
 TEST(PouHighValenceTest, ChartPointsInvertOntoTheSurface) {
@@ -99,8 +79,8 @@ TEST(PouHighValenceTest, ChartPointsInvertOntoTheSurface) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int index = 0;
   for (const TriangleMesh& m : Meshes()) {
-    Built b;
-    Build(m, kBases[index++ % 3], &b);
+    testing::BuiltPou b;
+    testing::BuildPou(m, kBases[index++ % 3], &b);
     if (::testing::Test::HasFatalFailure()) return;
     const testing::PouReference reference(b.patch.points, b.patch.cells, b.patch.degrees, b.patch.chartControlPoints);
     const double size = m.diagonal();
@@ -135,8 +115,8 @@ TEST(PouHighValenceTest, MatchesTheIndependentReference) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   int index = 0;
   for (const TriangleMesh& m : Meshes()) {
-    Built b;
-    Build(m, kBases[(index++ + 1) % 3], &b);
+    testing::BuiltPou b;
+    testing::BuildPou(m, kBases[(index++ + 1) % 3], &b);
     if (::testing::Test::HasFatalFailure()) return;
     const testing::PouReference reference(b.patch.points, b.patch.cells, b.patch.degrees, b.patch.chartControlPoints);
     const double size = m.diagonal();
@@ -156,18 +136,7 @@ TEST(PouHighValenceTest, MatchesTheIndependentReference) {
     Results results;
     ASSERT_EQ(b.built.manifold.Invert(PointsView::Interleaved(points.data(), points.size() / 3, 3), {}, &results),
               Error::Ok);
-    for (std::size_t i = 0; i < points.size() / 3; ++i) {
-      const std::string where = m.name + " point " + std::to_string(i);
-      std::int64_t chart;
-      std::complex<double> at;
-      const double expected = reference.Closest(&points[3 * i], &chart, &at);
-      ASSERT_EQ(results.status[i], Status::Found) << where;
-      EXPECT_LE(results.distance[i], expected + 1e-9 * size) << where;
-      EXPECT_NEAR(results.distance[i], expected, 1e-7 * size) << where;
-      double exact[3];
-      reference.Evaluate(results.cell[i], {results.params[3 * i], results.params[3 * i + 1]}, exact);
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(exact[c], results.closest[3 * i + c], 1e-12 * size) << where;
-    }
+    testing::ExpectTheReferenceMinima(reference, points, results, size, m.name);
   }
 }
 
@@ -178,8 +147,8 @@ TEST(PouHighValenceTest, MatchesTheIndependentReference) {
 // every answer must be the reference's, by `pointwise` too.
 TEST(PouHighValenceTest, PointsAroundAWideFlatStarFindTheGlobalMinimum) {
   const TriangleMesh m = testing::Bipyramid(32);
-  Built b;
-  Build(m, PouBase::Loop, &b);
+  testing::BuiltPou b;
+  testing::BuildPou(m, PouBase::Loop, &b);
   if (::testing::Test::HasFatalFailure()) return;
   const testing::PouReference reference(b.patch.points, b.patch.cells, b.patch.degrees, b.patch.chartControlPoints);
   const double size = m.diagonal();

@@ -10,7 +10,7 @@
 
 #include "invmap/invmap.h"
 #include "invmap/pou.h"
-#include "tests/support/pou_meshes.h"
+#include "tests/pou/pou_test_support.h"
 
 namespace invmap {
 namespace {
@@ -19,15 +19,10 @@ bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 TEST(PouPointwiseTest, AnswersDoNotDependOnTheBatch) {
   for (const testing::TriangleMesh& m : {testing::Icosphere(1, 1.0), testing::Bipyramid(24)}) {
-    Patch patch;
-    PouOptions options;
-    options.base = PouBase::Loop;
-    ASSERT_EQ(BuildPouManifold(m.xyz.data(), m.numVertices(), m.triangles.data(), m.numTriangles(), options, &patch),
-              "");
-    Geometry geometry;
-    geometry.patches.push_back(patch);
-    BuildResult built = Manifold::Build(geometry);
-    ASSERT_EQ(built.error, "") << m.name;
+    testing::BuiltPou b;
+    testing::BuildPou(m, PouBase::Loop, &b);
+    if (::testing::Test::HasFatalFailure()) return;
+    const Manifold& manifold = b.built.manifold;
     std::mt19937_64 random(3);
     std::normal_distribution<double> normal(0.0, 1.0);
     const int count = 120;
@@ -39,12 +34,12 @@ TEST(PouPointwiseTest, AnswersDoNotDependOnTheBatch) {
     pointwise.pointwise = true;
     pointwise.threads = 1;
     Results batch, backwards;
-    ASSERT_EQ(built.manifold.Invert(PointsView::Interleaved(points.data(), count, 3), pointwise, &batch), Error::Ok);
-    ASSERT_EQ(built.manifold.Invert(PointsView::Interleaved(reversed.data(), count, 3), pointwise, &backwards),
+    ASSERT_EQ(manifold.Invert(PointsView::Interleaved(points.data(), count, 3), pointwise, &batch), Error::Ok);
+    ASSERT_EQ(manifold.Invert(PointsView::Interleaved(reversed.data(), count, 3), pointwise, &backwards),
               Error::Ok);
     for (int i = 0; i < count; ++i) {
       Results alone;
-      ASSERT_EQ(built.manifold.Invert(PointsView::Interleaved(&points[3 * i], 1, 3), pointwise, &alone), Error::Ok);
+      ASSERT_EQ(manifold.Invert(PointsView::Interleaved(&points[3 * i], 1, 3), pointwise, &alone), Error::Ok);
       const std::string where = m.name + " point " + std::to_string(i);
       const int j = count - 1 - i;
       ASSERT_EQ(batch.status[i], Status::Found) << where;
