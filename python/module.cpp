@@ -45,6 +45,9 @@ namespace py = pybind11;
 namespace invmap::python {
 namespace {
 
+/// Points Manifold.trim inverts at a time: the chunk `invmap trim` reads.
+constexpr std::size_t kTrimChunkPoints = std::size_t{1} << 20;
+
 /// True when `path` names a regular file this process can open, i.e. when a
 /// read failure is about the content (InputError), not the file (FileError).
 bool IsReadableFile(const std::string& path) {
@@ -234,16 +237,14 @@ py::dict ResultsDict(Results&& results, int dim) {
 /// The signed distances of the points of `results` (the `signed` option of
 /// invert and trim): InputError unless the manifold is a CAD model whose
 /// shells are closed.
-std::vector<double> Signed(const PyManifold& self, const py::handle& points, const Results& results, int threads) {
+std::vector<double> Signed(const PyManifold& self, const PointsView& view, const Results& results, int threads) {
   if (!self.cad()) throw InputError("signed: needs a CAD model (.step, .stp, .iges, .igs, .brep) with closed solids");
-  const NumpyPoints view = ReadNumpyPoints(points, self.dimension());
-  const std::size_t n = view.view.count;
+  const std::size_t n = view.count;
   std::vector<double> xyz(3 * n);
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) {
-      xyz[3 * i + k] = view.view.scalar == Scalar::Float64
-                           ? static_cast<const double*>(view.view.coord[k])[i * view.view.stride]
-                           : static_cast<const float*>(view.view.coord[k])[i * view.view.stride];
+      xyz[3 * i + k] = view.scalar == Scalar::Float64 ? static_cast<const double*>(view.coord[k])[i * view.stride]
+                                                      : static_cast<const float*>(view.coord[k])[i * view.stride];
     }
   }
   py::gil_scoped_release noGil;
@@ -255,7 +256,7 @@ py::dict Invert(const PyManifold& self, const py::handle& points, std::optional<
                 std::optional<std::int64_t> threads, bool pointwise, bool signedDistance) {
   Results results = InvertPoints(self, points, MakeOptions(maxDistance, threads, pointwise));
   if (!signedDistance) return ResultsDict(std::move(results), self.dimension());
-  std::vector<double> sd = Signed(self, points, results, threads.value_or(0));
+  std::vector<double> sd = Signed(self, ReadNumpyPoints(points, self.dimension()).view, results, threads.value_or(0));
   const auto n = static_cast<py::ssize_t>(sd.size());
   py::dict out = ResultsDict(std::move(results), self.dimension());
   out["signed_distance"] = Adopt(std::move(sd), {n}, py::dtype::of<double>());
@@ -274,31 +275,52 @@ py::dict Probe(const PyManifold& self, const py::handle& points, const std::opti
 }
 
 /// Manifold.trim: the mask of the points `invmap trim` keeps.
+/// Rows [first, first + count) of `view`.
+PointsView Rows(PointsView view, std::size_t first, std::size_t count) {
+  const std::size_t bytes = view.scalar == Scalar::Float64 ? sizeof(double) : sizeof(float);
+  for (int k = 0; k < view.dim; ++k) {
+    view.coord[k] = static_cast<const char*>(view.coord[k]) + first * view.stride * bytes;
+  }
+  view.count = count;
+  return view;
+}
+
 py::array_t<bool> Trim(const PyManifold& self, const py::handle& points, double maxDistance, const std::string& keep,
                        bool pointwise, bool signedDistance) {
   if (keep != "near" && keep != "far") throw InputError("keep: '" + keep + "', expected 'near' or 'far'");
   const bool keepFar = keep == "far";
   InversionOptions options = MakeOptions(maxDistance, std::nullopt, pointwise);
-  if (signedDistance) {
-    // As `invmap trim --signed`: near is at most max_distance outside (the
-    // inside however deep), so every point needs its side.
-    options.maxDistance = std::numeric_limits<double>::infinity();
-    const Results results = InvertPoints(self, points, options);
-    const std::vector<double> sd = Signed(self, points, results, 0);
-    py::array_t<bool> mask(static_cast<py::ssize_t>(sd.size()));
-    bool* out = mask.mutable_data();
-    for (std::size_t i = 0; i < sd.size(); ++i) {
-      out[i] = !std::isnan(sd[i]) && (keepFar ? sd[i] > maxDistance : sd[i] <= maxDistance);
-    }
-    return mask;
-  }
-  const Results results = InvertPoints(self, points, options);
-  py::array_t<bool> mask(static_cast<py::ssize_t>(results.status.size()));
+  // As `invmap trim --signed`: near is at most max_distance outside (the
+  // inside however deep), so every point needs its side.
+  if (signedDistance) options.maxDistance = std::numeric_limits<double>::infinity();
+  const NumpyPoints all = ReadNumpyPoints(points, self.dimension());
+  py::array_t<bool> mask(static_cast<py::ssize_t>(all.view.count));
   bool* out = mask.mutable_data();
-  // As `invmap trim`: Found means within max_distance, None beyond it;
-  // invalid points have no distance and are in neither set.
-  for (std::size_t i = 0; i < results.status.size(); ++i) {
-    out[i] = results.status[i] == (keepFar ? Status::None : Status::Found);
+  // The points go in the command's chunks: the same answers as `invmap
+  // trim`, and the results of one chunk at a time in memory, whatever the
+  // number of points.
+  for (std::size_t first = 0; first < all.view.count; first += kTrimChunkPoints) {
+    const PointsView chunk = Rows(all.view, first, std::min(kTrimChunkPoints, all.view.count - first));
+    Results results;
+    std::string message;
+    Error error;
+    {
+      py::gil_scoped_release noGil;
+      error = self.manifold().Invert(chunk, options, &results, &message);
+    }
+    ThrowOnError(error, message);
+    if (signedDistance) {
+      const std::vector<double> sd = Signed(self, chunk, results, 0);
+      for (std::size_t i = 0; i < chunk.count; ++i) {
+        out[first + i] = !std::isnan(sd[i]) && (keepFar ? sd[i] > maxDistance : sd[i] <= maxDistance);
+      }
+      continue;
+    }
+    // As `invmap trim`: Found means within max_distance, None beyond it;
+    // invalid points have no distance and are in neither set.
+    for (std::size_t i = 0; i < chunk.count; ++i) {
+      out[first + i] = results.status[i] == (keepFar ? Status::None : Status::Found);
+    }
   }
   return mask;
 }

@@ -78,6 +78,23 @@ def test_trim_matches_command_line(cli, geometry_files, tmp_path, keep):
     np.testing.assert_array_equal(points[manifold.trim(points, 0.03, keep=keep)], kept)
 
 
+def test_trim_of_more_points_than_a_chunk(cli, geometry_files, tmp_path):
+    """Beyond the command's chunk of 2^20 points, trim still keeps exactly
+    the points within the distance (the torus's closed form) and the same
+    points as `invmap trim`, which reads the same chunks."""
+    torus = invmap.load(geometry_files["torus"])
+    rng = np.random.default_rng(11)
+    points = rng.uniform([-3.0, -3.0, -1.0], [3.0, 3.0, 1.0], size=((1 << 20) + 5000, 3))
+    mask = torus.trim(points, 0.1)
+    distance = np.abs(np.hypot(np.hypot(points[:, 0], points[:, 1]) - 2.0, points[:, 2]) - 0.7)
+    clear = np.abs(distance - 0.1) > 1e-9
+    np.testing.assert_array_equal(mask[clear], distance[clear] <= 0.1)
+    np.save(tmp_path / "points.npy", points)
+    cli("trim", "--geometry", geometry_files["torus"], "--points", tmp_path / "points.npy",
+        "--output", tmp_path / "kept.npy", "--max-distance", "0.1", "--quiet")
+    np.testing.assert_array_equal(points[mask], np.load(tmp_path / "kept.npy"))
+
+
 def test_info_matches_command_line(cli, geometry_files):
     for name, path in geometry_files.items():
         info = invmap.load(path).info()
