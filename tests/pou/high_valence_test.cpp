@@ -129,9 +129,7 @@ TEST(PouHighValenceTest, MatchesTheIndependentReference) {
       const double r = 0.95 * reference.radius(v);
       double p[3];
       reference.Evaluate(v, {r * unit(random) / std::sqrt(2.0), r * unit(random) / std::sqrt(2.0)}, p);
-      double d[3] = {unit(random), unit(random), unit(random)};
-      const double length = std::hypot(d[0], d[1], d[2]);
-      for (int c = 0; c < 3; ++c) points.push_back(p[c] + offset * size * d[c] / length);
+      testing::PushMovedPoint(p, offset * size, random, unit, &points);
     }
     Results results;
     ASSERT_EQ(b.built.manifold.Invert(PointsView::Interleaved(points.data(), points.size() / 3, 3), {}, &results),

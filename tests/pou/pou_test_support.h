@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <complex>
 #include <cstdint>
 #include <string>
@@ -36,6 +37,15 @@ inline void BuildPou(const TriangleMesh& m, PouBase base, BuiltPou* out) {
   out->built = Manifold::Build(geometry);
   ASSERT_EQ(out->built.error, "") << m.name;
   ASSERT_EQ(PouCharts::Create(out->patch, &out->charts), "") << m.name;
+}
+
+/// Appends `p` moved by `distance` in a direction drawn uniformly from the
+/// cube [-1, 1]^3 by `unit` (normalised).
+template <typename Rng, typename Distribution>
+void PushMovedPoint(const double p[3], double distance, Rng& random, Distribution& unit, std::vector<double>* points) {
+  double d[3] = {unit(random), unit(random), unit(random)};
+  const double length = std::hypot(d[0], d[1], d[2]);
+  for (int c = 0; c < 3; ++c) points->push_back(p[c] + distance * d[c] / length);
 }
 
 /// Each answer in `results` for the interleaved 3D `points` is the
