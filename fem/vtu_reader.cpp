@@ -85,6 +85,33 @@ vtkDataArray* RationalWeights(vtkUnstructuredGrid* grid, const std::string& path
 
 bool IsBezierType(int vtkType) { return vtkType >= VTK_BEZIER_CURVE && vtkType <= VTK_BEZIER_WEDGE; }
 
+bool IsHigherOrderType(int vtkType) {
+  return IsBezierType(vtkType) || (vtkType >= VTK_LAGRANGE_CURVE && vtkType <= VTK_LAGRANGE_WEDGE);
+}
+
+/// The nodes VTK's higher-order curve, quadrilateral, hexahedron or wedge of
+/// HigherOrderDegrees `orders` has (VTK evaluates that many shape functions
+/// whatever the cell holds); -1 for other types, whose order VTK takes from
+/// their node count, and for orders out of range.
+long long NodesOfOrders(CellType type, const int orders[3]) {
+  for (int k = 0; k < 3; ++k) {
+    if (orders[k] < 0 || orders[k] > kernels::kMaxDegree) return -1;
+  }
+  const long long p = orders[0], q = orders[1], r = orders[2];
+  switch (type) {
+    case CellType::Line:
+      return p + 1;
+    case CellType::Quad:
+      return (p + 1) * (q + 1);
+    case CellType::Hex:
+      return (p + 1) * (q + 1) * (r + 1);
+    case CellType::Wedge:
+      return p == q ? (p + 1) * (p + 2) / 2 * (r + 1) : 0;
+    default:
+      return -1;
+  }
+}
+
 /// Checks the sizes the file's XML declares (points, cells, components of
 /// each piece and array) against the file's size before VTK allocates them:
 /// VTK sizes its arrays by what the header says. Scans up to the appended
@@ -188,6 +215,15 @@ FieldGeometry ReadVtu(const std::string& path) {
     int orders[3] = {-1, -1, -1};
     if (degrees != nullptr && degrees->GetNumberOfComponents() == 3 && c < degrees->GetNumberOfTuples()) {
       for (int k = 0; k < 3; ++k) orders[k] = static_cast<int>(degrees->GetComponent(c, k));
+      // VTK would write shape functions for the degrees' nodes into room for
+      // the cell's: a mismatch is refused before VTK evaluates anything.
+      const long long expected = IsHigherOrderType(vtkType) ? NodesOfOrders(type, orders) : -1;
+      if (expected >= 0 && expected != count) {
+        throw io::InputError(path, 0, where + ": HigherOrderDegrees " + std::to_string(orders[0]) + " " +
+                                          std::to_string(orders[1]) + " " + std::to_string(orders[2]) + " give " +
+                                          std::to_string(expected) + " points, the cell has " +
+                                          std::to_string(count));
+      }
     }
     const VtkCellConversion* conversion = conversions.Find(shapeGrid, c, orders);
     if (conversion == nullptr || conversion->converter.numNodes() != count) {

@@ -339,6 +339,20 @@ TEST(VtuReader, BadFilesAreInputErrorsNamingFileAndCell) {
   empty->SetPoints(points);
   ASSERT_TRUE(Write(empty, dir.Path("empty.vtu"), Encoding::Ascii));
   ExpectReadError(dir.Path("empty.vtu"), "no cells");
+  // A Bezier quadrilateral of 2 points whose HigherOrderDegrees promise 6:
+  // VTK wrote the 6 shape functions past room for 2 (found by fuzz_fem).
+  const std::string degrees =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n<UnstructuredGrid><Piece NumberOfPoints=\"6\" NumberOfCells=\"1\">\n"
+      "<CellData HigherOrderDegrees=\"D\"><DataArray type=\"Int32\" Name=\"D\" NumberOfComponents=\"3\" "
+      "format=\"ascii\">2 1 1</DataArray></CellData>\n<Points><DataArray type=\"Float64\" "
+      "NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 1 1 0.2 0 1 0 0.5 -0.4 0 0.5 1.3 0.5</DataArray>"
+      "</Points>\n<Cells><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 3 4 5"
+      "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">2</DataArray>\n"
+      "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">77</DataArray></Cells>\n"
+      "</Piece></UnstructuredGrid></VTKFile>\n";
+  ExpectReadError(dir.Write("degrees.vtu", degrees),
+                  "cell 0 (VTK_BEZIER_QUADRILATERAL): HigherOrderDegrees 2 1 1 give 6 points, the cell has 2");
 }
 
 // A point id past the points, written by hand in VTK's ascii layout.
