@@ -97,9 +97,17 @@ std::array<double, 3> CheckPoint(CellType type, int i) {
 
 /// VTK's shape functions of `cell` at reference point x.
 std::vector<double> VtkShape(vtkCell* cell, const std::array<double, 3>& x) {
-  std::vector<double> weights(static_cast<std::size_t>(cell->GetNumberOfPoints()));
+  // VTK writes the shape functions of the order it infers, not of the
+  // cell's node count: a triangle or tetrahedron whose count is no
+  // triangular or tetrahedral number gets those of the next order up, a
+  // cell with HigherOrderDegrees those of its degrees (the reader bounds
+  // them by 8). Room for either, then the cell's own.
+  const auto n = static_cast<std::size_t>(cell->GetNumberOfPoints());
+  constexpr std::size_t kMostOfAnOrder = (kernels::kMaxDegree + 1) * (kernels::kMaxDegree + 1) * (kernels::kMaxDegree + 1);
+  std::vector<double> weights(2 * n + kMostOfAnOrder);
   double pcoords[3] = {x[0], x[1], x[2]};
   cell->InterpolateFunctions(pcoords, weights.data());
+  weights.resize(n);
   return weights;
 }
 
