@@ -97,11 +97,11 @@ std::array<double, 3> CheckPoint(CellType type, int i) {
 
 /// VTK's shape functions of `cell` at reference point x.
 std::vector<double> VtkShape(vtkCell* cell, const std::array<double, 3>& x) {
-  // VTK writes the shape functions of the order it infers, not of the
-  // cell's node count: a triangle or tetrahedron whose count is no
-  // triangular or tetrahedral number gets those of the next order up, a
-  // cell with HigherOrderDegrees those of its degrees (the reader bounds
-  // them by 8). Room for either, then the cell's own.
+  // VTK writes the shape functions of the order it infers (from the
+  // HigherOrderDegrees, which the reader bounds by 8, or from the node
+  // count), which need not be as many as the cell's nodes on a malformed
+  // file: fuzzing found VTK writing past room for the nodes alone. Room for
+  // any order up to 8 and twice the nodes, then the cell's own.
   const auto n = static_cast<std::size_t>(cell->GetNumberOfPoints());
   constexpr std::size_t kMostOfAnOrder = (kernels::kMaxDegree + 1) * (kernels::kMaxDegree + 1) * (kernels::kMaxDegree + 1);
   std::vector<double> weights(2 * n + kMostOfAnOrder);
