@@ -106,6 +106,16 @@ class MinimaSearch {
   /// point of the face is a minimum only where the distance grows into the
   /// cell at first order (a zero slope there is a maximum or a saddle).
   void SolveOnFace(double* slot, int factor, int side, bool strict, CellMinimaResult* result);
+  /// True when a face's control points (Cartesian, ad_ per point) are one
+  /// point to the distance tolerance.
+  bool CollapsedFace(const std::vector<double>& points) const {
+    for (size_t c = ad_; c < points.size(); c += ad_) {
+      double gap2 = 0.0;
+      for (int k = 0; k < ad_; ++k) gap2 += (points[c + k] - points[k]) * (points[c + k] - points[k]);
+      if (!(std::sqrt(gap2) <= kDistanceTolerance * solver_.size())) return false;
+    }
+    return true;
+  }
   /// Whether S reaches the cell's face u_f = side (line factor f).
   bool ReachesFace(double* slot, int factor, int side) const {
     const double v0 = Vertex(slot, factor, 0)[0], v1 = Vertex(slot, factor, 1)[0];
@@ -409,6 +419,26 @@ void MinimaSearch::SolveOnFace(double* slot, int factor, int side, bool strict, 
     double ref[3] = {0, 0, 0};
     ref[factor] = Vertex(slot, factor, localSide)[0];
     Record(ref, result, strict ? factor : -1, side);
+    return;
+  }
+  if (CollapsedFace(points)) {
+    // A face that is one point (a sphere's pole): searched as a cell of its
+    // own, no direction of its parameters changes the distance, and it
+    // was split down to the budget, every piece a "minimum". The point
+    // counts where the cell's KKT test passes at some place of the face
+    // (it depends on the place: the slope into the cell at a pole follows
+    // the meridian), its centre or a corner.
+    const size_t before = result->minima.size();
+    for (int place = 0; place <= (1 << faceFactors) && result->minima.size() == before; ++place) {
+      int fi = 0;
+      double ref[3] = {0, 0, 0};
+      for (int f = 0; f < shape.numFactors(); ++f) {
+        const double t = f == factor ? localSide : (place == 0 ? 0.5 : ((place - 1) >> fi++) & 1);
+        const double v0 = Vertex(slot, f, 0)[0], v1 = Vertex(slot, f, 1)[0];
+        ref[f] = v0 + t * (v1 - v0);
+      }
+      Record(ref, result, strict ? factor : -1, side);
+    }
     return;
   }
   CellView face;
