@@ -121,6 +121,15 @@ class MinimaSearch {
     const double v0 = Vertex(slot, factor, 0)[0], v1 = Vertex(slot, factor, 1)[0];
     return side == 0 ? std::min(v0, v1) == 0.0 : std::max(v0, v1) == 1.0;
   }
+  /// Newton steps of the distance from ref (each kept in the domain),
+  /// checked by the cell's KKT test instead of the distance's decrease:
+  /// true, with ref and jet (first order) moved there, when they reach a
+  /// KKT point within kSamePointShare of the cell's size and the distance
+  /// of where they started. A solve on a subdomain's own net stops where
+  /// the distance's rounding hides its decrease, which on a cell small
+  /// beside the distance (a sphere of radius 0.01 at 1.3 from the point)
+  /// is still short of the cell's test, which judges the slopes' angle.
+  bool PolishToKkt(double* ref, MapJet* jet) const;
   /// Records ref (cell coordinates) when it is a KKT point of the cell within
   /// reach; with `strictFactor` >= 0, only when the distance also grows
   /// into the cell along that line factor from its face `strictSide`.
@@ -214,6 +223,23 @@ bool MinimaSearch::AtMostOne(double* slot, double low, double high) {
   return true;
 }
 
+/// True when local reference coordinates lie off every face of the
+/// domain by more than rounding (each simplex factor's barycentric
+/// coordinates above 1e-9).
+bool InsideSubdomain(const CellShape& shape, const double* local) {
+  constexpr double kOffFace = 1e-9;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double rest = 1.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      if (!(local[fac.offset + i] > kOffFace)) return false;
+      rest -= local[fac.offset + i];
+    }
+    if (!(rest > kOffFace)) return false;
+  }
+  return true;
+}
+
 void MinimaSearch::SolveIn(double* slot, CellMinimaResult* result) {
   // The subdomain as a cell of its own: its control net, Cartesian.
   const double* homogeneous = slot + kHeaderSize + 2 * n2_;
@@ -242,7 +268,56 @@ void MinimaSearch::SolveIn(double* slot, CellMinimaResult* result) {
       ref[fac.offset + i] = v;
     }
   }
+  const size_t before = result->minima.size();
   Record(ref, result);
+  // The subdomain holds at most one minimum: a converged solve inside it
+  // (on none of its faces) that the cell's test refuses is one the search
+  // could not settle, not a subdomain without minima.
+  if (result->minima.size() == before && local.converged && InsideSubdomain(cell_.shape, local.ref)) {
+    result->certified = false;
+  }
+}
+
+bool MinimaSearch::PolishToKkt(double* ref, MapJet* jet) const {
+  constexpr int kPolishSteps = 4;
+  constexpr double kSamePointShare = 1e-6;
+  const int pd = cell_.shape.paramDim();
+  const double start[3] = {jet->x[0], jet->x[1], jet->x[2]};
+  // The test judges slopes by the distance as well as by the cell's size:
+  // the polish may move as far on either scale.
+  double distance2 = 0.0;
+  for (int k = 0; k < ad_; ++k) distance2 += (start[k] - point_[k]) * (start[k] - point_[k]);
+  const double reach = kSamePointShare * (solver_.size() + std::sqrt(distance2));
+  double at[3] = {ref[0], ref[1], ref[2]};
+  for (int step = 0; step < kPolishSteps; ++step) {
+    MapJet second;
+    EvaluateMap(cell_, at, JetOrder::Second, &second);
+    Eigen::Matrix3d h = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int i = 0; i < pd; ++i) {
+      for (int j = 0; j < pd; ++j) {
+        h(i, j) = 0.0;
+        for (int k = 0; k < ad_; ++k) {
+          h(i, j) += second.d1[k][i] * second.d1[k][j] + (second.x[k] - point_[k]) * second.d2[k][i][j];
+        }
+      }
+      for (int k = 0; k < ad_; ++k) g[i] += (second.x[k] - point_[k]) * second.d1[k][i];
+    }
+    const Eigen::LLT<Eigen::Matrix3d> llt(h);
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::Vector3d p = llt.solve(-g);
+    for (int i = 0; i < pd; ++i) at[i] += p[i];
+    ClampToDomain(cell_.shape, at);
+    EvaluateMap(cell_, at, JetOrder::First, jet);
+    double moved2 = 0.0;
+    for (int k = 0; k < ad_; ++k) moved2 += (jet->x[k] - start[k]) * (jet->x[k] - start[k]);
+    if (!(std::sqrt(moved2) <= reach)) return false;
+    if (IsKktPoint(cell_, *jet, point_, at, solver_.size())) {
+      std::copy(at, at + 3, ref);
+      return true;
+    }
+  }
+  return false;
 }
 
 void MinimaSearch::Record(const double* at, CellMinimaResult* result, int strictFactor, int strictSide) const {
@@ -250,7 +325,7 @@ void MinimaSearch::Record(const double* at, CellMinimaResult* result, int strict
   ClampToDomain(cell_.shape, ref);
   MapJet jet;
   EvaluateMap(cell_, ref, JetOrder::First, &jet);
-  if (!IsKktPoint(cell_, jet, point_, ref, solver_.size())) return;
+  if (!IsKktPoint(cell_, jet, point_, ref, solver_.size()) && !PolishToKkt(ref, &jet)) return;
   if (strictFactor >= 0) {
     // The slope into the cell, judged as the KKT test judges slopes: it
     // must be positive beyond rounding, not merely not negative.

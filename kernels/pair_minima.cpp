@@ -65,6 +65,23 @@ std::vector<std::array<double, 3>> ReferenceCorners(const CellShape& shape) {
   return corners;
 }
 
+/// True when reference coordinates lie off every face of the domain by
+/// more than rounding (each simplex factor's barycentric coordinates above
+/// 1e-9).
+bool InsideDomain(const CellShape& shape, const double* ref) {
+  constexpr double kOffFace = 1e-9;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double rest = 1.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      if (!(ref[fac.offset + i] > kOffFace)) return false;
+      rest -= ref[fac.offset + i];
+    }
+    if (!(rest > kOffFace)) return false;
+  }
+  return true;
+}
+
 /// A cell the search made (a subdomain or one of its faces), with its nets.
 struct OwnedCell {
   std::vector<double> points, weights;
@@ -356,7 +373,15 @@ void Enumerator::SolveIn(const Problem& problem, double* slot) {
   // converged but misses the subdomain's KKT test by rounding, as on a
   // rational cell's heavy weights, ended at the subdomain's least point:
   // Record's polish judges it.)
-  if (RecordLocal(problem, slot, local.w) == Recorded::NotKkt && !local.converged) out_->certified = false;
+  // A converged solve off every face of subdomains of the cells
+  // themselves (not of a face a reduction searches, whose least point the
+  // distance may fall from into the cell) that the cells' test refuses is
+  // a minimum the search could not settle, not a subdomain without one.
+  if (RecordLocal(problem, slot, local.w) == Recorded::NotKkt &&
+      (!local.converged || (problem.recursion == 0 && InsideDomain(sides[0].cell.shape, local.w) &&
+                            InsideDomain(sides[1].cell.shape, local.w + layout.paramDim(0))))) {
+    out_->certified = false;
+  }
 }
 
 void Enumerator::ReduceToFace(const Problem& problem, double* slot, int side, int factor, int vertex, bool strict) {
