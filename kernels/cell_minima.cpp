@@ -106,11 +106,30 @@ class MinimaSearch {
   /// point of the face is a minimum only where the distance grows into the
   /// cell at first order (a zero slope there is a maximum or a saddle).
   void SolveOnFace(double* slot, int factor, int side, bool strict, CellMinimaResult* result);
+  /// True when a face's control points (Cartesian, ad_ per point) are one
+  /// point to the distance tolerance.
+  bool CollapsedFace(const std::vector<double>& points) const {
+    for (size_t c = ad_; c < points.size(); c += ad_) {
+      double gap2 = 0.0;
+      for (int k = 0; k < ad_; ++k) gap2 += (points[c + k] - points[k]) * (points[c + k] - points[k]);
+      if (!(std::sqrt(gap2) <= kDistanceTolerance * solver_.size())) return false;
+    }
+    return true;
+  }
   /// Whether S reaches the cell's face u_f = side (line factor f).
   bool ReachesFace(double* slot, int factor, int side) const {
     const double v0 = Vertex(slot, factor, 0)[0], v1 = Vertex(slot, factor, 1)[0];
     return side == 0 ? std::min(v0, v1) == 0.0 : std::max(v0, v1) == 1.0;
   }
+  /// Newton steps of the distance from ref (each kept in the domain),
+  /// checked by the cell's KKT test instead of the distance's decrease:
+  /// true, with ref and jet (first order) moved there, when they reach a
+  /// KKT point within kSamePointShare of the cell's size and the distance
+  /// of where they started. A solve on a subdomain's own net stops where
+  /// the distance's rounding hides its decrease, which on a cell small
+  /// beside the distance (a sphere of radius 0.01 at 1.3 from the point)
+  /// is still short of the cell's test, which judges the slopes' angle.
+  bool PolishToKkt(double* ref, MapJet* jet) const;
   /// Records ref (cell coordinates) when it is a KKT point of the cell within
   /// reach; with `strictFactor` >= 0, only when the distance also grows
   /// into the cell along that line factor from its face `strictSide`.
@@ -204,6 +223,23 @@ bool MinimaSearch::AtMostOne(double* slot, double low, double high) {
   return true;
 }
 
+/// True when local reference coordinates lie off every face of the
+/// domain by more than rounding (each simplex factor's barycentric
+/// coordinates above 1e-9).
+bool InsideSubdomain(const CellShape& shape, const double* local) {
+  constexpr double kOffFace = 1e-9;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double rest = 1.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      if (!(local[fac.offset + i] > kOffFace)) return false;
+      rest -= local[fac.offset + i];
+    }
+    if (!(rest > kOffFace)) return false;
+  }
+  return true;
+}
+
 void MinimaSearch::SolveIn(double* slot, CellMinimaResult* result) {
   // The subdomain as a cell of its own: its control net, Cartesian.
   const double* homogeneous = slot + kHeaderSize + 2 * n2_;
@@ -232,7 +268,56 @@ void MinimaSearch::SolveIn(double* slot, CellMinimaResult* result) {
       ref[fac.offset + i] = v;
     }
   }
+  const size_t before = result->minima.size();
   Record(ref, result);
+  // The subdomain holds at most one minimum: a converged solve inside it
+  // (on none of its faces) that the cell's test refuses is one the search
+  // could not settle, not a subdomain without minima.
+  if (result->minima.size() == before && local.converged && InsideSubdomain(cell_.shape, local.ref)) {
+    result->certified = false;
+  }
+}
+
+bool MinimaSearch::PolishToKkt(double* ref, MapJet* jet) const {
+  constexpr int kPolishSteps = 4;
+  constexpr double kSamePointShare = 1e-6;
+  const int pd = cell_.shape.paramDim();
+  const double start[3] = {jet->x[0], jet->x[1], jet->x[2]};
+  // The test judges slopes by the distance as well as by the cell's size:
+  // the polish may move as far on either scale.
+  double distance2 = 0.0;
+  for (int k = 0; k < ad_; ++k) distance2 += (start[k] - point_[k]) * (start[k] - point_[k]);
+  const double reach = kSamePointShare * (solver_.size() + std::sqrt(distance2));
+  double at[3] = {ref[0], ref[1], ref[2]};
+  for (int step = 0; step < kPolishSteps; ++step) {
+    MapJet second;
+    EvaluateMap(cell_, at, JetOrder::Second, &second);
+    Eigen::Matrix3d h = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int i = 0; i < pd; ++i) {
+      for (int j = 0; j < pd; ++j) {
+        h(i, j) = 0.0;
+        for (int k = 0; k < ad_; ++k) {
+          h(i, j) += second.d1[k][i] * second.d1[k][j] + (second.x[k] - point_[k]) * second.d2[k][i][j];
+        }
+      }
+      for (int k = 0; k < ad_; ++k) g[i] += (second.x[k] - point_[k]) * second.d1[k][i];
+    }
+    const Eigen::LLT<Eigen::Matrix3d> llt(h);
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::Vector3d p = llt.solve(-g);
+    for (int i = 0; i < pd; ++i) at[i] += p[i];
+    ClampToDomain(cell_.shape, at);
+    EvaluateMap(cell_, at, JetOrder::First, jet);
+    double moved2 = 0.0;
+    for (int k = 0; k < ad_; ++k) moved2 += (jet->x[k] - start[k]) * (jet->x[k] - start[k]);
+    if (!(std::sqrt(moved2) <= reach)) return false;
+    if (IsKktPoint(cell_, *jet, point_, at, solver_.size())) {
+      std::copy(at, at + 3, ref);
+      return true;
+    }
+  }
+  return false;
 }
 
 void MinimaSearch::Record(const double* at, CellMinimaResult* result, int strictFactor, int strictSide) const {
@@ -240,7 +325,7 @@ void MinimaSearch::Record(const double* at, CellMinimaResult* result, int strict
   ClampToDomain(cell_.shape, ref);
   MapJet jet;
   EvaluateMap(cell_, ref, JetOrder::First, &jet);
-  if (!IsKktPoint(cell_, jet, point_, ref, solver_.size())) return;
+  if (!IsKktPoint(cell_, jet, point_, ref, solver_.size()) && !PolishToKkt(ref, &jet)) return;
   if (strictFactor >= 0) {
     // The slope into the cell, judged as the KKT test judges slopes: it
     // must be positive beyond rounding, not merely not negative.
@@ -409,6 +494,26 @@ void MinimaSearch::SolveOnFace(double* slot, int factor, int side, bool strict, 
     double ref[3] = {0, 0, 0};
     ref[factor] = Vertex(slot, factor, localSide)[0];
     Record(ref, result, strict ? factor : -1, side);
+    return;
+  }
+  if (CollapsedFace(points)) {
+    // A face that is one point (a sphere's pole): searched as a cell of its
+    // own, no direction of its parameters changes the distance, and it
+    // was split down to the budget, every piece a "minimum". The point
+    // counts where the cell's KKT test passes at some place of the face
+    // (it depends on the place: the slope into the cell at a pole follows
+    // the meridian), its centre or a corner.
+    const size_t before = result->minima.size();
+    for (int place = 0; place <= (1 << faceFactors) && result->minima.size() == before; ++place) {
+      int fi = 0;
+      double ref[3] = {0, 0, 0};
+      for (int f = 0; f < shape.numFactors(); ++f) {
+        const double t = f == factor ? localSide : (place == 0 ? 0.5 : ((place - 1) >> fi++) & 1);
+        const double v0 = Vertex(slot, f, 0)[0], v1 = Vertex(slot, f, 1)[0];
+        ref[f] = v0 + t * (v1 - v0);
+      }
+      Record(ref, result, strict ? factor : -1, side);
+    }
     return;
   }
   CellView face;

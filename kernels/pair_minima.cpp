@@ -1,6 +1,7 @@
 #include "kernels/pair_minima.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -44,6 +45,41 @@ void Barycentric(int dim, const double* s, double* lambda) {
     lambda[i + 1] = s[i];
     lambda[0] -= s[i];
   }
+}
+
+/// The vertices of a cell's reference domain (a product of simplices).
+std::vector<std::array<double, 3>> ReferenceCorners(const CellShape& shape) {
+  std::vector<std::array<double, 3>> corners{{0, 0, 0}};
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    std::vector<std::array<double, 3>> next;
+    for (const std::array<double, 3>& corner : corners) {
+      for (int v = 0; v <= fac.dim; ++v) {
+        std::array<double, 3> out = corner;
+        if (v > 0) out[fac.offset + v - 1] = 1.0;
+        next.push_back(out);
+      }
+    }
+    corners = std::move(next);
+  }
+  return corners;
+}
+
+/// True when reference coordinates lie off every face of the domain by
+/// more than rounding (each simplex factor's barycentric coordinates above
+/// 1e-9).
+bool InsideDomain(const CellShape& shape, const double* ref) {
+  constexpr double kOffFace = 1e-9;
+  for (int f = 0; f < shape.numFactors(); ++f) {
+    const SimplexFactor& fac = shape.factor(f);
+    double rest = 1.0;
+    for (int i = 0; i < fac.dim; ++i) {
+      if (!(ref[fac.offset + i] > kOffFace)) return false;
+      rest -= ref[fac.offset + i];
+    }
+    if (!(rest > kOffFace)) return false;
+  }
+  return true;
 }
 
 /// A cell the search made (a subdomain or one of its faces), with its nets.
@@ -148,6 +184,9 @@ class Enumerator {
   /// factor `factor` is at local vertex `vertex` (a face of the problem's cell).
   void ReduceToFace(const Problem& problem, double* slot, int side, int factor, int vertex, bool strict);
   std::vector<double> Homogeneous(const Problem& problem, double* slot, int side) const;
+  /// True when every control point of a face of side `side` (homogeneous,
+  /// as Homogeneous gives them) is one point to the distance tolerance.
+  bool CollapsedFace(const std::vector<double>& homogeneous, int count, int ad, int side) const;
   /// The local-to-problem map of side `side` of the subdomain.
   RefMap SubdomainMap(const Problem& problem, double* slot, int side) const;
   /// True when a trimmed side's part of the subdomain lies wholly outside
@@ -170,6 +209,21 @@ std::vector<double> Enumerator::Homogeneous(const Problem& problem, double* slot
   const double* start = slot + kHeaderSize + netLength_[0] + netLength_[1] +
                         (side == 1 ? static_cast<size_t>(ad + 1) * controlCount_[0] : 0);
   return std::vector<double>(start, start + static_cast<size_t>(ad + 1) * controlCount_[side]);
+}
+
+bool Enumerator::CollapsedFace(const std::vector<double>& homogeneous, int count, int ad, int side) const {
+  const double tolerance = kDistanceTolerance * original_[side].size;
+  for (int c = 1; c < count; ++c) {
+    double gap2 = 0.0;
+    for (int k = 0; k < ad; ++k) {
+      const double first = homogeneous[static_cast<size_t>(k) * count] / homogeneous[static_cast<size_t>(ad) * count];
+      const double here =
+          homogeneous[static_cast<size_t>(k) * count + c] / homogeneous[static_cast<size_t>(ad) * count + c];
+      gap2 += (here - first) * (here - first);
+    }
+    if (!(std::sqrt(gap2) <= tolerance)) return false;
+  }
+  return true;
 }
 
 RefMap Enumerator::SubdomainMap(const Problem& problem, double* slot, int side) const {
@@ -237,6 +291,13 @@ Enumerator::Recorded Enumerator::Record(const double* refA, const double* refB, 
     PairLocalOptions options;
     options.size = size_;
     options.maxIterations = kPolishIterations;
+    // Its final Newton step, whose decrease the distance's rounding hides,
+    // is taken however long in the parameters: the test of the points
+    // moved below bounds it. On a cell small beside the distance and the
+    // other cell (a sphere of radius 0.01 half a unit from a polyline of
+    // size 4) that step is longer than kFinalStep, which left the solve
+    // short of the cells' KKT test at the minimum itself: it was dropped.
+    options.finalStep = kInf;
     const PairLocalResult polished = PairLocalSolve(original_[0], original_[1], layout_, w, options);
     double moved2 = 0.0;
     for (int k = 0; k < ad; ++k) {
@@ -312,7 +373,15 @@ void Enumerator::SolveIn(const Problem& problem, double* slot) {
   // converged but misses the subdomain's KKT test by rounding, as on a
   // rational cell's heavy weights, ended at the subdomain's least point:
   // Record's polish judges it.)
-  if (RecordLocal(problem, slot, local.w) == Recorded::NotKkt && !local.converged) out_->certified = false;
+  // A converged solve off every face of subdomains of the cells
+  // themselves (not of a face a reduction searches, whose least point the
+  // distance may fall from into the cell) that the cells' test refuses is
+  // a minimum the search could not settle, not a subdomain without one.
+  if (RecordLocal(problem, slot, local.w) == Recorded::NotKkt &&
+      (!local.converged || (problem.recursion == 0 && InsideDomain(sides[0].cell.shape, local.w) &&
+                            InsideDomain(sides[1].cell.shape, local.w + layout.paramDim(0))))) {
+    out_->certified = false;
+  }
 }
 
 void Enumerator::ReduceToFace(const Problem& problem, double* slot, int side, int factor, int vertex, bool strict) {
@@ -374,9 +443,16 @@ void Enumerator::ReduceToFace(const Problem& problem, double* slot, int side, in
     strictness.push_back({side, best});
   }
   const int other = 1 - side;
-  if (faceFactors == 0) {
-    // A curve's end: a point against the other side's subdomain, whose
-    // minima are a point's (kernels/cell_minima.h).
+  auto faceShape = [&] {
+    return CellShape(faceFactors == 1 ? (facePd == 1 ? CellType::Line : CellType::Tri) : CellType::Quad, degrees);
+  };
+  if (faceFactors == 0 || CollapsedFace(faceHomogeneous, faceCount, ad, side)) {
+    // A curve's end, or a face that is one point (a sphere's pole): a
+    // point against the other side's subdomain, whose minima are a
+    // point's (kernels/cell_minima.h). A collapsed face searched as a
+    // cell of its own has no direction of its parameters the distance
+    // changes along: it was split down to the budget, every piece a
+    // "minimum" (the pole of an 8-cell sphere made thousands a pair).
     OwnedCell otherCell;
     otherCell.Set(problem.side[other].cell.shape, ad, problem.side[other].cell.weights != nullptr,
                   Homogeneous(problem, slot, other), controlCount_[other]);
@@ -394,16 +470,27 @@ void Enumerator::ReduceToFace(const Problem& problem, double* slot, int side, in
     const CellMinimaResult found = CellLocalMinima(solver, local, maxDistance_, &workspace);
     if (!found.certified) out_->certified = false;
     const RefMap otherMap = SubdomainMap(problem, slot, other);
-    const double zero[3] = {0, 0, 0};
-    double endRef[3];
-    faceMap.Apply(zero, endRef);
+    // The original pair's KKT test at a collapsed face depends on where on
+    // it the parameters lie (the slopes into the cell at a pole follow the
+    // meridian): the point counts where some place of the face passes, its
+    // centre or a corner (the whole face passes at a minimum of the models).
+    std::vector<std::array<double, 3>> places;
+    if (faceFactors == 0) {
+      places.push_back({0, 0, 0});
+    } else {
+      std::array<double, 3> center{0, 0, 0};
+      ReferenceCenter(faceShape(), center.data());
+      places.push_back(center);
+      for (const std::array<double, 3>& corner : ReferenceCorners(faceShape())) places.push_back(corner);
+    }
     for (const CellMinimum& m : found.minima) {
       double otherRef[3];
       otherMap.Apply(m.ref, otherRef);
-      if (side == 0) {
-        Record(endRef, otherRef, strictness);
-      } else {
-        Record(otherRef, endRef, strictness);
+      for (const std::array<double, 3>& place : places) {
+        double faceRef[3];
+        faceMap.Apply(place.data(), faceRef);
+        const Recorded recorded = side == 0 ? Record(faceRef, otherRef, strictness) : Record(otherRef, faceRef, strictness);
+        if (recorded != Recorded::NotKkt) break;
       }
     }
     return;
@@ -411,9 +498,8 @@ void Enumerator::ReduceToFace(const Problem& problem, double* slot, int side, in
   Problem child;
   child.recursion = problem.recursion + 1;
   child.strict = strictness;
-  const CellShape faceShape(faceFactors == 1 ? (facePd == 1 ? CellType::Line : CellType::Tri) : CellType::Quad, degrees);
   child.owned[side] = std::make_shared<OwnedCell>();
-  child.owned[side]->Set(faceShape, ad, s.cell.weights != nullptr, faceHomogeneous, faceCount);
+  child.owned[side]->Set(faceShape(), ad, s.cell.weights != nullptr, faceHomogeneous, faceCount);
   child.owned[other] = std::make_shared<OwnedCell>();
   child.owned[other]->Set(problem.side[other].cell.shape, ad, problem.side[other].cell.weights != nullptr,
                           Homogeneous(problem, slot, other), controlCount_[other]);
