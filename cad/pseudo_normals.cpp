@@ -3,7 +3,6 @@
 #include "cad/vertex_fans.h"
 
 #include <BRepTools.hxx>
-#include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <ShapeAnalysis_Curve.hxx>
@@ -17,7 +16,6 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
-#include <TopoDS_Wire.hxx>
 
 #include <algorithm>
 #include <cmath>
