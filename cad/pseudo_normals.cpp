@@ -1,7 +1,8 @@
 #include "cad/pseudo_normals.h"
 
+#include "cad/vertex_fans.h"
+
 #include <BRepTools.hxx>
-#include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <ShapeAnalysis_Curve.hxx>
@@ -15,7 +16,6 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
-#include <TopoDS_Wire.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +27,9 @@ namespace {
 /// stationary point inside the face (the solver's stationarity is far
 /// tighter; an answer on an edge is far off it).
 constexpr double kAlongNormal = 1.0 - 1e-6;
+/// A surface moving less than this share of the model's size across its
+/// face's parameter range in one direction is singular there.
+constexpr double kSingular = 1e-9;
 
 /// Knot spans of positive length within the curve's domain, as own
 /// parameter ranges (angular knots are angles already).
@@ -45,24 +48,6 @@ std::int64_t CountSpans(const std::vector<double>& knots, int degree, int count)
   return spans;
 }
 
-/// The unit tangent of `edge` where it leaves (start) or reaches its vertex
-/// in the sense `orientation` runs it.
-gp_Vec Tangent(const Handle(Geom_Curve)& curve, double first, double last, bool reversed, bool atStart) {
-  const bool atFirst = atStart != reversed;
-  const double t = atFirst ? first : last;
-  gp_Pnt p;
-  gp_Vec d;
-  curve->D1(t, p, d);
-  if (d.Magnitude() <= 1e-300) {
-    // A degenerate parameterization at the end: the chord to a nearby point.
-    const double step = 1e-6 * (last - first);
-    d = gp_Vec(p, curve->Value(atFirst ? t + step : t - step));
-    if (!atFirst) d.Reverse();
-  }
-  if (reversed) d.Reverse();
-  return d.Magnitude() > 0.0 ? d.Normalized() : d;
-}
-
 }  // namespace
 
 gp_Vec PseudoNormals::Normal(int face, double u, double v) const {
@@ -70,24 +55,18 @@ gp_Vec PseudoNormals::Normal(int face, double u, double v) const {
   gp_Pnt p;
   gp_Vec du, dv;
   f.surface->D1(u, v, p, du, dv);
+  // A pole or an apex: the surface hardly moves across the face's whole
+  // parameter range in one direction (measured against the model's size:
+  // a file's rounding leaves a derivative of 1e-12 there, and a normal from
+  // it that is one generator's, or its opposite), or its derivatives are
+  // parallel. It has no normal; the vertex there decides.
+  const double still = kSingular * size_;
   gp_Vec n = du.Crossed(dv);
-  if (n.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude() || n.Magnitude() <= 1e-300) {
-    // A pole or an apex: the normals of the face just inside it, averaged
-    // along the collapsed direction.
-    n = gp_Vec(0, 0, 0);
-    const bool uCollapses = du.Magnitude() <= dv.Magnitude();
-    const double* box = f.uvBox;
-    const double inU = u + 1e-6 * ((box[0] + box[1]) * 0.5 - u), inV = v + 1e-6 * ((box[2] + box[3]) * 0.5 - v);
-    for (int k = 0; k < 8; ++k) {
-      const double t = (k + 0.5) / 8.0;
-      const double su = uCollapses ? box[0] + t * (box[1] - box[0]) : inU;
-      const double sv = uCollapses ? inV : box[2] + t * (box[3] - box[2]);
-      f.surface->D1(su, sv, p, du, dv);
-      const gp_Vec nk = du.Crossed(dv);
-      if (nk.Magnitude() > 0.0) n += nk.Normalized();
-    }
+  if (du.Magnitude() * (f.uvBox[1] - f.uvBox[0]) <= still || dv.Magnitude() * (f.uvBox[3] - f.uvBox[2]) <= still ||
+      n.Magnitude() <= 1e-12 * du.Magnitude() * dv.Magnitude()) {
+    return gp_Vec(0, 0, 0);
   }
-  if (n.Magnitude() > 0.0) n.Normalize();
+  n.Normalize();
   return f.reversed ? -n : n;
 }
 
@@ -160,45 +139,10 @@ void PseudoNormals::Build(const TopoDS_Shape& shape, const ConvertedModel& model
   MarkSharedFaces(shape, model);
   classifiers_.resize(solids_.size());
 
-  // Each vertex's pseudo-normal: the normals of its faces weighted by the
-  // faces' angles there, walking each wire corner by corner (a degenerate
-  // edge between two corners joins them: the face wraps a pole or an apex).
+  // Each vertex's pseudo-normal: every face's fan there (cad/vertex_fans.h).
   vertexNormals_.assign(static_cast<std::size_t>(vertexMap.Extent()), gp_Vec(0, 0, 0));
   for (std::size_t f = 0; f < model.faces.size(); ++f) {
-    const TopoDS_Face& face = model.faces[f].face;
-    for (TopExp_Explorer wires(face, TopAbs_WIRE); wires.More(); wires.Next()) {
-      struct Step {
-        TopoDS_Edge edge;
-        bool reversed;
-      };
-      std::vector<Step> steps;
-      for (BRepTools_WireExplorer it(TopoDS::Wire(wires.Current()), face); it.More(); it.Next()) {
-        if (BRep_Tool::Degenerated(it.Current())) continue;
-        steps.push_back({it.Current(), it.Orientation() == TopAbs_REVERSED});
-      }
-      for (std::size_t k = 0; k < steps.size(); ++k) {
-        const Step& in = steps[k];
-        const Step& out = steps[(k + 1) % steps.size()];
-        const TopoDS_Vertex vertex = TopExp::LastVertex(in.edge, Standard_True);
-        if (vertex.IsNull()) continue;
-        const int v = vertexMap.FindIndex(vertex) - 1;
-        const EdgeRecord& inEdge = edges_[edgeMap.FindIndex(in.edge) - 1];
-        const EdgeRecord& outEdge = edges_[edgeMap.FindIndex(out.edge) - 1];
-        if (v < 0 || inEdge.curve.IsNull() || outEdge.curve.IsNull()) continue;
-        const gp_Pnt2d uv = BRep_Tool::Parameters(vertex, face);
-        const gp_Vec n = Normal(static_cast<int>(f), uv.X(), uv.Y());
-        gp_Vec back = -Tangent(inEdge.curve, inEdge.first, inEdge.last, in.reversed, false);
-        gp_Vec ahead = Tangent(outEdge.curve, outEdge.first, outEdge.last, out.reversed, true);
-        back -= n * back.Dot(n);
-        ahead -= n * ahead.Dot(n);
-        // The face lies left of its wire seen from its normal: its angle runs
-        // counterclockwise from the way out to the way back.
-        double angle = std::atan2(ahead.Crossed(back).Dot(n), ahead.Dot(back));
-        if (angle < 0.0) angle += 2.0 * M_PI;
-        if (angle < 1e-9) angle = 2.0 * M_PI;
-        vertexNormals_[v] += angle * n;
-      }
-    }
+    AddVertexFans(model.faces[f].face, faces_[f].surface, faces_[f].uvBox, vertexMap, &vertexNormals_);
   }
 }
 

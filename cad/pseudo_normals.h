@@ -72,8 +72,8 @@ class PseudoNormals {
     bool shared = false;     ///< SharedBetweenSolids.
   };
 
-  /// The outward unit normal of face f at (u, v) (zero where it has none,
-  /// then averaged from the nearby parameters inside the face).
+  /// The outward unit normal of face f at (u, v); zero at a singular point
+  /// (a pole, an apex), whose sign the vertex there gives.
   gp_Vec Normal(int face, double u, double v) const;
   /// The sign from edge e at own parameter s (a vertex's at its ends).
   double EdgeSign(const gp_Vec& offset, int edge, double s) const;

@@ -1,5 +1,7 @@
 #include "cad/shape_reader.h"
 
+#include "cad/exchange_file_check.h"
+
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -43,22 +45,27 @@ void CheckFile(const std::string& path) {
   if (std::filesystem::file_size(path, ec) == 0) throw ReadError{"empty file", false};
 }
 
-TopoDS_Shape ReadStep(const std::string& path) {
-  STEPControl_Reader reader;
-  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
-    throw ReadError{"not a readable STEP file (OpenCascade's STEP reader rejected it: truncated or not STEP)"};
-  }
-  if (reader.NbRootsForTransfer() == 0) throw ReadError{"the STEP file holds no shape"};
-  reader.TransferRoots();
-  return reader.OneShape();
+/// The reason a file gave no shape: what its text tells (not of the
+/// format, truncated), else `otherwise`.
+ReadError NoShape(const std::string& path, const std::string& format, const std::string& otherwise) {
+  const std::string broken = format == "BREP" ? "" : DescribeBrokenExchangeFile(path, format);
+  return ReadError{broken.empty() ? otherwise : broken};
 }
 
-TopoDS_Shape ReadIges(const std::string& path) {
-  IGESControl_Reader reader;
+/// STEPControl_Reader or IGESControl_Reader: every root transferred.
+template <class Reader>
+TopoDS_Shape ReadExchangeFile(const std::string& path, const std::string& format) {
+  Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
-    throw ReadError{"not a readable IGES file (OpenCascade's IGES reader rejected it: truncated or not IGES)"};
+    throw NoShape(path, format,
+                  "not a readable " + format + " file (OpenCascade's " + format + " reader rejected it)");
   }
-  if (reader.NbRootsForTransfer() == 0) throw ReadError{"the IGES file holds no shape"};
+  if (reader.NbRootsForTransfer() == 0) throw NoShape(path, format, "the " + format + " file holds no shape");
+  // A file cut short may still give the shapes before the cut: a part of
+  // the model, which would answer as if it were the whole.
+  if (const std::string broken = DescribeBrokenExchangeFile(path, format); broken.rfind("a truncated", 0) == 0) {
+    throw ReadError{broken};
+  }
   reader.TransferRoots();
   return reader.OneShape();
 }
@@ -95,10 +102,10 @@ TopoDS_Shape ReadCadShape(const std::string& path, std::string* format) {
   try {
     if (ext == ".step" || ext == ".stp") {
       *format = "STEP";
-      shape = ReadStep(path);
+      shape = ReadExchangeFile<STEPControl_Reader>(path, *format);
     } else if (ext == ".iges" || ext == ".igs") {
       *format = "IGES";
-      shape = ReadIges(path);
+      shape = ReadExchangeFile<IGESControl_Reader>(path, *format);
     } else if (ext == ".brep") {
       *format = "BREP";
       shape = ReadBrep(path);
@@ -108,7 +115,7 @@ TopoDS_Shape ReadCadShape(const std::string& path, std::string* format) {
   } catch (const Standard_Failure& e) {
     throw ReadError{std::string("OpenCascade failed to read it: ") + e.GetMessageString()};
   }
-  if (shape.IsNull()) throw ReadError{"the file holds no shape"};
+  if (shape.IsNull()) throw NoShape(path, *format, "the " + *format + " file holds no shape");
   const std::size_t faces = Count(shape, TopAbs_FACE);
   if (faces == 0) {
     throw ReadError{"no faces (" + std::to_string(Count(shape, TopAbs_EDGE)) + " edges, " +

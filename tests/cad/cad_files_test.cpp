@@ -1,5 +1,5 @@
 // CAD files through the command: good ones answer, bad ones (truncated
-// STEP, STEP without shapes, IGES of curves only, BREP that is text
+// STEP or IGES, files not of their format, STEP without shapes, IGES of curves only, BREP that is text
 // garbage, models of curves only) exit 3 with a message naming the file
 // and leave no output.
 #include <BRepBuilderAPI_MakeEdge.hxx>
@@ -65,7 +65,33 @@ TEST(CadFiles, TruncatedStep) {
   std::ostringstream all;
   all << in.rdbuf();
   const std::string text = all.str();
-  ExpectRejected(WriteText("truncated.step", text.substr(0, text.size() * 2 / 5)), "STEP");
+  ExpectRejected(WriteText("truncated.step", text.substr(0, text.size() * 2 / 5)), "a truncated STEP file");
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream all;
+  all << in.rdbuf();
+  return all.str();
+}
+
+TEST(CadFiles, TruncatedStepWhoseFirstPartHoldsShapes) {
+  // Cut after most of its faces: the reader gets a part of the model.
+  const std::string text = ReadAll(Sample("step/screw.step"));
+  ExpectRejected(WriteText("nearly_whole.step", text.substr(0, text.size() * 19 / 20)), "a truncated STEP file");
+}
+
+TEST(CadFiles, TruncatedAndGarbageIgesSayWhich) {
+  const std::string text = ReadAll(Sample("iges/bearing.iges"));
+  for (const double share : {0.05, 0.5, 0.95}) {
+    const std::size_t cut = static_cast<std::size_t>(share * static_cast<double>(text.size()));
+    ExpectRejected(WriteText("truncated.igs", text.substr(0, cut)), "a truncated IGES file");
+  }
+  std::string garbage(4000, '\0');
+  for (std::size_t i = 0; i < garbage.size(); ++i) garbage[i] = static_cast<char>((i * 7919 + 13) % 251);
+  ExpectRejected(WriteText("garbage.igs", garbage), "not an IGES file");
+  ExpectRejected(WriteText("step_as.igs", ReadAll(Sample("step/screw.step"))), "not an IGES file");
+  ExpectRejected(WriteText("iges_as.step", text), "not a STEP file");
 }
 
 TEST(CadFiles, StepWithoutShapes) {
