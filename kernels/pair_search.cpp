@@ -8,6 +8,7 @@
 #include "kernels/pair_certificate.h"
 #include "kernels/pair_taylor_bounds.h"
 #include "kernels/pair_local_solve.h"
+#include "kernels/pair_motion_bound.h"
 #include "kernels/pair_nets.h"
 #include "kernels/simplex_index.h"
 #include "kernels/simplex_pair.h"
@@ -82,6 +83,12 @@ bool ScaledEigenBasis(const Matrix& h, double* basis) {
   return true;
 }
 
+/// A kept subdomain (PairPartition::leaves): its bound, the drift then,
+/// where its two parts were (kernels/pair_motion_bound.h), then its slot's
+/// header and its own-frame nets.
+constexpr int kLeafPlace = 2;
+constexpr int kLeafHeader = kLeafPlace + kSubdomainPlaceSize;
+
 /// A tracker's partition of a pair is dropped past this many times the
 /// subdomains a search from the whole pair ended with (PairPartition).
 constexpr std::size_t kPartitionGrowth = 2;
@@ -106,6 +113,13 @@ class PairSearch {
     if (reuse_ && reuse_->next) {
       reuse_->next->valid = false;
       reuse_->next->leaves.clear();
+      for (int side = 0; side < 2; ++side) {
+        const PairSide& s = side == 0 ? a : b;
+        if (!s.nets) continue;
+        const double* c = s.nets->center();
+        const double local[3] = {c[0], c[1], ambientDim_ > 2 ? c[2] : 0.0};
+        s.motion.Apply(local, netCenter_[side]);
+      }
     }
     for (int side = 0; side < 2; ++side) {
       const PairSide& s = side == 0 ? a : b;
@@ -206,6 +220,8 @@ class PairSearch {
   bool complete_ = true;
   /// The deepest subdomain kept.
   double keptDepth_ = 0.0;
+  /// Each side's nets' centre in the common frame (their NW_k / WW are about it).
+  double netCenter_[2][3] = {};
   bool Keeping() const { return reuse_ && reuse_->next; }
   /// The distance bound of a subdomain whose nets' least quotient is lb.
   double Bound(double lb) const { return std::sqrt(std::max(0.0, lb - slack_)); }
@@ -224,6 +240,30 @@ void PairSearch::KeepLeaf(const double* slot, double bound, const PairNets& nets
   keptDepth_ = std::max(keptDepth_, slot[kDepth]);
   out.push_back(bound);
   out.push_back(reuse_->drift);
+  // Each part's box: the hull of its placed nets' quotients NW_k / WW
+  // (the control points of its map, whose hull holds it) about its centre.
+  double lo[2][3], hi[2][3];
+  for (int side = 0; side < 2; ++side) {
+    const double* values = slot + kHeaderSize + (side == 0 ? 0 : nets.sideLength(0));
+    const int n = nets.size(side);
+    const double* w = values + (ambientDim_ + 1) * n;
+    for (int k = 0; k < 3; ++k) {
+      lo[side][k] = hi[side][k] = netCenter_[side][k];
+      if (k >= ambientDim_) continue;
+      const double* nw = values + (1 + k) * n;
+      double least = kInf, most = -kInf;
+      for (int i = 0; i < n; ++i) {
+        const double q = nw[i] / w[i];
+        least = std::min(least, q);
+        most = std::max(most, q);
+      }
+      lo[side][k] += least;
+      hi[side][k] += most;
+    }
+  }
+  const std::size_t at = out.size();
+  out.resize(at + kSubdomainPlaceSize);
+  WriteSubdomainPlace(lo, hi, a_.motion, b_.motion, out.data() + at);
   out.insert(out.end(), slot, slot + kHeaderSize);
   const double* own = slot + ownOffset_;
   out.insert(out.end(), own, own + nets.sideLength(0) + nets.sideLength(1));
@@ -240,18 +280,24 @@ void PairSearch::SeedFromPartition(SlotPool* pool, const PairNets& nets, double 
     const double* leaf = previous.leaves.data() + at;
     const double bound = leaf[0], driftAt = leaf[1];
     // As PairBoundCache::Holds: the bound less the drift since, less the
-    // subtraction's rounding.
-    if (bound - (drift - driftAt) - 4.0 * eps * (bound + drift) >= levelDistance) {
+    // subtraction's rounding; else the bound of how much nearer the two
+    // parts can have come since (kernels/pair_motion_bound.h).
+    bool holds = bound - (drift - driftAt) - 4.0 * eps * (bound + drift) >= levelDistance;
+    if (!holds && bound > levelDistance) {
+      const double now2 = bound * bound * (1.0 - 4.0 * eps) + SquaredDistanceChangeBound(leaf + kLeafPlace, a_.motion, b_.motion);
+      holds = now2 > 0.0 && std::sqrt(now2) * (1.0 - 4.0 * eps) >= levelDistance;
+    }
+    if (holds) {
       if (Keeping()) reuse_->next->leaves.insert(reuse_->next->leaves.end(), leaf, leaf + length);
       continue;
     }
     const int c = pool->Allocate();
     double* slot = (*pool)[c];
-    std::copy(leaf + 2, leaf + 2 + kHeaderSize, slot);
+    std::copy(leaf + kLeafHeader, leaf + kLeafHeader + kHeaderSize, slot);
     // Its KKT point was of the previous motion; a certificate is tried at once.
     slot[kHasSeed] = 0.0;
     slot[kRetryDepth] = slot[kDepth];
-    std::copy(leaf + 2 + kHeaderSize, leaf + 2 + kHeaderSize + ownLength, slot + ownOffset_);
+    std::copy(leaf + kLeafHeader + kHeaderSize, leaf + kLeafHeader + kHeaderSize + ownLength, slot + ownOffset_);
     double* sideA = slot + kHeaderSize;
     double* sideB = sideA + nets.sideLength(0);
     nets.Place(0, slot + ownOffset_, sideA);
@@ -759,7 +805,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
   bool reusing = false;
   if (HaveNets() && reuse_ && reuse_->previous && reuse_->previous->valid) {
     const PairNets nets(a_, b_);
-    reusing = reuse_->previous->leafLength == 2 + kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+    reusing = reuse_->previous->leafLength == kLeafHeader + kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
   }
   if (reusing) {
     // The previous partition replaces the whole pair's nets; its best point
@@ -995,7 +1041,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
   if (Keeping() && certified && complete_ && best_.squaredDistance < kInf) {
     PairPartition& next = *reuse_->next;
     next.valid = true;
-    next.leafLength = 2 + kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+    next.leafLength = kLeafHeader + kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
     std::copy(best_.w, best_.w + n_, next.start);
     const std::size_t count = next.leaves.size() / next.leafLength;
     next.wholeLeaves = reusing ? reuse_->previous->wholeLeaves : count;
