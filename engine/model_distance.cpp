@@ -127,11 +127,12 @@ bool ConvexPair(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b, 
 
 kernels::PairSolveResult SolvePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,
                                           std::int64_t cellB, const double* startA, const double* startB,
-                                          double bound2, ModelDistanceWorkspace* ws) {
+                                          double bound2, ModelDistanceWorkspace* ws,
+                                          const kernels::PairReuse* reuse) {
   const bool convex = ConvexPair(a, cellA, b, cellB);
   const kernels::PairSide sideA = PlacedSide(a, cellA, 0, !convex, ws);
   const kernels::PairSide sideB = PlacedSide(b, cellB, 1, !convex, ws);
-  return kernels::SolveCellPair(sideA, sideB, startA, startB, &ws->pair, bound2);
+  return kernels::SolveCellPair(sideA, sideB, startA, startB, &ws->pair, bound2, convex ? nullptr : reuse);
 }
 
 namespace {
@@ -165,6 +166,15 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   }
   auto record = [&](std::int64_t ia, std::int64_t ib, const kernels::PairSolveResult& r) {
     if (cache) cache->Record(ia, ib, r.lowerBound);
+  };
+  // A pair's search, from the subdomains its last search left (trackers).
+  auto solve = [&](std::int64_t ia, std::int64_t ib, const double* startA, const double* startB) {
+    kernels::PairPartition* kept = cache ? cache->Partition(ia, ib) : nullptr;
+    if (!kept) return SolvePlacedCells(a, ia, b, ib, startA, startB, best2, ws);
+    const kernels::PairReuse reuse{kept, &ws->nextPartition, cache->drift()};
+    const kernels::PairSolveResult r = SolvePlacedCells(a, ia, b, ib, startA, startB, best2, ws, &reuse);
+    std::swap(*kept, ws->nextPartition);
+    return r;
   };
 
   // Pairs whose search ran out of its budget, and the bound of what it
@@ -210,7 +220,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
     const CellPairAnswer& warm = *options.warm;
     warmA = warm.cell[0];
     warmB = warm.cell[1];
-    consider(warmA, warmB, SolvePlacedCells(a, warmA, b, warmB, warm.ref[0], warm.ref[1], best2, ws));
+    consider(warmA, warmB, solve(warmA, warmB, warm.ref[0], warm.ref[1]));
   }
 
   const Bvh& treeA = cellsA.bvh();
@@ -255,6 +265,13 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
       if (!(lb * lb < best2) || !(best2 > zero * zero)) break;
       if (pair.first == warmA && pair.second == warmB) continue;
       if (cache && cache->Excludes(pair.first, pair.second, std::sqrt(best2))) continue;
+      // A pair with a partition kept is searched from it after the
+      // traversal; a probe (a local solve from the whole pair's nets) would
+      // cost about as much as that search.
+      if (cache && cache->HasPartition(pair.first, pair.second)) {
+        probed.push_back({0.0, best2, pair.first, pair.second});
+        continue;
+      }
       probe(pair.first, pair.second);
     }
   };
@@ -349,7 +366,7 @@ CellPairAnswer NearestPair(const PlacedModel& a, const PlacedModel& b, const Mod
   std::sort(probed.begin(), probed.end(), [](const OpenPair& x, const OpenPair& y) { return x.openBound2 < y.openBound2; });
   for (const OpenPair& pair : probed) {
     if (!(pair.openBound2 < best2) || !(best2 > zero * zero)) break;
-    consider(pair.a, pair.b, SolvePlacedCells(a, pair.a, b, pair.b, nullptr, nullptr, best2, ws));
+    consider(pair.a, pair.b, solve(pair.a, pair.b, nullptr, nullptr));
   }
 
   // An open pair is settled when its open parts lie beyond the answer; one

@@ -78,6 +78,8 @@ struct ModelDistanceWorkspace {
   kernels::DistanceNets scratchNets[2];
   std::int64_t scratchNetsCell[2] = {-1, -1};
   const DistanceCells* scratchNetsModel[2] = {nullptr, nullptr};
+  /// What a tracked pair's search leaves, swapped into its PairBoundCache.
+  kernels::PairPartition nextPartition;
 };
 
 /// The global minimum of |a - b| over the points a of A and b of B (within
@@ -96,8 +98,10 @@ void ToModelFrame(const kernels::RigidMotion& motion, const double* world, doubl
 
 /// The pair solve of one cell pair, as NearestPair runs it (`start`: both
 /// sides' reference coordinates, or null); `bound2` as SolveCellPair's.
+/// `reuse`: a tracker's partitions of the pair (kernels::PairReuse), or null.
 kernels::PairSolveResult SolvePlacedCells(const PlacedModel& a, std::int64_t cellA, const PlacedModel& b,
                                           std::int64_t cellB, const double* startA, const double* startB,
-                                          double bound2, ModelDistanceWorkspace* ws);
+                                          double bound2, ModelDistanceWorkspace* ws,
+                                          const kernels::PairReuse* reuse = nullptr);
 
 }  // namespace invmap::engine

@@ -47,6 +47,25 @@ void PairBoundCache::MoveTo(const kernels::RigidMotion& bIntoA) {
   }
   last_ = bIntoA;
   hasMotion_ = true;
+  // Partitions of pairs no search of the last two motions used are dropped:
+  // the models moved on, and what a pair keeps is some kilobytes.
+  ++moves_;
+  for (auto it = partitions_.begin(); it != partitions_.end();) {
+    it = it->second.usedAt + 2 < moves_ ? partitions_.erase(it) : std::next(it);
+  }
+}
+
+bool PairBoundCache::HasPartition(std::int64_t a, std::int64_t b) const {
+  if (!Keyable(a, b)) return false;
+  const auto it = partitions_.find(KeyOf(a, b));
+  return it != partitions_.end() && it->second.partition.valid;
+}
+
+kernels::PairPartition* PairBoundCache::Partition(std::int64_t a, std::int64_t b) {
+  if (!Keyable(a, b)) return nullptr;
+  KeptPartition& kept = partitions_[KeyOf(a, b)];
+  kept.usedAt = moves_;
+  return &kept.partition;
 }
 
 std::size_t PairBoundCache::Find(std::uint64_t key) const {
@@ -96,6 +115,7 @@ void PairBoundCache::Clear() {
   std::fill(slots_.begin(), slots_.end(), Slot{kEmpty, 0.0, 0.0});
   used_ = 0;
   frontier_.clear();
+  partitions_.clear();
 }
 
 void PairBoundCache::Grow() {

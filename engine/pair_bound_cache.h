@@ -17,12 +17,20 @@
 // stopped, each pair of nodes with its bound) is kept, and the next pose's
 // traversal starts from it, descending only the entries whose bound the
 // drift has used up.
+//
+// And within a pair: the subdomains its last search ended with
+// (kernels::PairPartition), for the pairs solved at the last two motions.
+// A pair whose distance stays within the drift of the answer (the contact
+// pair, and its neighbours across the cells' edges) is searched again at
+// every motion; from its partition only the subdomains near its minimum are.
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "kernels/pair_problem.h"
+#include "kernels/pair_search.h"
 
 namespace invmap::engine {
 
@@ -65,6 +73,13 @@ class PairBoundCache {
   /// dropped, so the next traversal starts from the roots again.
   void SetFrontier(std::vector<FrontierEntry>* next, bool fromRoots);
 
+  /// The partition pair (a, b)'s last search left (invalid if none): read
+  /// by its next search and swapped with what that one leaves. Null for a
+  /// pair that cannot be kept.
+  kernels::PairPartition* Partition(std::int64_t a, std::int64_t b);
+  /// True when pair (a, b) has a valid partition kept.
+  bool HasPartition(std::int64_t a, std::int64_t b) const;
+
   /// Forgets every pair (the models changed).
   void Clear();
 
@@ -82,6 +97,13 @@ class PairBoundCache {
   bool Holds(double bound, double driftAt, double distance) const;
   std::size_t Find(std::uint64_t key) const;
   void Grow();
+
+  struct KeptPartition {
+    kernels::PairPartition partition;
+    std::uint64_t usedAt = 0;  ///< The motion (moves_) of its last use.
+  };
+  std::unordered_map<std::uint64_t, KeptPartition> partitions_;
+  std::uint64_t moves_ = 0;
 
   std::vector<Slot> slots_;
   std::size_t used_ = 0;

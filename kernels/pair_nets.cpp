@@ -278,31 +278,38 @@ PairNets::PairNets(const PairSide& a, const PairSide& b) {
 }
 
 void PairNets::BuildRoot(double* sideA, double* sideB) const {
-  const int d = ambientDim_;
+  for (int s = 0; s < 2; ++s) Place(s, side_[s]->nets->nn(), s == 0 ? sideA : sideB);
+}
+
+void PairNets::BuildRootOwn(double* sideA, double* sideB) const {
   for (int s = 0; s < 2; ++s) {
     const DistanceNets& nets = *side_[s]->nets;
-    const int n = size_[s];
-    double* out = s == 0 ? sideA : sideB;
-    // The vector nets turned into the common frame: NW_k = sum_l R_kl NW_l.
-    for (int k = 0; k < d; ++k) {
-      double* nw = out + (1 + k) * n;
-      std::fill(nw, nw + n, 0.0);
-      for (int l = 0; l < d; ++l) {
-        const double r = rotation_[s][k][l];
-        if (r == 0.0) continue;
-        const double* source = nets.nw(l);
-        for (int i = 0; i < n; ++i) nw[i] += r * source[i];
-      }
+    std::copy(nets.nn(), nets.nn() + sideLength(s), s == 0 ? sideA : sideB);
+  }
+}
+
+void PairNets::Place(int s, const double* own, double* out) const {
+  const int d = ambientDim_;
+  const int n = size_[s];
+  // The vector nets turned into the common frame: NW_k = sum_l R_kl NW_l.
+  for (int k = 0; k < d; ++k) {
+    double* nw = out + (1 + k) * n;
+    std::fill(nw, nw + n, 0.0);
+    for (int l = 0; l < d; ++l) {
+      const double r = rotation_[s][k][l];
+      if (r == 0.0) continue;
+      const double* source = own + (1 + l) * n;
+      for (int i = 0; i < n; ++i) nw[i] += r * source[i];
     }
-    std::copy(nets.ww(), nets.ww() + n, out + (d + 1) * n);
-    const double* nn = nets.nn();
-    double* zero = out;
-    const double sign = s == 0 ? 2.0 : -2.0;
-    for (int i = 0; i < n; ++i) {
-      double v = nn[i];
-      for (int k = 0; k < d; ++k) v += sign * offset_[k] * out[(1 + k) * n + i];
-      zero[i] = v;
-    }
+  }
+  std::copy(own + (d + 1) * n, own + (d + 2) * n, out + (d + 1) * n);
+  const double* nn = own;
+  double* zero = out;
+  const double sign = s == 0 ? 2.0 : -2.0;
+  for (int i = 0; i < n; ++i) {
+    double v = nn[i];
+    for (int k = 0; k < d; ++k) v += sign * offset_[k] * out[(1 + k) * n + i];
+    zero[i] = v;
   }
 }
 

@@ -44,6 +44,17 @@ class PairNets {
 
   /// The nets of the whole domains.
   void BuildRoot(double* sideA, double* sideB) const;
+  /// The same nets in each cell's own frame (DistanceNets' NN, NW_k, WW:
+  /// no rotation, no offset), which no motion changes: a subdomain's own
+  /// nets, split as its placed ones are, give its placed nets at any later
+  /// motion through Place (trackers keep subdomains so).
+  void BuildRootOwn(double* sideA, double* sideB) const;
+  /// Side s's nets in the common frame of this pair's motions from its own
+  /// nets `own` (sideLength(s) values each): what BuildRoot does to the
+  /// whole domain's. Splits and this map are linear and commute; their
+  /// roundings are of the same size either way (convex combinations, a
+  /// rotation and the offset's term), within RoundingSlack.
+  void Place(int side, const double* own, double* out) const;
   /// Nets of side `side` on half of its subdomain (SplitNet of every net).
   void Split(int side, int factor, int vi, int vj, const double* in, double* out) const;
 

@@ -8,6 +8,7 @@
 #include "kernels/pair_certificate.h"
 #include "kernels/pair_taylor_bounds.h"
 #include "kernels/pair_local_solve.h"
+#include "kernels/pair_motion_bound.h"
 #include "kernels/pair_nets.h"
 #include "kernels/simplex_index.h"
 #include "kernels/simplex_pair.h"
@@ -82,6 +83,16 @@ bool ScaledEigenBasis(const Matrix& h, double* basis) {
   return true;
 }
 
+/// A kept subdomain (PairPartition::leaves): its bound, the drift then,
+/// where its two parts were (kernels/pair_motion_bound.h), then its slot's
+/// header and its own-frame nets.
+constexpr int kLeafPlace = 2;
+constexpr int kLeafHeader = kLeafPlace + kSubdomainPlaceSize;
+
+/// A tracker's partition of a pair is dropped past this many times the
+/// subdomains a search from the whole pair ended with (PairPartition).
+constexpr std::size_t kPartitionGrowth = 2;
+
 /// A split by bend is overruled when its edge is shorter than the longest
 /// by more than this factor (squared: 1024^2).
 constexpr double kBendSplitRatio2 = 1024.0 * 1024.0;
@@ -89,14 +100,27 @@ constexpr double kBendSplitRatio2 = 1024.0 * 1024.0;
 /// The pair search over one pair of cells.
 class PairSearch {
  public:
-  PairSearch(const PairSide& a, const PairSide& b, PairWorkspace* ws)
-      : a_(a), b_(b), layout_(a.cell.shape, b.cell.shape), ws_(ws) {
+  PairSearch(const PairSide& a, const PairSide& b, PairWorkspace* ws, const PairReuse* reuse = nullptr)
+      : a_(a), b_(b), layout_(a.cell.shape, b.cell.shape), ws_(ws), reuse_(reuse) {
     ambientDim_ = a.cell.ambientDim;
     n_ = layout_.n();
     tau_ = kDistanceTolerance * std::max(a.size, b.size);
     options_.size = a.size + b.size;
     retryStep_ = std::max(1, n_ / 2);
     trimmed_ = a.trim || b.trim;
+    // A trimmed pair's subdomains are closed by tests of its region too: not kept.
+    if (trimmed_) reuse_ = nullptr;
+    if (reuse_ && reuse_->next) {
+      reuse_->next->valid = false;
+      reuse_->next->leaves.clear();
+      for (int side = 0; side < 2; ++side) {
+        const PairSide& s = side == 0 ? a : b;
+        if (!s.nets) continue;
+        const double* c = s.nets->center();
+        const double local[3] = {c[0], c[1], ambientDim_ > 2 ? c[2] : 0.0};
+        s.motion.Apply(local, netCenter_[side]);
+      }
+    }
     for (int side = 0; side < 2; ++side) {
       const PairSide& s = side == 0 ? a : b;
       double center[3];
@@ -186,7 +210,107 @@ class PairSearch {
   /// Trimmed pairs: the root nets' bound, which holds for every point of
   /// the pair (the KKT exclusion above holds for the KKT points only).
   double rootBound2_ = 0.0;
+
+  // A tracker's partitions (PairPartition): with reuse_->next, every slot
+  // also holds its own-frame nets after the placed ones (at ownOffset_),
+  // and every subdomain the search closes is written there.
+  const PairReuse* reuse_ = nullptr;
+  int ownOffset_ = 0;
+  /// False once some part of the pair was left without a proved bound.
+  bool complete_ = true;
+  /// The deepest subdomain kept.
+  double keptDepth_ = 0.0;
+  /// Each side's nets' centre in the common frame (their NW_k / WW are about it).
+  double netCenter_[2][3] = {};
+  bool Keeping() const { return reuse_ && reuse_->next; }
+  /// The distance bound of a subdomain whose nets' least quotient is lb.
+  double Bound(double lb) const { return std::sqrt(std::max(0.0, lb - slack_)); }
+  /// Writes a closed subdomain to the next partition: no point of it is
+  /// nearer than `bound` at this motion.
+  void KeepLeaf(const double* slot, double bound, const PairNets& nets);
+  /// Starts the search from the previous partition: the subdomains whose
+  /// bound the drift has not used up are kept as they are, the rest placed
+  /// at this motion and pushed (or kept, if their bound now prunes them).
+  void SeedFromPartition(SlotPool* pool, const PairNets& nets, double level, std::vector<int>* heap);
 };
+
+void PairSearch::KeepLeaf(const double* slot, double bound, const PairNets& nets) {
+  if (!Keeping()) return;
+  std::vector<double>& out = reuse_->next->leaves;
+  keptDepth_ = std::max(keptDepth_, slot[kDepth]);
+  out.push_back(bound);
+  out.push_back(reuse_->drift);
+  // Each part's box: the hull of its placed nets' quotients NW_k / WW
+  // (the control points of its map, whose hull holds it) about its centre.
+  double lo[2][3], hi[2][3];
+  for (int side = 0; side < 2; ++side) {
+    const double* values = slot + kHeaderSize + (side == 0 ? 0 : nets.sideLength(0));
+    const int n = nets.size(side);
+    const double* w = values + (ambientDim_ + 1) * n;
+    for (int k = 0; k < 3; ++k) {
+      lo[side][k] = hi[side][k] = netCenter_[side][k];
+      if (k >= ambientDim_) continue;
+      const double* nw = values + (1 + k) * n;
+      double least = kInf, most = -kInf;
+      for (int i = 0; i < n; ++i) {
+        const double q = nw[i] / w[i];
+        least = std::min(least, q);
+        most = std::max(most, q);
+      }
+      lo[side][k] += least;
+      hi[side][k] += most;
+    }
+  }
+  const std::size_t at = out.size();
+  out.resize(at + kSubdomainPlaceSize);
+  WriteSubdomainPlace(lo, hi, a_.motion, b_.motion, out.data() + at);
+  out.insert(out.end(), slot, slot + kHeaderSize);
+  const double* own = slot + ownOffset_;
+  out.insert(out.end(), own, own + nets.sideLength(0) + nets.sideLength(1));
+}
+
+void PairSearch::SeedFromPartition(SlotPool* pool, const PairNets& nets, double level, std::vector<int>* heap) {
+  const PairPartition& previous = *reuse_->previous;
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double drift = reuse_->drift;
+  const double levelDistance = std::sqrt(std::max(0.0, level - slack_));
+  const int length = previous.leafLength;
+  const int ownLength = nets.sideLength(0) + nets.sideLength(1);
+  for (std::size_t at = 0; at + length <= previous.leaves.size(); at += length) {
+    const double* leaf = previous.leaves.data() + at;
+    const double bound = leaf[0], driftAt = leaf[1];
+    // As PairBoundCache::Holds: the bound less the drift since, less the
+    // subtraction's rounding; else the bound of how much nearer the two
+    // parts can have come since (kernels/pair_motion_bound.h).
+    bool holds = bound - (drift - driftAt) - 4.0 * eps * (bound + drift) >= levelDistance;
+    if (!holds && bound > levelDistance) {
+      const double now2 = bound * bound * (1.0 - 4.0 * eps) + SquaredDistanceChangeBound(leaf + kLeafPlace, a_.motion, b_.motion);
+      holds = now2 > 0.0 && std::sqrt(now2) * (1.0 - 4.0 * eps) >= levelDistance;
+    }
+    if (holds) {
+      if (Keeping()) reuse_->next->leaves.insert(reuse_->next->leaves.end(), leaf, leaf + length);
+      continue;
+    }
+    const int c = pool->Allocate();
+    double* slot = (*pool)[c];
+    std::copy(leaf + kLeafHeader, leaf + kLeafHeader + kHeaderSize, slot);
+    // Its KKT point was of the previous motion; a certificate is tried at once.
+    slot[kHasSeed] = 0.0;
+    slot[kRetryDepth] = slot[kDepth];
+    std::copy(leaf + kLeafHeader + kHeaderSize, leaf + kLeafHeader + kHeaderSize + ownLength, slot + ownOffset_);
+    double* sideA = slot + kHeaderSize;
+    double* sideB = sideA + nets.sideLength(0);
+    nets.Place(0, slot + ownOffset_, sideA);
+    nets.Place(1, slot + ownOffset_ + nets.sideLength(0), sideB);
+    slot[kLowerBound] = nets.LowerBound(sideA, sideB, &ws_->scratch);
+    if (slot[kLowerBound] < level) {
+      heap->push_back(c);
+    } else {
+      KeepLeaf(slot, Bound(slot[kLowerBound]), nets);
+      pool->Free(c);
+    }
+  }
+}
 
 bool PairSearch::Admitted(const double* w) const {
   for (int side = 0; side < 2; ++side) {
@@ -678,7 +802,17 @@ PairSolveResult PairSearch::Probe(double bound2) {
 PairSolveResult PairSearch::Solve(const double* startA, const double* startB, double bound2) {
   const bool bounded = bound2 < kInf;
   double start[kMaxPairParams];
-  if (HaveNets()) {
+  bool reusing = false;
+  if (HaveNets() && reuse_ && reuse_->previous && reuse_->previous->valid) {
+    const PairNets nets(a_, b_);
+    reusing = reuse_->previous->leafLength == kLeafHeader + kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+  }
+  if (reusing) {
+    // The previous partition replaces the whole pair's nets; its best point
+    // starts the local solve.
+    slack_ = PairNets(a_, b_).RoundingSlack();
+    if (!startA) std::copy(reuse_->previous->start, reuse_->previous->start + n_, start);
+  } else if (HaveNets()) {
     const PairNets nets(a_, b_);
     slack_ = nets.RoundingSlack();
     const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
@@ -733,21 +867,30 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
   // search to prune with until it finds a point of the region.
 
   const PairNets nets(a_, b_);
-  const int slotSize = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+  ownOffset_ = kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+  const int slotSize = ownOffset_ + (Keeping() ? nets.sideLength(0) + nets.sideLength(1) : 0);
   SlotPool pool(&ws_->slots, &ws_->freeSlots, slotSize);
-  const int root = pool.Allocate();
-  {
-    double* slot = pool[root];
-    SetRoot(slot);
-    double* sideA = slot + kHeaderSize;
-    nets.BuildRoot(sideA, sideA + nets.sideLength(0));
-    slot[kLowerBound] = nets.LowerBound(sideA, sideA + nets.sideLength(0), &ws_->scratch);
-  }
   auto pruneLevel = [&] { return ExclusionLevel(std::min(best_.squaredDistance, bound2), tau_, slack_); };
   std::vector<int>& heap = ws_->heap;
   heap.clear();
   auto byLowerBound = [&](int x, int y) { return pool[x][kLowerBound] > pool[y][kLowerBound]; };
-  if (pool[root][kLowerBound] < pruneLevel()) heap.push_back(root);
+  if (reusing) {
+    SeedFromPartition(&pool, nets, pruneLevel(), &heap);
+    std::make_heap(heap.begin(), heap.end(), byLowerBound);
+  } else {
+    const int root = pool.Allocate();
+    double* slot = pool[root];
+    SetRoot(slot);
+    double* sideA = slot + kHeaderSize;
+    nets.BuildRoot(sideA, sideA + nets.sideLength(0));
+    if (Keeping()) nets.BuildRootOwn(slot + ownOffset_, slot + ownOffset_ + nets.sideLength(0));
+    slot[kLowerBound] = nets.LowerBound(sideA, sideA + nets.sideLength(0), &ws_->scratch);
+    if (slot[kLowerBound] < pruneLevel()) {
+      heap.push_back(root);
+    } else {
+      KeepLeaf(slot, Bound(slot[kLowerBound]), nets);
+    }
+  }
 
   bool certified = true;
   int examined = 0, hardSeeds = 0;
@@ -755,7 +898,13 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     std::pop_heap(heap.begin(), heap.end(), byLowerBound);
     const int s = heap.back();
     heap.pop_back();
-    if (pool[s][kLowerBound] >= pruneLevel()) break;  // every other subdomain is farther still
+    if (pool[s][kLowerBound] >= pruneLevel()) {
+      // Every other subdomain is farther still.
+      KeepLeaf(pool[s], Bound(pool[s][kLowerBound]), nets);
+      for (int h : heap) KeepLeaf(pool[h], Bound(pool[h][kLowerBound]), nets);
+      heap.clear();
+      break;
+    }
     examined_ = ++examined;
     if (examined > kMaxPairSubdomains) {
       // The heap's least bound holds for every part left open.
@@ -769,6 +918,8 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
     }
     const bool tryCertificate = pool[s][kDepth] >= pool[s][kRetryDepth];
     if (tryCertificate && CertifiedAround(pool[s], pruneLevel())) {
+      // Closed around a KKT point that moves with the models: reopened next time.
+      KeepLeaf(pool[s], 0.0, nets);
       pool.Free(s);
       continue;
     }
@@ -792,7 +943,10 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
       const bool admitted = !trimmed_ || Admitted(local.w);
       if (admitted && local.squaredDistance < best_.squaredDistance) {
         best_ = local;
-        if (best_.squaredDistance <= tau_ * tau_) break;
+        if (best_.squaredDistance <= tau_ * tau_) {
+          complete_ = false;  // what is left open has no proved bound
+          break;
+        }
       } else if (trimmed_ && fCenter < best_.squaredDistance) {
         // The centre is a point of the pair: it bounds the distance from
         // above and lets the search prune (it is never certified as a KKT point).
@@ -808,6 +962,7 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
         std::copy(local.w, local.w + n_, pool[s] + kSeedPoint);
       }
       if (pool[s][kLowerBound] >= pruneLevel() || CertifiedAround(pool[s], pruneLevel())) {
+        KeepLeaf(pool[s], pool[s][kLowerBound] >= pruneLevel() ? Bound(pool[s][kLowerBound]) : 0.0, nets);
         pool.Free(s);
         continue;
       }
@@ -864,15 +1019,36 @@ PairSolveResult PairSearch::Solve(const double* startA, const double* startB, do
         std::copy(parentA, parentA + nets.sideLength(0), childA);
         nets.Split(1, factor, keep, move, parentB, childB);
       }
+      if (Keeping()) {
+        const double* ownParent = parent + ownOffset_ + (side == 0 ? 0 : nets.sideLength(0));
+        double* ownChild = slot + ownOffset_ + (side == 0 ? 0 : nets.sideLength(0));
+        const double* ownOther = parent + ownOffset_ + (side == 0 ? nets.sideLength(0) : 0);
+        double* ownOtherChild = slot + ownOffset_ + (side == 0 ? nets.sideLength(0) : 0);
+        nets.Split(side, factor, keep, move, ownParent, ownChild);
+        std::copy(ownOther, ownOther + nets.sideLength(1 - side), ownOtherChild);
+      }
       slot[kLowerBound] = nets.LowerBound(childA, childB, &ws_->scratch);
       if (slot[kLowerBound] < pruneLevel()) {
         heap.push_back(c);
         std::push_heap(heap.begin(), heap.end(), byLowerBound);
       } else {
+        KeepLeaf(slot, Bound(slot[kLowerBound]), nets);
         pool.Free(c);
       }
     }
     pool.Free(s);
+  }
+  if (Keeping() && certified && complete_ && best_.squaredDistance < kInf) {
+    PairPartition& next = *reuse_->next;
+    next.valid = true;
+    next.leafLength = kLeafHeader + kHeaderSize + nets.sideLength(0) + nets.sideLength(1);
+    std::copy(best_.w, best_.w + n_, next.start);
+    const std::size_t count = next.leaves.size() / next.leafLength;
+    next.wholeLeaves = reusing ? reuse_->previous->wholeLeaves : count;
+    // Reopened subdomains near a minimum that moves are split again at
+    // every motion: a partition grown so deep that its searches would reach
+    // kMaxDepth is dropped too.
+    if (count > kPartitionGrowth * next.wholeLeaves + 16 || keptDepth_ > kMaxDepth / 2) next.valid = false;
   }
   return Finish(best_, certified, bound2);
 }
@@ -885,7 +1061,7 @@ bool IsAffineSimplexSide(const PairSide& side) {
 }
 
 PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double* startA, const double* startB,
-                              PairWorkspace* ws, double bound2) {
+                              PairWorkspace* ws, double bound2, const PairReuse* reuse) {
   if (IsAffineSimplexSide(a) && IsAffineSimplexSide(b)) {
     double va[3][3], vb[3][3];
     SimplexVertices(a, va);
@@ -924,8 +1100,19 @@ PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double
                         : (onBoundary ? PairStatus::ProjectedToBoundary : PairStatus::Converged);
     return result;
   }
-  PairSearch search(a, b, ws);
-  return search.Solve(startA, startB, bound2);
+  PairSearch search(a, b, ws, reuse);
+  const PairSolveResult result = search.Solve(startA, startB, bound2);
+  if (result.status != PairStatus::NotCertified || !reuse || !reuse->previous || !reuse->previous->valid) {
+    return result;
+  }
+  // The partition's boundaries were drawn around the minima of earlier
+  // motions; a minimum now just outside a kept subdomain leaves that
+  // subdomain's bound within rounding of the answer with no KKT point of
+  // its own to certify it, and the search splits it to its depth limit.
+  // Searched from the whole pair instead, as a fresh query would be.
+  const PairReuse fromWhole{nullptr, reuse->next, reuse->drift};
+  PairSearch again(a, b, ws, &fromWhole);
+  return again.Solve(startA, startB, bound2);
 }
 
 PairSolveResult ProbeCellPair(const PairSide& a, const PairSide& b, PairWorkspace* ws, double bound2) {

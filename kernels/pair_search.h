@@ -42,6 +42,36 @@ struct PairSolveResult {
   double lowerBound = 0.0;
 };
 
+/// The subdomains a certified pair search ended with (trackers): the next
+/// motion of the same two cells starts its search from them instead of from
+/// the whole pair. Each keeps its subdomain, its nets in the cells' own
+/// frames (PairNets::BuildRootOwn, split as its placed nets were) and the
+/// lower bound of the distance its nets proved, with the drift (the models'
+/// summed motion, engine/pair_bound_cache.h) when proved. A later motion
+/// skips a subdomain whose bound, less the drift since, still reaches the
+/// level the search prunes at; the rest are placed at the new motion and
+/// searched as the search's own subdomains are. Together they cover the
+/// pair once, so the search stays a search of the whole pair.
+struct PairPartition {
+  bool valid = false;  ///< Left by a certified search of an untrimmed pair.
+  int leafLength = 0;  ///< Doubles per subdomain.
+  std::vector<double> leaves;
+  /// Subdomains the last search from the whole pair ended with: a partition
+  /// grown far finer (reopened subdomains are split again, never merged)
+  /// is dropped, and the next search starts from the whole pair.
+  std::size_t wholeLeaves = 0;
+  /// The best point found (joint reference coordinates), where the next
+  /// search's first local solve starts.
+  double start[kMaxPairParams] = {};
+};
+
+/// A tracker's partitions for one pair solve.
+struct PairReuse {
+  const PairPartition* previous = nullptr;  ///< Read (null or invalid: from the whole pair).
+  PairPartition* next = nullptr;            ///< Written: this search's (a different object).
+  double drift = 0.0;                       ///< The models' summed motion now.
+};
+
 /// Scratch memory of the pair search; one per thread.
 struct PairWorkspace {
   std::vector<double> slots;
@@ -60,8 +90,10 @@ bool IsAffineSimplexSide(const PairSide& side);
 /// `bound2`: the squared distance of the best pair found elsewhere; a pair
 /// that cannot beat it returns Farther (often without any Newton step).
 /// Curved cells need their DistanceNets (PairSide::nets).
+/// `reuse` (optional): a tracker's partitions of this pair (PairPartition).
 PairSolveResult SolveCellPair(const PairSide& a, const PairSide& b, const double* startA, const double* startB,
-                              PairWorkspace* ws, double bound2 = std::numeric_limits<double>::infinity());
+                              PairWorkspace* ws, double bound2 = std::numeric_limits<double>::infinity(),
+                              const PairReuse* reuse = nullptr);
 
 /// A quick look at a pair, for a caller that searches pairs only once it
 /// knows how near the models come: Farther when the pair's nets keep it at

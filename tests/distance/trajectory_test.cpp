@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "samples/sample_geometries.h"
 #include "tests/distance/distance_test_util.h"
 #include "tests/support/distance_geometries.h"
 #include "tests/support/test_geometries.h"
@@ -124,6 +125,32 @@ TEST(Trajectories, SmallStepsAndJumpsOverAMeshMatchFreshQueries) {
   const auto big = BuildModel(MeshGeometry(WavyHeightField(24, 3)));
   const auto probe = BuildModel(MeshGeometry(BumpySphereMesh(10, 7, {0, 0, 0}, 0.08)));
   TrackAgainstFresh(*big, *probe, SmallSteps(200, {70, 71, 140}, 0.35, 1e-3), 100, 1e-12);
+}
+
+TEST(Trajectories, FlatTorusOverABumpySurfaceMatchesFreshQueries) {
+  // The benchmark's case (bench_distance's BM_DistanceTrackerSurfaces,
+  // fewer cells): a flat torus's lowest points lie on the edge between two
+  // of its cells, and over a bump of the surface near the surface cells'
+  // edges, so several pairs tie within a step of the answer at every pose
+  // and are searched from their kept partitions (kernels::PairPartition).
+  const auto surface = BuildModel(samples::WavySurface(16));
+  const auto torus = BuildModel(samples::NurbsTorus(0.1, 0.04));
+  std::vector<PoseRows> poses;
+  double x = 0.55, y = 0.7, angle = 0.0;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), place(0.2, 0.8);
+  for (int i = 0; i < 80; ++i) {
+    if (i == 30 || i == 55) {
+      x = place(rng);
+      y = place(rng);
+      angle += 1.0;
+    }
+    x += 3e-4 * u(rng);
+    y += 3e-4 * u(rng);
+    angle += 1e-3;
+    poses.push_back(RotationRows({0, 0, 1}, angle, {x, y, 0.25}));
+  }
+  TrackAgainstFresh(*surface, *torus, poses, 70, 1e-9);
 }
 
 TEST(Trajectories, MovingATooAndBadPoses) {
