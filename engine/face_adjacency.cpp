@@ -118,6 +118,7 @@ struct FaceEntry {
 void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int maxThreads) {
   neighbors_.clear();
   startGrid_ = WalkStartGrid();
+  frames_ = HexFrames();
   stride_ = 0;
   const std::int64_t count = static_cast<std::int64_t>(solvers.size());
   if (count > std::numeric_limits<std::int32_t>::max()) return;
@@ -174,6 +175,7 @@ void FaceAdjacency::Build(const std::vector<kernels::CellSolver>& solvers, int m
   std::vector<bool> walkable(solvers.size());
   for (std::size_t c = 0; c < solvers.size(); ++c) walkable[c] = tableOf[c] >= 0;
   startGrid_.Build(solvers, walkable);
+  frames_.Build(solvers, [&](std::int64_t cell, int face) { return face < stride ? Neighbor(cell, face) : -1; });
 }
 
 }  // namespace invmap::engine

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/hex_frames.h"
 #include "engine/walk_start_grid.h"
 #include "kernels/cell_solver.h"
 
@@ -18,7 +19,8 @@ class FaceAdjacency {
   /// whose corner control points coincide exactly, across patches and cell
   /// types too (a wedge's triangle with a tetrahedron's). A face shared by
   /// more than two cells (a non-conforming or duplicated mesh) gets no
-  /// neighbour. Builds the walk's start grid over the same cells. Nothing
+  /// neighbour. Builds the walk's start grid over the same cells, and the
+  /// affine hexahedra's frames (engine/hex_frames.h). Nothing
   /// for a manifold of 2^31 cells or more.
   void Build(const std::vector<kernels::CellSolver>& solvers, int maxThreads);
 
@@ -31,7 +33,11 @@ class FaceAdjacency {
   bool empty() const { return neighbors_.empty(); }
   /// Where a walk to a point starts (engine/walk_start_grid.h).
   const WalkStartGrid& startGrid() const { return startGrid_; }
-  std::size_t MemoryBytes() const { return neighbors_.capacity() * sizeof(std::int32_t) + startGrid_.MemoryBytes(); }
+  /// The affine hexahedra as the walk reads them (engine/hex_frames.h).
+  const HexFrames& frames() const { return frames_; }
+  std::size_t MemoryBytes() const {
+    return neighbors_.capacity() * sizeof(std::int32_t) + startGrid_.MemoryBytes() + frames_.MemoryBytes();
+  }
 
  private:
   int stride_ = 0;  // the most faces of a volume cell of the manifold
@@ -39,6 +45,7 @@ class FaceAdjacency {
   // order; a manifold of 2^31 cells or more gets no neighbours).
   std::vector<std::int32_t> neighbors_;
   WalkStartGrid startGrid_;
+  HexFrames frames_;
 };
 
 }  // namespace invmap::engine

@@ -72,9 +72,11 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh, std::int64_t from) {
   if (start < 0) return;
   // An affine tetrahedron's item says it is a full-rank cell of no region:
   // its solver, a cold read, is not needed.
+  // So does an affine hexahedron's frame.
+  const HexFrames& frames = adjacency.frames();
   const int startItem = simplices.item(start);
   if (startItem < 0 || simplices.paramDim(startItem) != 3) {
-    if (store.inRegion(start) || !store.solver(start).isFullRank()) return;
+    if (store.inRegion(start) || (!frames.Of(start) && !store.solver(start).isFullRank())) return;
   }
   std::int64_t cell = start;
   for (int step = 0;; ++step) {
@@ -88,7 +90,29 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh, std::int64_t from) {
     int exits[kernels::kMaxFaces];
     int exitCount = 0;
     const int item = simplices.item(cell);
-    if (item >= 0 && simplices.paramDim(item) == 3) {
+    const HexFrame* frame = item < 0 ? frames.Of(cell) : nullptr;
+    if (frame) {
+      // An affine hexahedron, from its frame record (next to its
+      // neighbours; its solver and control points are cold): the steps of
+      // a walk through a mesh of parallelepipeds read nothing else, unless
+      // the point lies within rounding of the cell's boundary.
+      kernels::CellSolveResult r;
+      const FrameVerdict verdict = HexFrames::Locate(*frame, p, &r);
+      tried.push_back(cell);
+      if (verdict == FrameVerdict::Inside) {
+        best = r.distance;
+        bestCell = cell;
+        bestResult = r;
+        bestModel = -1;
+        inside = true;
+      } else if (verdict == FrameVerdict::Outside) {
+        exitCount = HexFrames::ExitFaces(r.ref, exits);
+      } else {
+        double stopRef[3];
+        TryInsideCell(cell, nullptr, stopRef);
+        if (!inside) exitCount = kernels::FacesAt(store.solver(cell).cell().shape, stopRef, exits);
+      }
+    } else if (item >= 0 && simplices.paramDim(item) == 3) {
       // An affine tetrahedron, from the copy of its vertices the BVH keeps
       // in leaf order (next to its neighbours'; its solver is cold): the
       // steps of a walk through a linear mesh read nothing else.
@@ -134,7 +158,7 @@ void PointSearch::TryInsideByWalk(const Bvh& bvh, std::int64_t from) {
     if (inside || step == kMaxWalk || adjacency.empty()) return;
     std::int64_t next = -1;
     for (int e = 0; e < exitCount && next < 0; ++e) {
-      const std::int64_t across = adjacency.Neighbor(cell, exits[e]);
+      const std::int64_t across = frame ? frame->neighbors[exits[e]] : adjacency.Neighbor(cell, exits[e]);
       if (across >= 0 && !store.inRegion(across) && !IsTriedCell(across)) next = across;
     }
     if (next < 0) return;

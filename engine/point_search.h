@@ -217,7 +217,8 @@ struct PointSearch {
 /// point reads first, a point or two before its search: the start grid's
 /// entry of point `later` (two points ahead) and, for point `next` (one
 /// ahead, whose entry the previous call requested), its start cell's
-/// vertices (an affine tetrahedron's copy) or solver and control points,
+/// vertices (an affine tetrahedron's copy), frame (an affine hexahedron's)
+/// or solver and control points,
 /// and its origin. Each is a cache miss of its own a point on a mesh larger
 /// than the cache; requested ahead, they arrive while the point before is
 /// searched. Either point may be null.
@@ -236,6 +237,10 @@ inline void PrefetchWalk(const CellStore& store, const SimplexItems& simplices, 
   };
   if (item >= 0) {
     lines(simplices.vertices(item), 4 * 3 * sizeof(double));
+  } else if (!store.faceAdjacency().frames().empty()) {
+    // (Most cells have a frame then; asking whether this one does would
+    // wait on the very line requested.)
+    store.faceAdjacency().frames().Prefetch(start);
   } else {
     const kernels::CellSolver& solver = store.solver(start);
     lines(&solver, sizeof(kernels::CellSolver));

@@ -16,13 +16,15 @@ constexpr int kFillPasses = 2;
 
 /// How well a cell suits as the start for points near `centre`, a point of
 /// its control-point box: above 1 for a tetrahedron whose corner
-/// tetrahedron holds it (1 + its least corner barycentric, so the deepest
-/// wins), below 0 for one that does not; in [0, 1] for other cells, by how
-/// centred on their box it lies (1 at the box's centre). A tetrahedron's
+/// tetrahedron holds it, or an affine hexahedron or wedge that holds it (1
+/// + its least barycentric, so the deepest wins), below 0 for one that
+/// does not; in [0, 1] for other cells, by how centred on their box it lies
+/// (1 at the box's centre). A tetrahedron's
 /// corner map is inverted once for all the centres in its box.
 class StartScore {
  public:
-  explicit StartScore(const kernels::CellSolver& solver) : solver_(solver) {
+  explicit StartScore(const kernels::CellSolver& solver)
+      : solver_(solver), framed_(!solver.isTetrahedron() && solver.isAffine() && solver.isFullRank()) {
     if (!solver.isTetrahedron()) return;
     origin_ = solver.CornerPoint(0);
     double e[3][3];  // columns: the edges from corner 0
@@ -91,6 +93,12 @@ class StartScore {
       const double least = *std::min_element(lambda, lambda + 4);
       return least >= 0.0 ? 1.0 + least : least;
     }
+    if (framed_) {
+      // A parallelepiped (or straight wedge) holds the centre when its
+      // preimage lies in the domain: scored as a tetrahedron.
+      const double least = solver_.InsideScore(centre);
+      return least >= 0.0 ? 1.0 + least : least;
+    }
     double offCentre = 0.0;
     for (int k = 0; k < 3; ++k) {
       const double half = 0.5 * (solver_.boxHi()[k] - solver_.boxLo()[k]);
@@ -102,6 +110,7 @@ class StartScore {
 
  private:
   const kernels::CellSolver& solver_;
+  bool framed_ = false;  // an affine volume cell other than a tetrahedron (FrameCoordinates)
   bool tetrahedron_ = false;  // a tetrahedron with an invertible corner map
   const double* origin_ = nullptr;
   double inverse_[3][3] = {};
@@ -177,8 +186,9 @@ void WalkStartGrid::Build(const std::vector<kernels::CellSolver>& solvers, const
           const double centre[3] = {lo_[0] + (static_cast<double>(x) + 0.5) * stepOf[0], centre0[1], centre0[2]};
           const std::size_t index = Slot(x, y, z);
           const double s = scoreOf(centre);
-          // A tetrahedron that does not hold the centre is no start for
-          // it (the neighbours' fill covers grid cells no cell holds).
+          // A tetrahedron or affine cell that does not hold the centre is
+          // no start for it (the neighbours' fill covers grid cells no cell
+          // holds).
           if (s >= 0.0 && s > score[index]) {
             score[index] = s;
             cells_[index] = static_cast<std::int32_t>(c);

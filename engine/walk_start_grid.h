@@ -20,9 +20,10 @@ class WalkStartGrid {
  public:
   /// Builds the grid over the cells for which `walkable` is true (volume
   /// cells with face neighbours), about two grid cells per such cell, at
-  /// most 2^24. Each grid cell holds the tetrahedron that contains its
-  /// centre (by its corner tetrahedron, deepest first) or else the other
-  /// volume cell whose control-point box is the most centred on it; the
+  /// most 2^24. Each grid cell holds the tetrahedron (by its corner
+  /// tetrahedron) or affine hexahedron or wedge that contains its centre,
+  /// deepest first, or else the other volume cell whose control-point box
+  /// is the most centred on it; the
   /// lowest index on a tie, so the grid depends on the geometry alone. A
   /// grid cell left empty (along the mesh's slanted or curved boundary,
   /// where part of it may still lie in the mesh) takes a face neighbour's

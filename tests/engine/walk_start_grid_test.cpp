@@ -209,6 +209,33 @@ TEST(WalkStartGridTest, WarpedHexahedraWithTunnelAndNotch) {
   ExpectLatticeAnswers("warped hexes, tunnel and notch", g, 24, 1, 0);
 }
 
+/// A shear of the unit cube: hexahedra stay parallelepipeds, which the walk
+/// steps through by their frames (engine/hex_frames.h).
+Vec3 Shear(double a, double b, double c) {
+  return Vec3{a + 0.2 * b + 0.1 * c, 0.1 * a + 0.9 * b - 0.05 * c, -0.1 * a + 0.15 * b + 1.1 * c};
+}
+
+TEST(WalkStartGridTest, ShearedHexahedraWithTunnelAndNotch) {
+  Geometry g;
+  g.dimension = 3;
+  g.patches.push_back(CarvedMesh(CellType::Hex, 8, Shear, TunnelAndNotch));
+  ASSERT_FALSE(engine::SearchIndex::Build(g, 1).cells().faceAdjacency().frames().empty());
+  ExpectLatticeAnswers("sheared hexes, tunnel and notch", g, 24, 1, 0);
+}
+
+TEST(WalkStartGridTest, ShearedHexahedraApartFromTetrahedra) {
+  // Most cells parallelepipeds (so they have frames), the rest tetrahedra
+  // and warped hexahedra (which have none) in parts of their own.
+  Geometry g;
+  g.dimension = 3;
+  const CubeFilter all = [](int, int, int) { return true; };
+  g.patches.push_back(CarvedMesh(CellType::Hex, 8, Shear, TunnelAndNotch));
+  g.patches.push_back(Shifted(CarvedMesh(CellType::Tet, 2, JitteredShear, all), {1.6, 0.0, 0.0}));
+  g.patches.push_back(Shifted(CarvedMesh(CellType::Hex, 3, Warp, all), {0.0, 0.0, 1.6}));
+  ASSERT_FALSE(engine::SearchIndex::Build(g, 1).cells().faceAdjacency().frames().empty());
+  ExpectLatticeAnswers("sheared hexes apart from tets and warped hexes", g, 26, 2, 200);
+}
+
 TEST(WalkStartGridTest, PartsApart) {
   // Two tetrahedron blocks and a hexahedron block, apart, with gaps wider
   // than a block: most grid cells are empty, and a walk between parts

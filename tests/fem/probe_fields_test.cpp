@@ -33,6 +33,55 @@ TEST(ProbeFields, LinearMeshFieldIsInterpolatedInEachCell) {
   EXPECT_NEAR(values[0], 0.4 * 11 + 0.2 * 12 + 0.3 * 13 + 0.1 * 14, 1e-14);
 }
 
+/// Two cells of one linear type back to back in a BezierCells patch (a
+/// mesh of one element type read from a file becomes one), its control
+/// points unused by the interpolation.
+Geometry TwoLinearCells(CellType type, int nodes) {
+  Geometry g;
+  Patch& p = g.patches.emplace_back();
+  p.kind = Patch::Kind::BezierCells;
+  p.cellOffsets = {0};
+  for (int c = 0; c < 2; ++c) {
+    for (int k = 0; k < 3 * nodes; ++k) p.points.push_back(0.1 * k + c);
+    p.cellTypes.push_back(type);
+    p.cellDegrees.insert(p.cellDegrees.end(), {1, 1, 1});
+    p.cellOffsets.push_back((c + 1) * nodes);
+  }
+  return g;
+}
+
+TEST(ProbeFields, UniformLinearCellsInterpolateTheirCoefficients) {
+  // Cell 1 of each: a scalar and a 2-vector field, against the closed
+  // forms (barycentric coordinates; the trilinear basis, first parameter
+  // fastest in the node order).
+  const std::array<double, 3> u{0.2, 0.7, 0.35};
+  for (const bool hex : {false, true}) {
+    const int nodes = hex ? 8 : 4;
+    const Geometry g = TwoLinearCells(hex ? CellType::Hex : CellType::Tet, nodes);
+    NodeField scalar{"s", 1, {{}}}, vector{"v", 2, {{}}};
+    for (int k = 0; k < 2 * nodes; ++k) {
+      scalar.patchValues[0].push_back(std::sin(1.0 + k));
+      vector.patchValues[0].insert(vector.patchValues[0].end(), {std::cos(2.0 * k), 3.0 - k});
+    }
+    ASSERT_EQ(CheckFields(g, {scalar, vector}), "");
+    std::vector<double> values;
+    ASSERT_EQ(ProbeFields(g, {&scalar, &vector}, OnePointAt(0, 1, u), &values), Error::Ok);
+    double expected[3] = {0, 0, 0};
+    for (int n = 0; n < nodes; ++n) {
+      double b = 0.0;
+      if (hex) {
+        b = ((n & 1) ? u[0] : 1 - u[0]) * ((n & 2) ? u[1] : 1 - u[1]) * ((n & 4) ? u[2] : 1 - u[2]);
+      } else {
+        b = n == 0 ? 1 - u[0] - u[1] - u[2] : u[n - 1];
+      }
+      expected[0] += b * scalar.patchValues[0][nodes + n];
+      for (int j = 0; j < 2; ++j) expected[1 + j] += b * vector.patchValues[0][2 * (nodes + n) + j];
+    }
+    ASSERT_EQ(values.size(), 3u);
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(values[j], expected[j], 1e-14) << (hex ? "hex " : "tet ") << j;
+  }
+}
+
 TEST(ProbeFields, QuadMeshUsesFiniteElementVertexOrder) {
   Geometry g;
   g.dimension = 2;
