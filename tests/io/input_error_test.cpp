@@ -22,5 +22,20 @@ TEST(InputError, ControlBytesAreWrittenAsHexAndNothingIsCutShort) {
   EXPECT_STREQ(InputError("caf\xc3\xa9.csv", 1, "bad").what(), "caf\xc3\xa9.csv:1: bad");  // UTF-8 kept
 }
 
+TEST(InputError, BytesThatAreNotUtf8AreWrittenAsHex) {
+  // A binary file's bytes quoted in a message: the caller may decode it as UTF-8.
+  EXPECT_STREQ(InputError("m.msh", 7, "found '0.75\xff" "0.38'").what(), "m.msh:7: found '0.75\\xff0.38'");
+  // A lead byte without its continuation, a lone continuation, an overlong
+  // '/', a surrogate and a code point past U+10FFFF are not UTF-8.
+  EXPECT_STREQ(InputError("a", 0, "\xc3x").what(), "a: \\xc3x");
+  EXPECT_STREQ(InputError("a", 0, "\x80").what(), "a: \\x80");
+  EXPECT_STREQ(InputError("a", 0, "\xc0\xaf").what(), "a: \\xc0\\xaf");
+  EXPECT_STREQ(InputError("a", 0, "\xed\xa0\x80").what(), "a: \\xed\\xa0\\x80");
+  EXPECT_STREQ(InputError("a", 0, "\xf4\x90\x80\x80").what(), "a: \\xf4\\x90\\x80\\x80");
+  // Three- and four-byte sequences and one cut off at the end.
+  EXPECT_STREQ(InputError("a", 0, "\xe2\x82\xac \xf0\x9f\x98\x80").what(), "a: \xe2\x82\xac \xf0\x9f\x98\x80");
+  EXPECT_STREQ(InputError("a", 0, "x\xe2\x82").what(), "a: x\\xe2\\x82");
+}
+
 }  // namespace
 }  // namespace invmap::io
