@@ -10,6 +10,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include "fem/lagrange_cells.h"
 #include "fem/vtk_cells.h"
 #include "fem/vtk_messages.h"
+#include "io/lagrange_to_bernstein.h"
 #include "io/input_error.h"
 #include "kernels/cell_shape.h"
 
@@ -89,14 +91,28 @@ bool IsHigherOrderType(int vtkType) {
   return IsBezierType(vtkType) || (vtkType >= VTK_LAGRANGE_CURVE && vtkType <= VTK_LAGRANGE_WEDGE);
 }
 
-/// The nodes VTK's higher-order curve, quadrilateral, hexahedron or wedge of
-/// HigherOrderDegrees `orders` has (VTK evaluates that many shape functions
-/// whatever the cell holds); -1 for other types, whose order VTK takes from
-/// their node count, and for orders out of range.
-long long NodesOfOrders(CellType type, const int orders[3]) {
-  for (int k = 0; k < 3; ++k) {
-    if (orders[k] < 0 || orders[k] > kernels::kMaxDegree) return -1;
+/// How many of a cell's HigherOrderDegrees VTK reads: the curve's first,
+/// the quadrilateral's first two, the hexahedron's and wedge's three; 0 for
+/// other types, whose order VTK takes from their node count.
+int OrdersVtkReads(int vtkType, CellType type) {
+  if (!IsHigherOrderType(vtkType)) return 0;
+  switch (type) {
+    case CellType::Line:
+      return 1;
+    case CellType::Quad:
+      return 2;
+    case CellType::Hex:
+    case CellType::Wedge:
+      return 3;
+    default:
+      return 0;
   }
+}
+
+/// The nodes VTK's higher-order curve, quadrilateral, hexahedron or wedge of
+/// HigherOrderDegrees `orders` (each in [1, kMaxDegree]) has: VTK evaluates
+/// that many shape functions whatever the cell holds.
+long long NodesOfOrders(CellType type, const int orders[3]) {
   const long long p = orders[0], q = orders[1], r = orders[2];
   switch (type) {
     case CellType::Line:
@@ -105,18 +121,67 @@ long long NodesOfOrders(CellType type, const int orders[3]) {
       return (p + 1) * (q + 1);
     case CellType::Hex:
       return (p + 1) * (q + 1) * (r + 1);
-    case CellType::Wedge:
+    default:  // a wedge: a triangle of order p (= q) times a line of order r
       return p == q ? (p + 1) * (p + 2) / 2 * (r + 1) : 0;
-    default:
-      return -1;
   }
+}
+
+/// The HigherOrderDegrees of cell `c` as the orders VTK reads (-1 for those
+/// it does not), refused before VTK evaluates the cell when they are not
+/// whole numbers in [1, 8] or give another node count than the cell's
+/// `count`: VTK writes the shape functions of the degrees' nodes into room
+/// for the cell's (heap overflows fuzz_fem found) and throws
+/// std::length_error on negative ones.
+void ReadCellOrders(vtkDataArray* degrees, vtkIdType c, int vtkType, CellType type, vtkIdType count,
+                    const std::string& path, const std::string& where, int orders[3]) {
+  const int used = OrdersVtkReads(vtkType, type);
+  if (degrees == nullptr || degrees->GetNumberOfComponents() != 3 || c >= degrees->GetNumberOfTuples() ||
+      used == 0) {
+    return;
+  }
+  std::ostringstream text;
+  for (int k = 0; k < 3; ++k) text << (k == 0 ? "" : " ") << degrees->GetComponent(c, k);
+  for (int k = 0; k < used; ++k) {
+    const double order = degrees->GetComponent(c, k);
+    if (!(order >= 1.0 && order <= kernels::kMaxDegree) || order != std::floor(order)) {
+      throw io::InputError(path, 0, where + ": HigherOrderDegrees " + text.str() +
+                                        ": orders must be whole numbers from 1 to " +
+                                        std::to_string(kernels::kMaxDegree));
+    }
+    orders[k] = static_cast<int>(order);
+  }
+  const int full[3] = {orders[0], used > 1 ? orders[1] : 1, used > 2 ? orders[2] : 1};
+  const long long expected = NodesOfOrders(type, full);
+  if (expected != count) {
+    throw io::InputError(path, 0, where + ": HigherOrderDegrees " + text.str() + " give " +
+                                      std::to_string(expected) + " points, the cell has " + std::to_string(count));
+  }
+}
+
+/// What the XML headers say beyond the sizes CheckDeclaredSizes checks.
+struct VtuHeaders {
+  /// The VTKFile element's version attribute ("" when there is none).
+  std::string version;
+  /// Whether an array is named HigherOrderDegrees (VTK takes the orders of
+  /// higher-order hexahedra from it while reading a file before 2.2).
+  bool namesDegrees = false;
+};
+
+/// Whether VTK renumbers the higher-order hexahedra of a file of `version`
+/// from VTK 8's node order (files before format 2.2, or without a version
+/// VTK can parse).
+bool BeforeFormat22(const std::string& version) {
+  int major = -1, minor = -1;
+  if (std::sscanf(version.c_str(), "%d.%d", &major, &minor) != 2) return true;
+  return major < 2 || (major == 2 && minor < 2);
 }
 
 /// Checks the sizes the file's XML declares (points, cells, components of
 /// each piece and array) against the file's size before VTK allocates them:
 /// VTK sizes its arrays by what the header says. Scans up to the appended
 /// data (all headers come before it), or the whole file.
-void CheckDeclaredSizes(const std::string& path) {
+VtuHeaders CheckDeclaredSizes(const std::string& path) {
+  VtuHeaders headers;
   std::ifstream in(path, std::ios::binary);
   std::error_code error;
   const double bytes = static_cast<double>(std::filesystem::file_size(path, error));
@@ -136,6 +201,11 @@ void CheckDeclaredSizes(const std::string& path) {
       throw io::InputError(path, 0,
                            "not a readable VTK unstructured grid: it does not start with '<' (not an XML file)");
     }
+    if (const std::size_t file = start.find("<VTKFile"); file != std::string_view::npos) {
+      const std::size_t at = start.find("version=\"", file);
+      const std::size_t end = at == std::string_view::npos ? at : start.find('"', at + 9);
+      if (end != std::string_view::npos && end - file < 4096) headers.version = start.substr(at + 9, end - at - 9);
+    }
     in.clear();
     in.seekg(0);
   }
@@ -154,7 +224,41 @@ void CheckDeclaredSizes(const std::string& path) {
         }
       }
     }
-    if (window.find("<AppendedData") != std::string::npos) return;
+    headers.namesDegrees = headers.namesDegrees || window.find("\"HigherOrderDegrees\"") != std::string::npos;
+    if (window.find("<AppendedData") != std::string::npos) return headers;
+  }
+  return headers;
+}
+
+/// VTK renumbers the higher-order hexahedra of a file before format 2.2
+/// from VTK 8's node order while reading, by the HigherOrderDegrees array
+/// unchecked: degrees that do not fit a hexahedron's nodes made VTK read
+/// far past its arrays (a crash fuzz_fem found). Such a file is read first
+/// without that array; a higher-order hexahedron among its cells is refused
+/// before VTK reads the degrees.
+void RefuseHexahedraRenumberedByDegrees(const std::string& path, const VtuHeaders& headers,
+                                        const ScopedVtkMessages& messages) {
+  if (!headers.namesDegrees || !BeforeFormat22(headers.version)) return;
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->UpdateInformation();
+  reader->SetCellArrayStatus("HigherOrderDegrees", 0);
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  if (!messages.FirstError().empty() || reader->GetErrorCode() != 0 || grid == nullptr) {
+    const std::string why = messages.FirstError().empty() ? "VTK's XML reader failed" : messages.FirstError();
+    throw io::InputError(path, 0, "not a readable VTK unstructured grid: " + why);
+  }
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+    const int vtkType = grid->GetCellType(c);
+    if (vtkType == VTK_HIGHER_ORDER_HEXAHEDRON || vtkType == VTK_LAGRANGE_HEXAHEDRON ||
+        vtkType == VTK_BEZIER_HEXAHEDRON) {
+      throw io::InputError(path, 0, "cell " + std::to_string(c) + " (" + VtkCellTypeName(vtkType) +
+                                        "): a higher-order hexahedron with HigherOrderDegrees in a file of format " +
+                                        "version '" + headers.version + "' (before 2.2), whose nodes VTK renumbers "
+                                        "by those degrees before they can be checked; invmap reads such cells "
+                                        "from files of version 2.2 or later (VTK 9.1 writes them)");
+    }
   }
 }
 
@@ -162,8 +266,9 @@ void CheckDeclaredSizes(const std::string& path) {
 
 FieldGeometry ReadVtu(const std::string& path) {
   RequireReadableFile(path);
-  CheckDeclaredSizes(path);
+  const VtuHeaders headers = CheckDeclaredSizes(path);
   ScopedVtkMessages messages;
+  RefuseHexahedraRenumberedByDegrees(path, headers, messages);
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(path.c_str());
   reader->Update();
@@ -212,19 +317,16 @@ FieldGeometry ReadVtu(const std::string& path) {
                                           std::to_string(numNodes) + ")");
       }
     }
-    int orders[3] = {-1, -1, -1};
-    if (degrees != nullptr && degrees->GetNumberOfComponents() == 3 && c < degrees->GetNumberOfTuples()) {
-      for (int k = 0; k < 3; ++k) orders[k] = static_cast<int>(degrees->GetComponent(c, k));
-      // VTK would write shape functions for the degrees' nodes into room for
-      // the cell's: a mismatch is refused before VTK evaluates anything.
-      const long long expected = IsHigherOrderType(vtkType) ? NodesOfOrders(type, orders) : -1;
-      if (expected >= 0 && expected != count) {
-        throw io::InputError(path, 0, where + ": HigherOrderDegrees " + std::to_string(orders[0]) + " " +
-                                          std::to_string(orders[1]) + " " + std::to_string(orders[2]) + " give " +
-                                          std::to_string(expected) + " points, the cell has " +
-                                          std::to_string(count));
-      }
+    // More nodes than a cell of degree 8 has are refused before VTK
+    // evaluates them (VTK's Lagrange triangle of 3000 nodes took minutes).
+    const int most = io::BernsteinCount(type, kernels::kMaxDegree);
+    if (count > most) {
+      throw io::InputError(path, 0, where + ": " + std::to_string(count) + " points, more than a cell of degree " +
+                                        std::to_string(kernels::kMaxDegree) + " has (" + std::to_string(most) +
+                                        ")");
     }
+    int orders[3] = {-1, -1, -1};
+    ReadCellOrders(degrees, c, vtkType, type, count, path, where, orders);
     const VtkCellConversion* conversion = conversions.Find(shapeGrid, c, orders);
     if (conversion == nullptr || conversion->converter.numNodes() != count) {
       throw io::InputError(path, 0, where + ": " + std::to_string(count) +

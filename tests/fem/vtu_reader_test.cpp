@@ -355,6 +355,92 @@ TEST(VtuReader, BadFilesAreInputErrorsNamingFileAndCell) {
                   "cell 0 (VTK_BEZIER_QUADRILATERAL): HigherOrderDegrees 2 1 1 give 6 points, the cell has 2");
 }
 
+/// A one-cell VTU in VTK's ascii layout: `points` points, one cell of VTK
+/// type `vtkType` over all of them, and HigherOrderDegrees `degrees` (an
+/// array named `degreesName`) when not empty; format version `version`.
+std::string OneCellVtu(int points, int vtkType, const std::string& degrees, const std::string& version = "1.0",
+                       const std::string& degreesName = "D") {
+  std::string coordinates, ids;
+  for (int i = 0; i < points; ++i) {
+    coordinates += std::to_string(i % 7) + " " + std::to_string(i % 5) + " " + std::to_string(i % 3) + " ";
+    ids += std::to_string(i) + " ";
+  }
+  const std::string cellData =
+      degrees.empty() ? ""
+                      : "<CellData HigherOrderDegrees=\"" + degreesName + "\"><DataArray type=\"Float64\" Name=\"" +
+                            degreesName + "\" NumberOfComponents=\"3\" format=\"ascii\">" + degrees +
+                            "</DataArray></CellData>\n";
+  return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"" + version +
+         "\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid><Piece NumberOfPoints=\"" + std::to_string(points) +
+         "\" NumberOfCells=\"1\">\n" + cellData +
+         "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">" + coordinates +
+         "</DataArray></Points>\n<Cells><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">" + ids +
+         "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">" + std::to_string(points) +
+         "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">" + std::to_string(vtkType) +
+         "</DataArray></Cells>\n</Piece></UnstructuredGrid></VTKFile>\n";
+}
+
+// HigherOrderDegrees past degree 8, below 1 or fractional are refused before
+// VTK evaluates the cell: VTK wrote the 1681 shape functions of orders 40 x
+// 40 into room for a 3-point quadrilateral (heap corruption under fuzz_fem)
+// and threw std::length_error on negative orders. Cells with more points
+// than degree 8 allows never reach VTK either (VTK took minutes on a
+// 3000-point Lagrange triangle).
+TEST(VtuReader, DegreesAndPointCountsPastDegreeEightAreRefusedNamingTheCell) {
+  const ScratchDir dir;
+  ExpectReadError(dir.Write("orders40.vtu", OneCellVtu(3, VTK_LAGRANGE_QUADRILATERAL, "40 40 1")),
+                  "cell 0 (VTK_LAGRANGE_QUADRILATERAL): HigherOrderDegrees 40 40 1: orders must be whole numbers "
+                  "from 1 to 8");
+  ExpectReadError(dir.Write("bezier40.vtu", OneCellVtu(3, VTK_BEZIER_QUADRILATERAL, "40 40 1")),
+                  "cell 0 (VTK_BEZIER_QUADRILATERAL): HigherOrderDegrees 40 40 1: orders must be");
+  ExpectReadError(dir.Write("negative.vtu", OneCellVtu(9, VTK_LAGRANGE_QUADRILATERAL, "-5 2 1")),
+                  "HigherOrderDegrees -5 2 1: orders must be whole numbers from 1 to 8");
+  ExpectReadError(dir.Write("huge.vtu", OneCellVtu(9, VTK_LAGRANGE_QUADRILATERAL, "1e300 2 1")),
+                  "HigherOrderDegrees 1e+300 2 1: orders must be");
+  // Hexahedra from files of format 2.2 (VTK drops the degrees of older
+  // ones unless the array is named HigherOrderDegrees; see below).
+  ExpectReadError(dir.Write("half.vtu", OneCellVtu(8, VTK_LAGRANGE_HEXAHEDRON, "1 1 1.5", "2.2")),
+                  "cell 0 (VTK_LAGRANGE_HEXAHEDRON): HigherOrderDegrees 1 1 1.5: orders must be");
+  ExpectReadError(dir.Write("zero.vtu", OneCellVtu(3, VTK_LAGRANGE_QUADRILATERAL, "2 0 0")),
+                  "HigherOrderDegrees 2 0 0: orders must be");
+  ExpectReadError(dir.Write("hex9.vtu", OneCellVtu(27, VTK_LAGRANGE_HEXAHEDRON, "9 9 9", "2.2")),
+                  "HigherOrderDegrees 9 9 9: orders must be");
+  // A curve's second and third degrees are not read (VTK reads its first).
+  const std::string curve = dir.Write("curve.vtu", OneCellVtu(3, VTK_LAGRANGE_CURVE, "2 0 0"));
+  EXPECT_NO_THROW(fem::ReadVtu(curve));
+  ExpectReadError(dir.Write("curve10.vtu", OneCellVtu(10, VTK_LAGRANGE_CURVE, "")),
+                  "cell 0 (VTK_LAGRANGE_CURVE): 10 points, more than a cell of degree 8 has (9)");
+  ExpectReadError(dir.Write("triangle.vtu", OneCellVtu(3000, VTK_LAGRANGE_TRIANGLE, "")),
+                  "cell 0 (VTK_LAGRANGE_TRIANGLE): 3000 points, more than a cell of degree 8 has (45)");
+}
+
+// VTK renumbers the higher-order hexahedra of files before format 2.2 by
+// an array named HigherOrderDegrees while reading, unchecked: these
+// degrees made it read gigabytes past a 27-point cell's ids (a crash).
+// Such hexahedra are refused before VTK reads the degrees; from a file of
+// format 2.2 the same cell reads.
+TEST(VtuReader, OldFormatHexahedraWithDegreesAreRefusedBeforeVtkRenumbersThem) {
+  const ScratchDir dir;
+  const std::string crash = "-335544320 -335544320 1073741825";
+  const std::string refusal =
+      "cell 0 (VTK_LAGRANGE_HEXAHEDRON): a higher-order hexahedron with HigherOrderDegrees in a file of format "
+      "version '0.1' (before 2.2)";
+  ExpectReadError(dir.Write("crash.vtu", OneCellVtu(27, VTK_LAGRANGE_HEXAHEDRON, crash, "0.1", "HigherOrderDegrees")),
+                  refusal);
+  ExpectReadError(dir.Write("old.vtu", OneCellVtu(27, VTK_LAGRANGE_HEXAHEDRON, "2 2 2", "0.1", "HigherOrderDegrees")),
+                  refusal);
+  const std::string current =
+      dir.Write("current.vtu", OneCellVtu(27, VTK_LAGRANGE_HEXAHEDRON, "2 2 2", "2.2", "HigherOrderDegrees"));
+  EXPECT_NO_THROW(fem::ReadVtu(current));
+  ExpectReadError(dir.Write("current_crash.vtu",
+                            OneCellVtu(27, VTK_LAGRANGE_HEXAHEDRON, crash, "2.2", "HigherOrderDegrees")),
+                  "HigherOrderDegrees -3.35544e+08 -3.35544e+08 1.07374e+09: orders must be");
+  // Without hexahedra the old format is read with its degrees.
+  const std::string quad =
+      dir.Write("quad.vtu", OneCellVtu(6, VTK_LAGRANGE_QUADRILATERAL, "2 1 1", "0.1", "HigherOrderDegrees"));
+  EXPECT_NO_THROW(fem::ReadVtu(quad));
+}
+
 // A point id past the points, written by hand in VTK's ascii layout.
 TEST(VtuReader, PointIdOutOfRangeNamesTheCell) {
   const ScratchDir dir;
