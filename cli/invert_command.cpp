@@ -25,8 +25,11 @@ namespace invmap::cli {
 namespace {
 
 /// Points per chunk: bounds memory for inputs of any size and sets how often
-/// the progress bar moves.
-constexpr std::size_t kChunkPoints = 1 << 20;
+/// the progress bar moves. A chunk holds about 140 bytes a point (the
+/// coordinates as read and the engine's copy, the results, the sort keys):
+/// 37 MB at 2^18, where 2^20's 145 MB was most of the peak on meshes of a
+/// million triangles, at the same CPU time (docs/benchmarks.md).
+constexpr std::size_t kChunkPoints = 1 << 18;
 
 /// A geometry ready for queries, and the CAD model it came from (null for
 /// other formats).

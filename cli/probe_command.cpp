@@ -23,7 +23,7 @@ namespace {
 
 /// Points per chunk, as `invert` streams them: the rows of a chunk are
 /// exactly `invert`'s for the same points.
-constexpr std::size_t kProbeChunkPoints = 1 << 20;
+constexpr std::size_t kProbeChunkPoints = 1 << 18;
 
 /// The fields of `model` that --fields names, in that order; all of them
 /// when it names none. An unknown name is a usage error (false, message

@@ -46,7 +46,7 @@ namespace invmap::python {
 namespace {
 
 /// Points Manifold.trim inverts at a time: the chunk `invmap trim` reads.
-constexpr std::size_t kTrimChunkPoints = std::size_t{1} << 20;
+constexpr std::size_t kTrimChunkPoints = std::size_t{1} << 18;
 
 /// True when `path` names a regular file this process can open, i.e. when a
 /// read failure is about the content (InputError), not the file (FileError).

@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     invmap::io::PointChunk chunk;
     double querySeconds = 0.0, checksum = 0.0;
     long long points = 0;
-    while (reader->ReadChunk(std::size_t{1} << 20, &chunk)) {
+    while (reader->ReadChunk(std::size_t{1} << 18, &chunk)) {
       const std::size_t n = chunk.count;
       const Clock::time_point start = Clock::now();
       for (std::size_t i = 0; i < n; ++i) {

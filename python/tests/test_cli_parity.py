@@ -79,12 +79,12 @@ def test_trim_matches_command_line(cli, geometry_files, tmp_path, keep):
 
 
 def test_trim_of_more_points_than_a_chunk(cli, geometry_files, tmp_path):
-    """Beyond the command's chunk of 2^20 points, trim still keeps exactly
+    """Beyond the command's chunk of 2^18 points, trim still keeps exactly
     the points within the distance (the torus's closed form) and the same
     points as `invmap trim`, which reads the same chunks."""
     torus = invmap.load(geometry_files["torus"])
     rng = np.random.default_rng(11)
-    points = rng.uniform([-3.0, -3.0, -1.0], [3.0, 3.0, 1.0], size=((1 << 20) + 5000, 3))
+    points = rng.uniform([-3.0, -3.0, -1.0], [3.0, 3.0, 1.0], size=((1 << 18) + 5000, 3))
     mask = torus.trim(points, 0.1)
     distance = np.abs(np.hypot(np.hypot(points[:, 0], points[:, 1]) - 2.0, points[:, 2]) - 0.7)
     clear = np.abs(distance - 0.1) > 1e-9

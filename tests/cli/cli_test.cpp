@@ -445,7 +445,7 @@ std::vector<std::string> HiddenFiles(const fs::path& dir) {
 
 TEST_F(CliTest, ASignalDuringAnInversionRemovesItsTemporaryOutput) {
   ASSERT_EQ(Run("generate surface --spans 16 -o " + Path("s.json")), 0);
-  // A first chunk of 2^20 points takes seconds: the signal comes while it is solved.
+  // Five chunks of 2^18 points take seconds: the signal comes while they are solved.
   ASSERT_EQ(Run("generate points -g " + Path("s.json") + " -n 1100000 -o " + Path("p.npy")), 0);
   for (const int signo : {SIGINT, SIGTERM, SIGHUP}) {
     SCOPED_TRACE(signo);

@@ -240,7 +240,7 @@ def run_interrupted(invmap, signo, root):
     d = tempfile.mkdtemp(prefix="signal-", dir=root)
     try:
         surface(d, spans=16)
-        # More points than one chunk (2^20), so the first chunk takes a while.
+        # Several chunks of 2^18 points, so the run takes a while.
         rows = 1_100_000
         with open(os.path.join(d, "p.npy"), "wb") as f:
             header = "{'descr': '<f8', 'fortran_order': False, 'shape': (%d, 3), }" % rows
