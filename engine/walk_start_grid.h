@@ -19,7 +19,7 @@ namespace invmap::engine {
 class WalkStartGrid {
  public:
   /// Builds the grid over the cells for which `walkable` is true (volume
-  /// cells with face neighbours), about two grid cells per such cell, at
+  /// cells with face neighbours), about 27 grid cells per such cell, at
   /// most 2^24. Each grid cell holds the tetrahedron (by its corner
   /// tetrahedron) or affine hexahedron or wedge that contains its centre,
   /// deepest first, or else the other volume cell whose control-point box
