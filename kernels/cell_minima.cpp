@@ -16,6 +16,10 @@ namespace invmap::kernels {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// How far off every face of the domain a converged solve must lie (in
+/// barycentric coordinates) for the cells' refusal of it to be suspect:
+/// beyond rounding of the boundary, where the distance may fall into it.
+constexpr double kOffFace = 1e-9;
 
 /// A subdomain in the workspace: its depth, the vertices of each factor's
 /// sub-simplex in the cell's reference coordinates, the q and WW nets of
@@ -223,22 +227,6 @@ bool MinimaSearch::AtMostOne(double* slot, double low, double high) {
   return true;
 }
 
-/// True when local reference coordinates lie off every face of the
-/// domain by more than rounding (each simplex factor's barycentric
-/// coordinates above 1e-9).
-bool InsideSubdomain(const CellShape& shape, const double* local) {
-  constexpr double kOffFace = 1e-9;
-  for (int f = 0; f < shape.numFactors(); ++f) {
-    const SimplexFactor& fac = shape.factor(f);
-    double rest = 1.0;
-    for (int i = 0; i < fac.dim; ++i) {
-      if (!(local[fac.offset + i] > kOffFace)) return false;
-      rest -= local[fac.offset + i];
-    }
-    if (!(rest > kOffFace)) return false;
-  }
-  return true;
-}
 
 void MinimaSearch::SolveIn(double* slot, CellMinimaResult* result) {
   // The subdomain as a cell of its own: its control net, Cartesian.
@@ -273,7 +261,7 @@ void MinimaSearch::SolveIn(double* slot, CellMinimaResult* result) {
   // The subdomain holds at most one minimum: a converged solve inside it
   // (on none of its faces) that the cell's test refuses is one the search
   // could not settle, not a subdomain without minima.
-  if (result->minima.size() == before && local.converged && InsideSubdomain(cell_.shape, local.ref)) {
+  if (result->minima.size() == before && local.converged && cell_.shape.IsOffEveryFace(local.ref, kOffFace)) {
     result->certified = false;
   }
 }

@@ -78,6 +78,22 @@ class CellShape {
     return true;
   }
 
+  /// True when reference coordinates `ref` lie off every face of the
+  /// domain by more than `margin` (each simplex factor's barycentric
+  /// coordinates, the implied last one included, above it).
+  bool IsOffEveryFace(const double* ref, double margin) const {
+    for (int f = 0; f < numFactors_; ++f) {
+      const SimplexFactor& fac = factors_[f];
+      double rest = 1.0;
+      for (int i = 0; i < fac.dim; ++i) {
+        if (!(ref[fac.offset + i] > margin)) return false;
+        rest -= ref[fac.offset + i];
+      }
+      if (!(rest > margin)) return false;
+    }
+    return true;
+  }
+
   /// Number of simplex factors of a cell type.
   static int NumFactorsOf(CellType type);
   /// Dimension of factor `i` of a cell type.

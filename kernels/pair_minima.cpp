@@ -19,6 +19,10 @@ namespace invmap::kernels {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// How far off every face of the domain a converged solve must lie (in
+/// barycentric coordinates) for the cells' refusal of it to be suspect:
+/// beyond rounding of the boundary, where the distance may fall into it.
+constexpr double kOffFace = 1e-9;
 
 /// A subdomain pair in the workspace: depth, the vertices of every factor's
 /// sub-simplex on both sides (the problem's reference coordinates), then
@@ -63,23 +67,6 @@ std::vector<std::array<double, 3>> ReferenceCorners(const CellShape& shape) {
     corners = std::move(next);
   }
   return corners;
-}
-
-/// True when reference coordinates lie off every face of the domain by
-/// more than rounding (each simplex factor's barycentric coordinates above
-/// 1e-9).
-bool InsideDomain(const CellShape& shape, const double* ref) {
-  constexpr double kOffFace = 1e-9;
-  for (int f = 0; f < shape.numFactors(); ++f) {
-    const SimplexFactor& fac = shape.factor(f);
-    double rest = 1.0;
-    for (int i = 0; i < fac.dim; ++i) {
-      if (!(ref[fac.offset + i] > kOffFace)) return false;
-      rest -= ref[fac.offset + i];
-    }
-    if (!(rest > kOffFace)) return false;
-  }
-  return true;
 }
 
 /// A cell the search made (a subdomain or one of its faces), with its nets.
@@ -378,8 +365,8 @@ void Enumerator::SolveIn(const Problem& problem, double* slot) {
   // distance may fall from into the cell) that the cells' test refuses is
   // a minimum the search could not settle, not a subdomain without one.
   if (RecordLocal(problem, slot, local.w) == Recorded::NotKkt &&
-      (!local.converged || (problem.recursion == 0 && InsideDomain(sides[0].cell.shape, local.w) &&
-                            InsideDomain(sides[1].cell.shape, local.w + layout.paramDim(0))))) {
+      (!local.converged || (problem.recursion == 0 && sides[0].cell.shape.IsOffEveryFace(local.w, kOffFace) &&
+                            sides[1].cell.shape.IsOffEveryFace(local.w + layout.paramDim(0), kOffFace)))) {
     out_->certified = false;
   }
 }

@@ -21,28 +21,6 @@ namespace invmap::kernels {
 namespace {
 
 using testing::RandomCurvedCell;
-using testing::RefEvaluateJet;
-using testing::RefJet;
-
-/// Points of the cell under its motion at a lattice of reference coordinates.
-std::vector<Eigen::Vector3d> Samples(const testing::RefCell& cell, const RigidMotion& motion, int perAxis) {
-  std::vector<Eigen::Vector3d> points;
-  const int pd = cell.paramDim();
-  const bool simplex = cell.type == CellType::Tri;
-  for (int i = 0; i <= perAxis; ++i) {
-    for (int j = 0; j <= (pd > 1 ? perAxis : 0); ++j) {
-      const double ref[3] = {static_cast<double>(i) / perAxis, static_cast<double>(j) / perAxis, 0.0};
-      if (simplex && ref[0] + ref[1] > 1.0) continue;
-      RefJet jet;
-      RefEvaluateJet(cell, ref, 0, &jet);
-      double world[3];
-      const double local[3] = {jet.x[0], jet.x[1], cell.ambientDim > 2 ? jet.x[2] : 0.0};
-      motion.Apply(local, world);
-      points.emplace_back(world[0], world[1], world[2]);
-    }
-  }
-  return points;
-}
 
 TEST(PairLowerBound, NeverAboveTheDistanceOfTheCells) {
   const CellType types[] = {CellType::Line, CellType::Tri, CellType::Quad};
