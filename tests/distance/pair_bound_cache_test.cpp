@@ -15,23 +15,6 @@
 namespace invmap::engine {
 namespace {
 
-/// A motion a step from `m`: turned by up to `turn` about a random axis and moved by up to `move`.
-kernels::RigidMotion Step(const kernels::RigidMotion& m, std::mt19937_64& rng, double turn, double move) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(turn * u(rng), axis).toRotationMatrix();
-  kernels::RigidMotion next;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      next.rotation[i][j] = 0.0;
-      for (int k = 0; k < 3; ++k) next.rotation[i][j] += r(i, k) * m.rotation[k][j];
-    }
-    next.translation[i] = m.translation[i] + move * u(rng);
-  }
-  return next;
-}
-
 TEST(PairBoundCache, DriftBoundsEveryPointsMotionSinceAnyPose) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -53,7 +36,7 @@ TEST(PairBoundCache, DriftBoundsEveryPointsMotionSinceAnyPose) {
   for (int pose = 1; pose < 300; ++pose) {
     // Mostly small steps; now and then a jump.
     const bool jump = pose % 50 == 0;
-    motions.push_back(Step(motions.back(), rng, jump ? 3.0 : 1e-3, jump ? 2.0 : 1e-3));
+    motions.push_back(kernels::StepMotion(motions.back(), rng, jump ? 3.0 : 1e-3, jump ? 2.0 : 1e-3));
     cache.MoveTo(motions.back());
     drifts.push_back(cache.drift());
     for (std::size_t earlier = 0; earlier < motions.size(); earlier += 7) {

@@ -83,4 +83,21 @@ inline std::vector<Eigen::Vector3d> Samples(const testing::RefCell& cell, const 
   return points;
 }
 
+/// A motion a step from `m`: turned by up to `turn` about a random axis and moved by up to `move`.
+inline RigidMotion StepMotion(const RigidMotion& m, std::mt19937_64& rng, double turn, double move) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(turn * u(rng), axis).toRotationMatrix();
+  RigidMotion next;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      next.rotation[i][j] = 0.0;
+      for (int k = 0; k < 3; ++k) next.rotation[i][j] += r(i, k) * m.rotation[k][j];
+    }
+    next.translation[i] = m.translation[i] + move * u(rng);
+  }
+  return next;
+}
+
 }  // namespace invmap::kernels

@@ -35,20 +35,7 @@ double SampledDistance(const std::vector<Eigen::Vector3d>& a, const std::vector<
 
 /// B's motion a small step (or, with `jump`, a large one) from `m`.
 RigidMotion Step(const RigidMotion& m, std::mt19937_64& rng, bool jump) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double turn = jump ? 2.0 : 2e-3, move = jump ? 0.5 : 2e-3;
-  const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(turn * u(rng), axis).toRotationMatrix();
-  RigidMotion next;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      next.rotation[i][j] = 0.0;
-      for (int k = 0; k < 3; ++k) next.rotation[i][j] += r(i, k) * m.rotation[k][j];
-    }
-    next.translation[i] = m.translation[i] + move * u(rng);
-  }
-  return next;
+  return jump ? StepMotion(m, rng, 2.0, 0.5) : StepMotion(m, rng, 2e-3, 2e-3);
 }
 
 /// The largest distance of B's control points from its own origin (what
